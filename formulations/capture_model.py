@@ -1,0 +1,167 @@
+"""The capture-stage model in CasADi: one symbolic source for every formulation.
+
+Built once per structure (controlled defenders, held defenders, obstacles,
+horizon) with the state and the scenario's numbers as parameters θ, so a solve
+at a new state only changes numbers. The NumPy evaluator
+(:mod:`mpc_hunt.evaluator`) is an independent implementation of the same maths.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property, lru_cache
+
+import casadi as ca
+import numpy as np
+
+from mpc_hunt.capture_problem import CaptureProblem
+from mpc_hunt.field import FIELD_FLOOR
+
+_TINY = 1e-18
+SCALARS = ("perception_radius", "eta", "k_d", "k_o", "attacker_max_speed", "protective_distance",
+           "safety_distance", "min_separation", "min_attacker_distance", "ring_radius", "time_step",
+           "hunt_radius", "w_force", "w_ring", "w_move", "w_equal")
+
+
+def _layout(nc: int, nf: int, m: int) -> list[tuple[str, int]]:
+    return [("attacker", 2), ("controlled", 2 * nc), ("held", 2 * nf), ("desired", 2), ("nominal", 2),
+            ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
+
+
+def parameter_vector(problem: CaptureProblem) -> np.ndarray:
+    """θ for ``problem``, in the order of :func:`_layout`."""
+    s, hunt, w = problem.scenario, problem.scenario.hunt, problem.weights
+    c = problem.controlled
+    values = {
+        "attacker": problem.attacker_position, "controlled": problem.defender_positions[c],
+        "held": problem.defender_positions[~c], "desired": problem.desired_velocity,
+        "nominal": problem.nominal_velocity, "centres": s.obstacle_centres, "radii": s.obstacle_radii,
+        "step_limits": problem.step_limits[c],
+        "perception_radius": s.attacker.perception_radius, "eta": hunt.eta, "k_d": hunt.k_d,
+        "k_o": hunt.k_o, "attacker_max_speed": s.attacker.max_speed,
+        "protective_distance": hunt.protective_distance, "safety_distance": hunt.safety_distance,
+        "min_separation": hunt.min_separation, "min_attacker_distance": hunt.min_attacker_distance,
+        "ring_radius": problem.ring_radius, "time_step": hunt.time_step, "hunt_radius": hunt.hunt_radius,
+        "w_force": w.force, "w_ring": w.ring, "w_move": w.move, "w_equal": w.equal_distance,
+    }
+    nc, nf, m, _ = problem.structure
+    return np.concatenate([np.ravel(np.asarray(values[name], dtype=float)) for name, _ in _layout(nc, nf, m)])
+
+
+def _norm(v):
+    return ca.sqrt(ca.dot(v, v) + _TINY)
+
+
+def repulsion(r, radius, eta):
+    """H(r) of Eq. 2 (repulsive sign, NOTES E1), as in mpc_hunt.field.repulsion."""
+    d = ca.fmax(_norm(r), FIELD_FLOOR)
+    return ca.if_else(d < radius, eta * (radius**3 / d**3 - 1), 0) * r
+
+
+def obstacle_repulsion(p, centre, radius, reach, eta):
+    """H of one obstacle, measured from its surface (NOTES E2)."""
+    v = p - centre
+    dc = _norm(v)
+    s = ca.fmax(dc - radius, FIELD_FLOOR)
+    return ca.if_else(s < reach, eta * (reach**3 / s**2 - s), 0) * v / dc
+
+
+def saturate(v, max_norm):
+    return v * ca.fmin(1, max_norm / _norm(v))
+
+
+class CaptureModel:
+    """Symbols and expressions of the capture problem for one structure."""
+
+    def __init__(self, nc: int, nf: int, m: int, N: int):
+        self.nc, self.nf, self.m, self.N = nc, nf, m, N
+        self.X = ca.SX.sym("X", N * nc * 2)
+        self.theta = ca.SX.sym("theta", sum(size for _, size in _layout(nc, nf, m)))
+        self.p = self._unpack()
+        self._build()
+
+    def _unpack(self) -> dict:
+        out, offset = {}, 0
+        for name, size in _layout(self.nc, self.nf, self.m):
+            out[name] = self.theta[offset:offset + size]
+            offset += size
+        return out
+
+    def defender(self, k: int, i: int):
+        """p_di at step k+1 (k = 0..N−1) for controlled defender i."""
+        start = (k * self.nc + i) * 2
+        return self.X[start:start + 2]
+
+    def previous(self, k: int, i: int):
+        return self.p["controlled"][2 * i:2 * i + 2] if k == 0 else self.defender(k - 1, i)
+
+    def held(self, j: int):
+        return self.p["held"][2 * j:2 * j + 2]
+
+    def _resultant(self, p_a, defenders):
+        p = self.p
+        force = p["nominal"]
+        for d in defenders:
+            force = force + p["k_d"] * repulsion(p_a - d, p["perception_radius"], p["eta"])
+        for o in range(self.m):
+            force = force + p["k_o"] * obstacle_repulsion(
+                p_a, p["centres"][2 * o:2 * o + 2], p["radii"][o], p["protective_distance"], p["eta"])
+        return force
+
+    def _build(self) -> None:
+        p, nc, N = self.p, self.nc, self.N
+        held = [self.held(j) for j in range(self.nf)]
+        start = [p["controlled"][2 * i:2 * i + 2] for i in range(nc)] + held
+        p_a = p["attacker"] + p["time_step"] * saturate(self._resultant(p["attacker"], start),
+                                                        p["attacker_max_speed"])
+        residuals, attacker, sq_dist = [], [], []
+        for k in range(N):
+            team = [self.defender(k, i) for i in range(nc)] + held
+            attacker.append(p_a)
+            force = self._resultant(p_a, team)
+            residuals.append(ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"])
+            for i in range(nc):
+                r = self.defender(k, i) - p_a
+                sq_dist.append(ca.dot(r, r))
+                residuals.append(ca.sqrt(p["w_ring"]) * (_norm(r) - p["ring_radius"]) / p["hunt_radius"])
+                residuals.append(ca.sqrt(p["w_move"]) * (self.defender(k, i) - self.previous(k, i))
+                                 / p["step_limits"][i])
+            p_a = p_a + p["time_step"] * saturate(force, p["attacker_max_speed"])
+        self.residual = ca.vertcat(*residuals)
+        self.attacker = ca.vertcat(*attacker)          # (2N,): attacker at steps 1..N
+        self.squared_distance = ca.vertcat(*sq_dist)   # (N·nc,): |r_ai,k|², Eq. 14
+
+    @cached_property
+    def squared_distance_function(self) -> ca.Function:
+        """(X, θ) ↦ |r_ai,k|² for every step and controlled defender."""
+        return ca.Function("squared_distance", [self.X, self.theta], [self.squared_distance])
+
+
+@lru_cache(maxsize=32)
+def capture_model(nc: int, nf: int, m: int, N: int) -> CaptureModel:
+    """The model for one structure, built once per process."""
+    return CaptureModel(nc, nf, m, N)
+
+
+def plan_from_x(problem: CaptureProblem, X: np.ndarray) -> np.ndarray:
+    """Every defender's positions (N, n, 2) from the controlled defenders' decision vector."""
+    nc = int(problem.controlled.sum())
+    plan = problem.held_plan().copy()
+    plan[:, problem.controlled] = np.asarray(X, dtype=float)[:problem.horizon * nc * 2].reshape(
+        problem.horizon, nc, 2)
+    return plan
+
+
+def x_from_plan(problem: CaptureProblem, plan: np.ndarray) -> np.ndarray:
+    """The controlled defenders' decision vector of a full plan (inverse of :func:`plan_from_x`)."""
+    return np.asarray(plan, dtype=float)[:, problem.controlled].reshape(-1)
+
+
+def decision_point(problem: CaptureProblem, X: np.ndarray) -> np.ndarray:
+    """[X, q, s] for positions X: q_k the mean squared distance of step k, s the remaining gaps.
+
+    A point consistent with Eq. 14's elastic form, used as the starting guess.
+    """
+    model = capture_model(*problem.structure)
+    sq = np.array(model.squared_distance_function(X, parameter_vector(problem))).reshape(problem.horizon, -1)
+    q = sq.mean(axis=1)
+    return np.concatenate([X, q, np.abs(sq - q[:, None]).ravel()])

@@ -1,0 +1,120 @@
+"""``nlp``: the capture problem as it is (Eqs. 12–15), CasADi + IPOPT.
+
+min  Σ_k |ε_k(X)|² + w_eq Σ_{k,i} s_ki / R_hunt²
+s.t. |p_di,k − p_di,k−1|² ≤ r_d²                      (Eq. 13)
+     −s_ki ≤ |r_ai,k|² − q_k ≤ s_ki,  s ≥ 0            (Eq. 14, exact L1 penalty)
+     |p_di,k − c_o|² ≥ (r_o + R_safe)²                 (Eq. 15)
+     |p_di,k − p_dj,k|² ≥ d_sep²,  |r_ai,k|² ≥ d_min²
+with the attacker propagated through its APF dynamics inside ε and r_ai.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+from formulations.base import FormulationResult, Formulation, separation_pairs
+from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
+                                        x_from_plan)
+from mpc_hunt.backends.base import NLPData, WarmStart
+from mpc_hunt.capture_problem import CaptureProblem
+
+
+def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[str]]:
+    """Eqs. 13, 15 and the separations as g with bounds; returns (g, lbg, ubg, family of each row)."""
+    p, nc, nf, m, N = model.p, model.nc, model.nf, model.m, model.N
+    g, lo, hi, family = [], [], [], []
+
+    def add(expr, lower, upper, name):
+        g.append(expr); lo.append(lower); hi.append(upper); family.append(name)
+
+    for k in range(N):
+        a = model.attacker[2 * k:2 * k + 2]
+        for i in range(nc):
+            x = model.defender(k, i)
+            step = x - model.previous(k, i)
+            add(ca.dot(step, step) - p["step_limits"][i] ** 2, -ca.inf, 0.0, "motion_limit")
+            for o in range(m):
+                v = x - p["centres"][2 * o:2 * o + 2]
+                add(ca.dot(v, v) - (p["radii"][o] + p["safety_distance"]) ** 2, 0.0, ca.inf, "obstacle_safety")
+            r = x - a
+            add(ca.dot(r, r) - p["min_attacker_distance"] ** 2, 0.0, ca.inf, "attacker_distance")
+        for i, j in separation_pairs(nc, nf):
+            v = model.defender(k, i) - (model.defender(k, j) if j < nc else model.held(j - nc))
+            add(ca.dot(v, v) - p["min_separation"] ** 2, 0.0, ca.inf, "separation")
+    return ca.vertcat(*g), lo, hi, family
+
+
+RELAXABLE = ("obstacle_safety", "attacker_distance", "separation")
+
+
+@lru_cache(maxsize=32)
+def constraint_set(structure: tuple):
+    """(g, lbg, ubg, rows to relax, g as a function of (X, θ)) for one structure."""
+    model = capture_model(*structure)
+    g, lo, hi, family = nonlinear_constraints(model)
+    relax = np.array([f in RELAXABLE for f in family], dtype=bool)
+    return g, np.array(lo, dtype=float), np.array(hi, dtype=float), relax, \
+        ca.Function("constraints", [model.X, model.theta], [g])
+
+
+def relaxed_lower_bounds(lower: np.ndarray, relax: np.ndarray, held_values: np.ndarray) -> np.ndarray:
+    """Never worse than now: a ≥-constraint the current state violates is relaxed to its current value.
+
+    Holding position then always satisfies the problem, so it stays feasible
+    after a disturbance; the evaluator still reports the violation against the
+    true bound.
+    """
+    out = lower.copy()
+    out[relax] = np.minimum(lower[relax], held_values[relax])
+    return out
+
+
+class NLPFormulation(Formulation):
+    """The true problem, expanded to SX, parametric in the state; warm-started by a shifted plan."""
+
+    name = "nlp"
+    backends = ("ipopt",)
+    default_backend = "ipopt"
+
+    def _nlp(self, structure: tuple) -> dict:
+        model = capture_model(*structure)
+        nc, N = model.nc, model.N
+        q = ca.SX.sym("q", N)
+        s = ca.SX.sym("s", N * nc)
+        g = constraint_set(structure)[0]
+        equal = []
+        for k in range(N):
+            for i in range(nc):
+                gap = model.squared_distance[k * nc + i] - q[k]
+                equal += [gap - s[k * nc + i], gap + s[k * nc + i]]
+        f = ca.sumsqr(model.residual) + model.p["w_equal"] * ca.sum1(s) / model.p["hunt_radius"] ** 2
+        return {"x": ca.vertcat(model.X, q, s), "p": model.theta, "f": f, "g": ca.vertcat(g, *equal)}
+
+    def data(self, problem: CaptureProblem) -> NLPData:
+        structure = problem.structure
+        model = capture_model(*structure)
+        nc, N = model.nc, model.N
+        _, lo, hi, relax, g_function = constraint_set(structure)
+        theta = parameter_vector(problem)
+        held = np.array(g_function(x_from_plan(problem, problem.held_plan()), theta)).ravel()
+        lo = relaxed_lower_bounds(lo, relax, held)
+        lbg = np.concatenate([lo, np.tile([-np.inf, 0.0], N * nc)])
+        ubg = np.concatenate([hi, np.tile([0.0, np.inf], N * nc)])
+        nX = N * nc * 2
+        lbx = np.concatenate([np.full(nX, -np.inf), np.zeros(N + N * nc)])
+        ubx = np.full(nX + N + N * nc, np.inf)
+        return NLPData(("nlp",) + structure, lambda: self._nlp(structure), theta, lbx, ubx, lbg, ubg)
+
+    def solve(self, problem, backend, warm_plan, duals) -> FormulationResult:
+        data = self.data(problem)
+        plan0 = problem.held_plan() if warm_plan is None else warm_plan
+        warm = WarmStart(decision_point(problem, x_from_plan(problem, plan0)),
+                         None if duals is None else duals.y, None if duals is None else duals.z)
+        raw = backend.solve(data, warm)
+        plan = None if raw.x is None else plan_from_x(problem, raw.x)
+        return FormulationResult(raw.status, raw.message, plan, raw.objective, raw.solver_time,
+                                 raw.setup_time, raw.iterations, raw.duals, raw.warm_started)
+

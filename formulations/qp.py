@@ -1,0 +1,175 @@
+"""``qp``: the capture problem linearised around a reference plan, a convex QP.
+
+Around the reference X̄ (the previous plan shifted one step, or every defender
+held): the objective's residuals ε(X) ≈ ε(X̄) + J (X − X̄) (Gauss–Newton, so
+P = 2JᵀJ is positive semidefinite), the attacker's path through the Jacobian
+of its APF dynamics, Eq. 14 through the linearised squared distances, Eq. 15
+and the separations as tangent half-planes (inner approximations: a feasible
+QP point keeps the true distances), Eq. 13 as an inscribed regular polygon,
+and a trust region |X − X̄|∞ ≤ 2 r_d. The matrices' sparsity is fixed per
+structure; each step only changes their values.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+import scipy.sparse as sp
+
+from formulations.base import FormulationResult, Formulation, separation_pairs
+from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
+                                        x_from_plan)
+from formulations.nlp import relaxed_lower_bounds
+from mpc_hunt.backends.base import QPData, WarmStart
+from mpc_hunt.capture_problem import CaptureProblem
+
+POLYGON_SIDES = 8
+TRUST_REGION = 2.0  # in units of r_d
+
+
+def _unit(v):
+    return v / ca.sqrt(ca.dot(v, v) + 1e-18)
+
+
+class LinearisedCapture:
+    """The QP's data as one CasADi function of (θ, X̄), with fixed output sparsity."""
+
+    def __init__(self, structure: tuple, exact_motion_cone: bool = False):
+        model = capture_model(*structure)
+        self.structure, self.cone = structure, exact_motion_cone
+        p, nc, nf, m, N = model.p, model.nc, model.nf, model.m, model.N
+        X, theta = model.X, model.theta
+        nX = N * nc * 2
+        Xref = ca.SX.sym("Xref", nX)
+        q, s = ca.SX.sym("q", N), ca.SX.sym("s", N * nc)
+        x = ca.vertcat(X, q, s)
+        self.nX, self.n = nX, nX + N + N * nc
+
+        def at_ref(expr):
+            return ca.substitute(expr, X, Xref)
+
+        J = at_ref(ca.jacobian(model.residual, X))
+        eps_ref = at_ref(model.residual)
+        a_ref = at_ref(model.attacker)
+        a_lin = a_ref + ca.mtimes(at_ref(ca.jacobian(model.attacker, X)), X - Xref)
+
+        Jx = ca.horzcat(J, ca.SX(J.shape[0], N + N * nc))
+        c = eps_ref - ca.mtimes(J, Xref)
+        lin = ca.vertcat(ca.SX(nX + N, 1), ca.SX.ones(N * nc) * p["w_equal"] / p["hunt_radius"] ** 2)
+        P = 2 * ca.mtimes(Jx.T, Jx)
+        qvec = 2 * ca.mtimes(Jx.T, c) + lin
+
+        rows, lo, hi, relax, self.cones = [], [], [], [], []
+
+        def add(expr, lower, upper, relaxable=False):
+            rows.append(expr); lo.append(lower); hi.append(upper)
+            relax.extend([relaxable] * expr.shape[0])
+
+        step_limits = ca.vertcat(*[ca.repmat(p["step_limits"][i], 2, 1) for i in range(nc)])
+        add(X - Xref, -TRUST_REGION * ca.repmat(step_limits, N, 1), TRUST_REGION * ca.repmat(step_limits, N, 1))
+        add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc))
+        n_rows = nX + N * nc
+        for k in range(N):
+            a_k, a_ref_k = a_lin[2 * k:2 * k + 2], a_ref[2 * k:2 * k + 2]
+            for i in range(nc):
+                xi, xi_ref = model.defender(k, i), Xref[(k * nc + i) * 2:(k * nc + i) * 2 + 2]
+                step = xi - model.previous(k, i)
+                if exact_motion_cone:     # b − A x = (r_d, step) ∈ SOC
+                    self.cones.append((n_rows, 3))
+                    add(ca.vertcat(0, -step), -ca.inf, ca.vertcat(p["step_limits"][i], 0, 0))
+                    n_rows += 3
+                else:
+                    for j in range(POLYGON_SIDES):
+                        angle = 2 * np.pi * j / POLYGON_SIDES
+                        normal = ca.DM([np.cos(angle), np.sin(angle)])
+                        add(ca.dot(normal, step), -ca.inf, p["step_limits"][i] * np.cos(np.pi / POLYGON_SIDES))
+                        n_rows += 1
+                for o in range(m):
+                    centre = p["centres"][2 * o:2 * o + 2]
+                    add(ca.dot(_unit(xi_ref - centre), xi - centre) - p["radii"][o] - p["safety_distance"],
+                        0.0, ca.inf, True)
+                    n_rows += 1
+                add(ca.dot(_unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"], 0.0, ca.inf, True)
+                r_ref = xi_ref - a_ref_k
+                d2 = ca.dot(r_ref, r_ref) + 2 * ca.dot(r_ref, (xi - xi_ref) - (a_k - a_ref_k))
+                add(d2 - q[k] - s[k * nc + i], -ca.inf, 0.0)
+                add(d2 - q[k] + s[k * nc + i], 0.0, ca.inf)
+                n_rows += 3
+            for i, j in separation_pairs(nc, nf):
+                xi = model.defender(k, i)
+                xj = model.defender(k, j) if j < nc else model.held(j - nc)
+                xi_ref = Xref[(k * nc + i) * 2:(k * nc + i) * 2 + 2]
+                xj_ref = Xref[(k * nc + j) * 2:(k * nc + j) * 2 + 2] if j < nc else model.held(j - nc)
+                add(ca.dot(_unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, True)
+                n_rows += 1
+        g = ca.vertcat(*rows)
+        self.relax = np.array(relax, dtype=bool)
+        A = ca.jacobian(g, x)
+        b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
+        self.function = ca.Function("capture_qp", [theta, Xref],
+                                    [ca.triu(P), qvec, A, ca.vertcat(*lo) - b0, ca.vertcat(*hi) - b0, Jx, c, lin])
+        self._patterns = [self.function.sparsity_out(i) for i in (0, 2)]
+
+    @staticmethod
+    def _csc(pattern: ca.Sparsity, values) -> sp.csc_matrix:
+        colind, row = pattern.get_ccs()
+        return sp.csc_matrix((np.array(values.nonzeros()), np.array(row), np.array(colind)),
+                             shape=(pattern.size1(), pattern.size2()))
+
+    def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray, x_ref: np.ndarray) -> QPData:
+        """The QP at reference X̄; ``x_ref`` (X̄ with consistent q, s) is kept feasible by relaxation."""
+        P, q, A, l, u, J, c, lin = self.function(theta, Xref)
+        A = self._csc(self._patterns[1], A)
+        l = relaxed_lower_bounds(np.array(l).ravel(), self.relax, A @ x_ref)
+        return QPData(key, self._csc(self._patterns[0], P), np.array(q).ravel(), A, l, np.array(u).ravel(),
+                      np.array(J), np.array(c).ravel(), np.array(lin).ravel(), tuple(self.cones))
+
+
+@lru_cache(maxsize=32)
+def linearised_capture(structure: tuple, exact_motion_cone: bool = False) -> LinearisedCapture:
+    return LinearisedCapture(structure, exact_motion_cone)
+
+
+class QPFormulation(Formulation):
+    """One linearisation, one convex QP, solved by a persistent QP backend."""
+
+    name = "qp"
+    backends = ("osqp", "clarabel", "cvxpy")
+    default_backend = "osqp"
+    exact_motion_cone = False
+
+    def linearisation(self, problem: CaptureProblem) -> LinearisedCapture:
+        return linearised_capture(problem.structure, self.exact_motion_cone)
+
+    def solve_at(self, problem: CaptureProblem, backend, reference: np.ndarray, theta: np.ndarray,
+                 duals: WarmStart | None):
+        """Solve the QP linearised at the plan ``reference``; returns (backend result, QP objective)."""
+        lin = self.linearisation(problem)
+        Xref = x_from_plan(problem, reference)
+        guess = decision_point(problem, Xref)
+        data = lin.data((self.name,) + problem.structure, theta, Xref, guess)
+        warm = WarmStart(guess, None if duals is None else duals.y)
+        raw = backend.solve(data, warm)
+        objective = None
+        if raw.x is not None:
+            residual = data.J @ raw.x + data.c
+            objective = float(residual @ residual + data.lin @ raw.x)
+        return raw, objective
+
+    def solve(self, problem, backend, warm_plan, duals) -> FormulationResult:
+        reference = problem.held_plan() if warm_plan is None else warm_plan
+        raw, objective = self.solve_at(problem, backend, reference, parameter_vector(problem), duals)
+        plan = None if raw.x is None else plan_from_x(problem, raw.x)
+        return FormulationResult(raw.status, raw.message, plan, objective, raw.solver_time,
+                                 raw.setup_time, raw.iterations, raw.duals, raw.warm_started)
+
+
+class SOCPFormulation(QPFormulation):
+    """``socp``: the QP with Eq. 13 as its exact second-order cone instead of a polygon (Clarabel, CVXPY)."""
+
+    name = "socp"
+    backends = ("clarabel", "cvxpy")
+    default_backend = "clarabel"
+    exact_motion_cone = True

@@ -1,0 +1,43 @@
+"""Small vector helpers shared by the model, the strategy and the metrics."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def norm(v: np.ndarray) -> np.ndarray:
+    """Euclidean norm over the last axis."""
+    return np.sqrt(np.sum(np.asarray(v, dtype=float) ** 2, axis=-1))
+
+
+def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
+    """Scale ``v`` (last axis) down so that its norm is at most ``max_norm``."""
+    v = np.asarray(v, dtype=float)
+    n = norm(v)
+    scale = np.where(n > max_norm, np.asarray(max_norm) / np.where(n > 0, n, 1.0), 1.0)
+    return v * np.expand_dims(scale, -1)
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    """``v`` divided by its norm (zero vectors stay zero)."""
+    v = np.asarray(v, dtype=float)
+    n = norm(v)
+    return v / np.expand_dims(np.where(n > 0, n, 1.0), -1)
+
+
+def encloses(point: np.ndarray, anchors: np.ndarray) -> bool:
+    """True when ``point`` lies strictly inside the convex hull of ``anchors``.
+
+    Equivalent test: the directions from the point to the anchors leave no
+    angular gap of half a turn or more (no half-plane through the point holds
+    every anchor), so the point cannot leave without passing between them.
+    """
+    anchors = np.asarray(anchors, dtype=float)
+    if len(anchors) < 3:
+        return False
+    d = anchors - point
+    if np.any(norm(d) == 0):
+        return False
+    angles = np.sort(np.arctan2(d[:, 1], d[:, 0]))
+    gaps = np.diff(np.concatenate([angles, angles[:1] + 2 * np.pi]))
+    return bool(np.max(gaps) < np.pi)

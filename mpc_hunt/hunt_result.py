@@ -1,0 +1,79 @@
+"""What a closed-loop hunt records and reports."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class HuntResult:
+    """Every trajectory of one hunt, and the figures computed from them."""
+
+    scenario: str
+    prediction: bool
+    formulation: str
+    backend: str
+    horizon: int
+    times: np.ndarray                 # (K+1,)
+    attacker: np.ndarray              # (K+1, 2)
+    defenders: np.ndarray             # (K+1, n, 2)
+    capture_stage: np.ndarray         # (K, n) bool
+    intercepts: np.ndarray            # (K, n, 2): approach targets, NaN in the capture stage
+    termination: str                  # "captured", "time_limit" or "non_finite_state"
+    captured: bool
+    capture_time: float | None
+    path_lengths: np.ndarray          # (n,)
+    final_hunting_radius: float
+    min_obstacle_clearance: float | None
+    min_defender_separation: float | None
+    min_attacker_distance: float
+    attacker_min_obstacle_clearance: float | None
+    solve_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    solve_iterations: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
+    failed_solves: int = 0
+    fallbacks: int = 0
+
+    @property
+    def steps(self) -> int:
+        return len(self.times) - 1
+
+    @property
+    def collided(self) -> bool:
+        """A defender ever inside an obstacle."""
+        return self.min_obstacle_clearance is not None and self.min_obstacle_clearance < 0
+
+    def solve_time_stats(self) -> dict:
+        t = self.solve_times
+        if len(t) == 0:
+            return {"count": 0, "median_s": None, "p95_s": None, "max_s": None}
+        return {"count": int(len(t)), "median_s": float(np.median(t)),
+                "p95_s": float(np.percentile(t, 95)), "max_s": float(np.max(t))}
+
+    def to_dict(self) -> dict:
+        """The JSON report (``mpc-hunt simulate --json``)."""
+        def opt(x):
+            return None if x is None else float(x)
+        return {
+            "scenario": self.scenario,
+            "prediction": self.prediction,
+            "formulation": self.formulation,
+            "backend": self.backend,
+            "horizon": self.horizon,
+            "captured": self.captured,
+            "termination": self.termination,
+            "capture_time_s": opt(self.capture_time),
+            "path_lengths_m": [float(x) for x in self.path_lengths],
+            "final_hunting_radius_m": float(self.final_hunting_radius),
+            "min_obstacle_clearance_m": opt(self.min_obstacle_clearance),
+            "min_defender_separation_m": opt(self.min_defender_separation),
+            "min_attacker_distance_m": float(self.min_attacker_distance),
+            "attacker_min_obstacle_clearance_m": opt(self.attacker_min_obstacle_clearance),
+            "steps": self.steps,
+            "solve_time": self.solve_time_stats(),
+            "solve_iterations_median": (float(np.median(self.solve_iterations))
+                                        if len(self.solve_iterations) else None),
+            "failed_solves": self.failed_solves,
+            "fallbacks": self.fallbacks,
+        }

@@ -1,0 +1,113 @@
+"""The closed loop: the world integrates Eqs. 1–2; the strategy only observes and commands.
+
+Each step of length T: the strategy sees the state at t; every defender moves
+at its commanded velocity capped at its max speed (Eq. 1); the attacker moves
+at its resultant (Eq. 9 plus its nominal intent) capped at its max speed
+(Eq. 2), both evaluated at the state at t (explicit Euler). A hunt ends when
+the success test (Eqs. 4–5) has held for ``hold_time``, at ``time_limit``, or
+if the state stops being finite. The same scenario always gives the same result.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mpc_hunt.field import attacker_resultant, nominal_intent
+from mpc_hunt.geometry import norm, saturate
+from mpc_hunt.hunt_result import HuntResult
+from mpc_hunt.hunting_circle import success_test
+from mpc_hunt.scenario import Scenario
+from mpc_hunt.strategy import HuntingStrategy, Observation
+
+
+def attacker_velocity(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
+    """Eq. 2: the attacker's resultant, capped at its max speed."""
+    a, hunt = scenario.attacker, scenario.hunt
+    force = attacker_resultant(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii,
+                               nominal=nominal_intent(np.array(a.nominal_velocity), a.max_speed),
+                               perception_radius=a.perception_radius,
+                               protective_distance=hunt.protective_distance,
+                               eta=hunt.eta, k_d=hunt.k_d, k_o=hunt.k_o)
+    return saturate(force, a.max_speed)
+
+
+def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *,
+             prediction: bool = True) -> HuntResult:
+    """Run one hunt. Without a strategy, the paper's (one-step NLP on IPOPT)."""
+    strategy = strategy or HuntingStrategy(scenario, prediction=prediction)
+    hunt = scenario.hunt
+    T = hunt.time_step
+    max_steps = int(math.ceil(hunt.time_limit / T - 1e-9))
+    hold_steps = int(math.ceil(hunt.hold_time / T - 1e-9))
+    speeds = scenario.defender_max_speeds
+    centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
+
+    p_a = np.array(scenario.attacker.start, dtype=float)
+    p_d = scenario.defender_starts.copy()
+    attacker, defenders, stages, intercepts = [p_a.copy()], [p_d.copy()], [], []
+    solve_times, iterations = [], []
+    failed = fallbacks = held = 0
+    previous = None
+    termination = "time_limit"
+    for step in range(max_steps):
+        cmd = strategy.command(Observation(step * T, p_a.copy(), previous, p_d.copy()))
+        if cmd.solution is not None:
+            solve_times.append(cmd.solution.solve_time)
+            iterations.append(cmd.solution.iterations)
+            failed += not cmd.solution.success
+        fallbacks += cmd.fallback
+        velocity = attacker_velocity(scenario, p_a, p_d)
+        previous = p_a.copy()
+        p_d = p_d + T * saturate(cmd.velocities, speeds)
+        p_a = p_a + T * velocity
+        attacker.append(p_a.copy()); defenders.append(p_d.copy())
+        stages.append(cmd.capture_stage); intercepts.append(cmd.intercepts)
+        if not (np.all(np.isfinite(p_a)) and np.all(np.isfinite(p_d))):
+            termination = "non_finite_state"
+            break
+        held = held + 1 if success_test(p_a, p_d, centres, radii, hunt.hunt_radius,
+                                        hunt.centre_tolerance).holds else 0
+        if held >= hold_steps:
+            termination = "captured"
+            break
+    return _result(scenario, strategy, np.array(attacker), np.array(defenders), np.array(stages),
+                   np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks)
+
+
+def _result(scenario, strategy, attacker, defenders, stages, intercepts, termination, held,
+            solve_times, iterations, failed, fallbacks) -> HuntResult:
+    hunt = scenario.hunt
+    T = hunt.time_step
+    K = len(attacker) - 1
+    n = defenders.shape[1]
+    finite = np.all(np.isfinite(attacker), axis=1) & np.all(np.isfinite(defenders), axis=(1, 2))
+    a, d = attacker[finite], defenders[finite]
+    centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
+    steps = np.diff(d, axis=0)
+    path_lengths = norm(steps).sum(axis=0) if len(d) > 1 else np.zeros(n)
+    final = success_test(a[-1], d[-1], centres, radii, hunt.hunt_radius, hunt.centre_tolerance)
+    clearance = attacker_clearance = None
+    if len(radii):
+        clearance = float(np.min(norm(d[:, :, None, :] - centres[None, None]) - radii))
+        attacker_clearance = float(np.min(norm(a[:, None, :] - centres[None]) - radii))
+    separation = None
+    if n > 1:
+        gaps = norm(d[:, :, None, :] - d[:, None, :, :])
+        gaps[:, np.arange(n), np.arange(n)] = np.inf
+        separation = float(gaps.min())
+    captured = termination == "captured"
+    return HuntResult(
+        scenario=scenario.name, prediction=strategy.prediction, formulation=strategy.solver.formulation.name,
+        backend=strategy.solver.backend.name, horizon=strategy.horizon,
+        times=np.arange(K + 1) * T, attacker=attacker, defenders=defenders,
+        capture_stage=stages.reshape(K, n), intercepts=intercepts.reshape(K, n, 2),
+        termination=termination, captured=captured,
+        capture_time=(K - held + 1) * T if captured else None,
+        path_lengths=path_lengths, final_hunting_radius=final.radius,
+        min_obstacle_clearance=clearance, min_defender_separation=separation,
+        min_attacker_distance=float(np.min(norm(a[:, None, :] - d))),
+        attacker_min_obstacle_clearance=attacker_clearance,
+        solve_times=np.array(solve_times), solve_iterations=np.array(iterations, dtype=int),
+        failed_solves=failed, fallbacks=fallbacks)
