@@ -3,8 +3,12 @@
 Each defender is in the approaching stage (|r_ai| ≥ R_agg: Eq. 6 towards the
 predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions
 come from the capture-stage problem, Eqs. 12–15, solved over a receding
-horizon). When that solve fails, the fallback is the previous plan shifted one
-step if its structure still fits, else holding position; both are counted.
+horizon). When that solve fails, the fallback (counted) is, in order: the
+solver's last iterate if the shared evaluator finds it feasible (violations ≤
+``FEASIBLE_TOLERANCE``; this is the common case of IPOPT stalling on the
+field's kink at |r_ai| = R_agg, where H is continuous but not differentiable);
+else the previous plan shifted one step if its structure still fits; else
+holding position, which the problem's constraints always allow.
 """
 
 from __future__ import annotations
@@ -20,6 +24,8 @@ from mpc_hunt.geometry import norm
 from mpc_hunt.scenario import Scenario
 from mpc_hunt.solution import Solution
 from mpc_hunt.solver import CaptureSolver
+
+FEASIBLE_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -79,7 +85,7 @@ class HuntingStrategy:
         problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon)
         solution = self.solver.solve(problem)
         fallback = not solution.success
-        if not fallback:
+        if not fallback or (solution.plan is not None and solution.max_violation <= FEASIBLE_TOLERANCE):
             plan = solution.plan
             self._last_plan = (problem.structure, plan)
         elif self._last_plan is not None and self._last_plan[0] == problem.structure and self.horizon > 1:
