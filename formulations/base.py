@@ -23,7 +23,6 @@ class FormulationResult:
     setup_time: float
     iterations: int
     duals: WarmStart                 # for the next warm start
-    warm_started: bool
 
 
 class Formulation:
@@ -32,6 +31,10 @@ class Formulation:
     name: str = ""
     backends: tuple[str, ...] = ()
     default_backend: str = ""
+
+    def prepare(self, structure: tuple) -> None:
+        """Build (once, cached) the symbolic functions for ``structure``; timed as set-up."""
+        raise NotImplementedError
 
     def solve(self, problem: CaptureProblem, backend, warm_plan: np.ndarray | None,
               duals: WarmStart | None) -> FormulationResult:

@@ -79,6 +79,9 @@ class NLPFormulation(Formulation):
     backends = ("ipopt",)
     default_backend = "ipopt"
 
+    def prepare(self, structure: tuple) -> None:
+        constraint_set(structure)
+
     def _nlp(self, structure: tuple) -> dict:
         model = capture_model(*structure)
         nc, N = model.nc, model.N
@@ -116,5 +119,5 @@ class NLPFormulation(Formulation):
         raw = backend.solve(data, warm)
         plan = None if raw.x is None else plan_from_x(problem, raw.x)
         return FormulationResult(raw.status, raw.message, plan, raw.objective, raw.solver_time,
-                                 raw.setup_time, raw.iterations, raw.duals, raw.warm_started)
+                                 raw.setup_time, raw.iterations, raw.duals)
 

@@ -1,7 +1,8 @@
 """``qp``: the capture problem linearised around a reference plan, a convex QP.
 
 Around the reference X̄ (the previous plan shifted one step, or every defender
-held): the objective's residuals ε(X) ≈ ε(X̄) + J (X − X̄) (Gauss–Newton, so
+held), in the step δ = X − X̄ (so that the data stay of the order of the
+objective, which absolute positions would swamp): the objective's residuals ε(X) ≈ ε(X̄) + J (X − X̄) (Gauss–Newton, so
 P = 2JᵀJ is positive semidefinite), the attacker's path through the Jacobian
 of its APF dynamics, Eq. 14 through the linearised squared distances, Eq. 15
 and the separations as tangent half-planes (inner approximations: a feasible
@@ -43,8 +44,9 @@ class LinearisedCapture:
         X, theta = model.X, model.theta
         nX = N * nc * 2
         Xref = ca.SX.sym("Xref", nX)
+        delta = ca.SX.sym("delta", nX)     # the decision is the step from the reference: X = X̄ + δ
         q, s = ca.SX.sym("q", N), ca.SX.sym("s", N * nc)
-        x = ca.vertcat(X, q, s)
+        x = ca.vertcat(delta, q, s)
         self.nX, self.n = nX, nX + N + N * nc
 
         def at_ref(expr):
@@ -56,7 +58,7 @@ class LinearisedCapture:
         a_lin = a_ref + ca.mtimes(at_ref(ca.jacobian(model.attacker, X)), X - Xref)
 
         Jx = ca.horzcat(J, ca.SX(J.shape[0], N + N * nc))
-        c = eps_ref - ca.mtimes(J, Xref)
+        c = eps_ref
         lin = ca.vertcat(ca.SX(nX + N, 1), ca.SX.ones(N * nc) * p["w_equal"] / p["hunt_radius"] ** 2)
         P = 2 * ca.mtimes(Jx.T, Jx)
         qvec = 2 * ca.mtimes(Jx.T, c) + lin
@@ -78,7 +80,7 @@ class LinearisedCapture:
                 step = xi - model.previous(k, i)
                 if exact_motion_cone:     # b − A x = (r_d, step) ∈ SOC
                     self.cones.append((n_rows, 3))
-                    add(ca.vertcat(0, -step), -ca.inf, ca.vertcat(p["step_limits"][i], 0, 0))
+                    add(ca.vertcat(0, -step), -ca.inf * ca.SX.ones(3), ca.vertcat(p["step_limits"][i], 0, 0))
                     n_rows += 3
                 else:
                     for j in range(POLYGON_SIDES):
@@ -104,7 +106,7 @@ class LinearisedCapture:
                 xj_ref = Xref[(k * nc + j) * 2:(k * nc + j) * 2 + 2] if j < nc else model.held(j - nc)
                 add(ca.dot(_unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, True)
                 n_rows += 1
-        g = ca.vertcat(*rows)
+        g = ca.substitute(ca.vertcat(*rows), X, Xref + delta)
         self.relax = np.array(relax, dtype=bool)
         A = ca.jacobian(g, x)
         b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
@@ -119,7 +121,7 @@ class LinearisedCapture:
                              shape=(pattern.size1(), pattern.size2()))
 
     def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray, x_ref: np.ndarray) -> QPData:
-        """The QP at reference X̄; ``x_ref`` (X̄ with consistent q, s) is kept feasible by relaxation."""
+        """The QP at reference X̄ in x = (δ, q, s); ``x_ref`` (δ = 0 with consistent q, s) is kept feasible."""
         P, q, A, l, u, J, c, lin = self.function(theta, Xref)
         A = self._csc(self._patterns[1], A)
         l = relaxed_lower_bounds(np.array(l).ravel(), self.relax, A @ x_ref)
@@ -140,6 +142,9 @@ class QPFormulation(Formulation):
     default_backend = "osqp"
     exact_motion_cone = False
 
+    def prepare(self, structure: tuple) -> None:
+        linearised_capture(structure, self.exact_motion_cone)
+
     def linearisation(self, problem: CaptureProblem) -> LinearisedCapture:
         return linearised_capture(problem.structure, self.exact_motion_cone)
 
@@ -149,6 +154,7 @@ class QPFormulation(Formulation):
         lin = self.linearisation(problem)
         Xref = x_from_plan(problem, reference)
         guess = decision_point(problem, Xref)
+        guess[:len(Xref)] = 0.0
         data = lin.data((self.name,) + problem.structure, theta, Xref, guess)
         warm = WarmStart(guess, None if duals is None else duals.y)
         raw = backend.solve(data, warm)
@@ -156,6 +162,7 @@ class QPFormulation(Formulation):
         if raw.x is not None:
             residual = data.J @ raw.x + data.c
             objective = float(residual @ residual + data.lin @ raw.x)
+            raw.x = np.concatenate([Xref + raw.x[:len(Xref)], raw.x[len(Xref):]])
         return raw, objective
 
     def solve(self, problem, backend, warm_plan, duals) -> FormulationResult:
@@ -163,7 +170,7 @@ class QPFormulation(Formulation):
         raw, objective = self.solve_at(problem, backend, reference, parameter_vector(problem), duals)
         plan = None if raw.x is None else plan_from_x(problem, raw.x)
         return FormulationResult(raw.status, raw.message, plan, objective, raw.solver_time,
-                                 raw.setup_time, raw.iterations, raw.duals, raw.warm_started)
+                                 raw.setup_time, raw.iterations, raw.duals)
 
 
 class SOCPFormulation(QPFormulation):

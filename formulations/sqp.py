@@ -27,7 +27,7 @@ class SQPFormulation(QPFormulation):
         reference = problem.held_plan() if warm_plan is None else warm_plan
         theta = parameter_vector(problem)
         solver_time = setup_time = 0.0
-        iterations, warm_started = 0, False
+        iterations = 0
         status, message = Status.ITERATION_LIMIT, f"no convergence in {self.max_iterations} QPs"
         plan, objective = None, None
         for count in range(self.max_iterations):
@@ -35,7 +35,6 @@ class SQPFormulation(QPFormulation):
             solver_time += raw.solver_time
             setup_time += raw.setup_time
             iterations += raw.iterations
-            warm_started = warm_started or raw.warm_started
             duals = raw.duals
             if not raw.status.usable:
                 status, message = raw.status, f"QP {count + 1}: {raw.message}"
@@ -45,5 +44,4 @@ class SQPFormulation(QPFormulation):
                 status, message = raw.status, f"converged after {count + 1} QPs"
                 break
             reference = plan
-        return FormulationResult(status, message, plan, objective, solver_time, setup_time,
-                                 iterations, duals, warm_started)
+        return FormulationResult(status, message, plan, objective, solver_time, setup_time, iterations, duals)

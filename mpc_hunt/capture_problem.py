@@ -35,7 +35,7 @@ class CaptureWeights:
     force: float = 1.0
     ring: float = 0.1
     move: float = 1e-3
-    equal_distance: float = 100.0
+    equal_distance: float = 1e3
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ class HuntResult:
     defenders: np.ndarray             # (K+1, n, 2)
     capture_stage: np.ndarray         # (K, n) bool
     intercepts: np.ndarray            # (K, n, 2): approach targets, NaN in the capture stage
-    termination: str                  # "captured", "time_limit" or "non_finite_state"
+    termination: str                  # "captured", "time_limit", "non_finite_state" or "stopped"
     captured: bool
     capture_time: float | None
     path_lengths: np.ndarray          # (n,)

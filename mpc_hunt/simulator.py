@@ -5,12 +5,14 @@ at its commanded velocity capped at its max speed (Eq. 1); the attacker moves
 at its resultant (Eq. 9 plus its nominal intent) capped at its max speed
 (Eq. 2), both evaluated at the state at t (explicit Euler). A hunt ends when
 the success test (Eqs. 4–5) has held for ``hold_time``, at ``time_limit``, or
-if the state stops being finite. The same scenario always gives the same result.
+if the state stops being finite, or when ``until`` (if given) says so of an
+observation. The same scenario always gives the same result.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
@@ -33,9 +35,13 @@ def attacker_velocity(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> n
     return saturate(force, a.max_speed)
 
 
-def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *,
-             prediction: bool = True) -> HuntResult:
-    """Run one hunt. Without a strategy, the paper's (one-step NLP on IPOPT)."""
+def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *, prediction: bool = True,
+             until: Callable[[Observation], bool] | None = None) -> HuntResult:
+    """Run one hunt. Without a strategy, the paper's (one-step NLP on IPOPT).
+
+    ``until`` stops the run (termination ``"stopped"``) before the first
+    observation it returns true for; that observation is the last recorded state.
+    """
     strategy = strategy or HuntingStrategy(scenario, prediction=prediction)
     hunt = scenario.hunt
     T = hunt.time_step
@@ -52,7 +58,11 @@ def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *,
     previous = None
     termination = "time_limit"
     for step in range(max_steps):
-        cmd = strategy.command(Observation(step * T, p_a.copy(), previous, p_d.copy()))
+        observation = Observation(step * T, p_a.copy(), previous, p_d.copy())
+        if until is not None and until(observation):
+            termination = "stopped"
+            break
+        cmd = strategy.command(observation)
         if cmd.solution is not None:
             solve_times.append(cmd.solution.solve_time)
             iterations.append(cmd.solution.iterations)

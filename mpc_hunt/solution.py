@@ -35,7 +35,9 @@ class Solution:
     value, reported beside it. Times are in seconds: ``solver_time`` inside the
     solver, ``overhead_time`` our own work around it for this solve (building
     data, evaluating), ``setup_time`` a one-off set-up done by this call (0 when
-    the persistent solver was reused).
+    the persistent solver was reused). ``warm_started``: a previous plan seeded
+    this solve (as the starting point and, for the QP family, the linearisation
+    point; Clarabel itself takes no starting point).
     """
 
     formulation: str

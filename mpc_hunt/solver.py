@@ -53,7 +53,10 @@ class CaptureSolver:
                 and self._previous[0] == problem.structure:
             warm_plan, duals = shift_plan(self._previous[1]), self._previous[2]
         try:
+            self.formulation.prepare(problem.structure)
+            build_time = time.perf_counter() - t0
             result = self.formulation.solve(problem, self.backend, warm_plan, duals)
+            result.setup_time += build_time
         except (RuntimeError, ValueError, ArithmeticError) as exc:
             solution = Solution(self.formulation.name, self.backend.name, Status.ERROR,
                                 str(exc).splitlines()[0] if str(exc) else type(exc).__name__,
@@ -74,7 +77,7 @@ class CaptureSolver:
         solution = Solution(self.formulation.name, self.backend.name, result.status, result.message,
                             result.plan, result.objective, objective, violation, result.solver_time,
                             max(total - result.solver_time - result.setup_time, 0.0), result.setup_time,
-                            result.iterations, result.warm_started, path)
+                            result.iterations, warm_plan is not None, path)
         return solution.raise_for_status() if self.raise_on_failure else solution
 
 

@@ -70,4 +70,3 @@ class BackendResult:
     solver_time: float
     setup_time: float = 0.0
     duals: WarmStart = field(default_factory=WarmStart)
-    warm_started: bool = False

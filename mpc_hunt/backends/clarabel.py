@@ -124,4 +124,4 @@ class ClarabelBackend:
             status, x = Status.ERROR, None
         objective = float(sol.obj_val) if x is not None else None
         return BackendResult(status, raw, x, objective, int(sol.iterations), float(sol.solve_time),
-                             setup_time, WarmStart(x, np.array(sol.z)), False)
+                             setup_time, WarmStart(x, np.array(sol.z)))

@@ -3,7 +3,8 @@
 It takes the least-squares form of the objective (|J x + c|² + lin·x) and the
 constraint rows, never ``P`` or ``q``, so an assembly mistake in those shows up
 as a disagreement. The problem is built once per structure (DPP), then only
-parameter values change. ``solver`` reaches any solver CVXPY has installed.
+parameter values change. ``solver`` reaches any solver CVXPY has installed; the
+default, Clarabel, is an accurate interior-point method, which a reference needs.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ class CvxpyBackend:
     name = "cvxpy"
     kind = KIND
 
-    def __init__(self, time_limit: float | None = None, solver: str | None = None):
+    def __init__(self, time_limit: float | None = None, solver: str = "CLARABEL"):
         self.solver = solver
         self.time_limit = time_limit
         self._key: tuple | None = None
@@ -79,12 +80,11 @@ class CvxpyBackend:
         self._A.value = data.A.toarray()
         self._b.value = np.where(np.isfinite(data.u), data.u, 0.0)
         self._bl.value = np.where(np.isfinite(data.l), data.l, 0.0)
-        warm_started = warm is not None and warm.x is not None
-        if warm_started:
+        if warm is not None and warm.x is not None:
             self._x.value = warm.x
-        kwargs = {"warm_start": True}
-        if self.solver:
-            kwargs["solver"] = self.solver
+        kwargs = {"warm_start": True, "solver": self.solver}
+        if self.time_limit is not None and self.solver in ("CLARABEL", "OSQP"):
+            kwargs["time_limit"] = self.time_limit
         try:
             self._problem.solve(**kwargs)
         except (cp.error.SolverError, cp.error.DCPError, ValueError) as exc:
@@ -99,4 +99,4 @@ class CvxpyBackend:
         objective = None if x is None else float(self._problem.value - data.c @ data.c)
         return BackendResult(status, f"{self._problem.status} ({stats.solver_name})",
                              None if x is None else np.array(x), objective, int(stats.num_iters or 0),
-                             float(stats.solve_time or 0.0), setup_time, WarmStart(x), warm_started)
+                             float(stats.solve_time or 0.0), setup_time, WarmStart(x))

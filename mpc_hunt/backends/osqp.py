@@ -1,4 +1,10 @@
-"""OSQP, persistent: ``setup`` once per structure, then ``update`` values and warm-start."""
+"""OSQP, persistent: ``setup`` once per structure, then ``update`` values and warm-start.
+
+ADMM converges slowly when the cost dwarfs the constraints (the capture QP's
+Hessian reaches 1e5 against constraint rows of order 1), so the backend hands
+OSQP the cost divided by its largest Hessian entry: a positive factor leaves
+the minimiser unchanged; the objective and the duals are scaled back.
+"""
 
 from __future__ import annotations
 
@@ -26,7 +32,7 @@ _STATUS = {
 
 
 class OsqpBackend:
-    """Persistent OSQP (ADMM): warm-started from the previous primal and dual iterate."""
+    """Persistent OSQP (ADMM): warm-started from the previous plan (primal only)."""
 
     name = "osqp"
     kind = KIND
@@ -44,28 +50,28 @@ class OsqpBackend:
         if data.cones:
             return BackendResult(Status.ERROR, "osqp cannot take second-order cones", None, None, 0, 0.0)
         setup_time = 0.0
+        scale = 1.0 / max(1.0, float(np.max(np.abs(data.P.data), initial=0.0)))
         if self._key != data.key:
             t0 = time.perf_counter()
             self._solver = osqp.OSQP()
-            self._solver.setup(data.P, data.q, data.A, data.l, data.u, **self.settings)
+            self._solver.setup(data.P * scale, data.q * scale, data.A, data.l, data.u, **self.settings)
             self._key = data.key
             setup_time = time.perf_counter() - t0
             self.setups += 1
         else:
-            self._solver.update(q=data.q, l=data.l, u=data.u, Px=data.P.data, Ax=data.A.data)
-        warm = warm or WarmStart()
-        warm_started = warm.x is not None
-        if warm_started:
-            self._solver.warm_start(x=warm.x, y=warm.y) if warm.y is not None else \
-                self._solver.warm_start(x=warm.x)
+            self._solver.update(q=data.q * scale, l=data.l, u=data.u, Px=data.P.data * scale, Ax=data.A.data)
+        if warm is not None and warm.x is not None:
+            # Primal only: the previous step's duals belong to another linearisation and,
+            # measured on closed-loop sequences, cost ADMM iterations instead of saving them.
+            self._solver.warm_start(x=warm.x)
         res = self._solver.solve(raise_error=False)
         info = res.info
         status = _STATUS.get(info.status_val, Status.ERROR)
         x = None if res.x is None or not np.all(np.isfinite(res.x)) else np.array(res.x)
         if x is None and status.usable:
             status = Status.ERROR
-        objective = float(info.obj_val) if x is not None else None
+        objective = float(info.obj_val) / scale if x is not None else None
         solver_time = float(info.solve_time + info.update_time + info.polish_time)
-        y = None if res.y is None else np.array(res.y)
+        y = None if res.y is None else np.array(res.y) / scale
         return BackendResult(status, info.status, x, objective, int(info.iter), solver_time,
-                             setup_time, WarmStart(x, y), warm_started)
+                             setup_time, WarmStart(x, y))
