@@ -123,21 +123,21 @@ def frame_axes(ax: Axes, result: HuntResult, scenario: Scenario, title: str) -> 
 
 
 def predicted_path(result: HuntResult) -> np.ndarray | None:
-    """The attacker's straight line as the defenders predicted it, (2, 2), or None.
+    """The attacker's straight line as first predicted (the paper's red dotted line), (2, 2), or None.
 
-    From the attacker's position at the first step with a recorded intercept to
-    the farthest recorded intercept; None without prediction, since the approach
-    targets are then just the attacker's current positions.
+    The prediction is first made at the first step whose intercepts differ from
+    the attacker's own position (its velocity is then known); the line runs from
+    the attacker there to the farthest of that step's intercepts. None without
+    prediction, since the approach targets are then the attacker's current positions.
     """
     if not result.prediction:
         return None
-    recorded = np.isfinite(result.intercepts).all(axis=2)
-    steps = np.flatnonzero(recorded.any(axis=1))
-    if len(steps) == 0:
-        return None
-    start = result.attacker[steps[0]]
-    targets = result.intercepts[recorded]
-    return np.array([start, targets[np.argmax(norm(targets - start))]])
+    for k in range(len(result.intercepts)):
+        targets = result.intercepts[k][np.isfinite(result.intercepts[k]).all(axis=1)]
+        reach = norm(targets - result.attacker[k])
+        if len(targets) and reach.max() > 0:
+            return np.array([result.attacker[k], targets[np.argmax(reach)]])
+    return None
 
 
 def plot_hunt(result: HuntResult, scenario: Scenario, path: str | Path, title: str | None = None) -> None:

@@ -64,5 +64,10 @@ def test_frame_steps_span_the_whole_hunt():
 def test_predicted_path_only_with_prediction(short_hunt):
     result, _ = short_hunt
     line = predicted_path(result)
-    assert line is not None and np.allclose(line[0], result.attacker[0])
+    # Step 0 knows no attacker velocity; the first prediction is made at step 1, along its motion.
+    assert line is not None and np.allclose(line[0], result.attacker[1])
+    motion = result.attacker[1] - result.attacker[0]
+    along = line[1] - line[0]
+    assert abs(motion[0] * along[1] - motion[1] * along[0]) <= 1e-9 * np.linalg.norm(along)
+    assert motion @ along > 0
     assert predicted_path(dataclasses.replace(result, prediction=False)) is None

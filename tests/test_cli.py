@@ -1,0 +1,143 @@
+"""The command line: every command's --help, its output, and one-line errors."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from mpc_hunt.cli import main
+from mpc_hunt.scenario_io import builtin_scenario, load_scenario
+
+TINY = """
+name = "tiny"
+[attacker]
+start = [5.0, 5.0]
+nominal_velocity = [0.03, 0.0]
+max_speed = 0.03
+perception_radius = 1.0
+[[defenders]]
+start = [5.0, 3.0]
+max_speed = 0.08
+[[defenders]]
+start = [7.0, 6.0]
+max_speed = 0.08
+[[defenders]]
+start = [3.5, 6.5]
+max_speed = 0.08
+[hunt]
+time_limit = 5.0
+"""
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("command", [[], ["simulate"], ["solve"], ["scenarios"]])
+def test_help(command):
+    with pytest.raises(SystemExit) as exc:
+        main(command + ["--help"])
+    assert exc.value.code == 0
+
+
+def test_scenarios_list_and_write(capsys, tmp_path):
+    code, out, _ = run(capsys, "scenarios")
+    assert code == 0 and "paper-open" in out and "paper-obstacles (default)" in out
+    target = tmp_path / "open.toml"
+    code, out, _ = run(capsys, "scenarios", "--write", "paper-open", "--output", str(target))
+    assert code == 0 and load_scenario(target) == builtin_scenario("paper-open")
+    code, out, _ = run(capsys, "scenarios", "--write", "paper-obstacles")
+    assert code == 0 and 'name = "paper-obstacles"' in out
+
+
+def test_simulate_json_on_a_scenario_file(capsys, tmp_path):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    code, out, err = run(capsys, "simulate", "--scenario", str(path), "--json")
+    assert code == 0, err
+    report = json.loads(out)
+    for key in ("captured", "capture_time_s", "path_lengths_m", "final_hunting_radius_m",
+                "min_obstacle_clearance_m", "min_defender_separation_m", "steps", "solve_time",
+                "failed_solves", "fallbacks"):
+        assert key in report
+    assert report["captured"] is False and report["capture_time_s"] is None
+    assert report["min_obstacle_clearance_m"] is None and report["steps"] == 50
+    assert len(report["path_lengths_m"]) == 3
+
+
+def test_simulate_summary_with_qp_and_plot(capsys, tmp_path):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    figure = tmp_path / "hunt.png"
+    code, out, err = run(capsys, "simulate", "--scenario", str(path), "--formulation", "qp",
+                         "--backend", "clarabel", "--horizon", "3", "--no-prediction", "--plot", str(figure))
+    assert code == 0, err
+    assert "qp on clarabel, horizon 3" in out and "prediction off" in out
+    assert figure.stat().st_size > 0
+
+
+def test_solve_at_a_state_file(capsys, tmp_path):
+    state = tmp_path / "state.json"
+    state.write_text(json.dumps({"attacker": [4.0, 11.0],
+                                 "defenders": [[4.0, 10.3], [4.6, 11.35], [3.4, 11.35]]}))
+    for formulation, backend in (("nlp", "ipopt"), ("qp", "osqp"), ("qp", "clarabel")):
+        code, out, err = run(capsys, "solve", "--scenario", "paper-open", "--state", str(state),
+                             "--formulation", formulation, "--backend", backend, "--json")
+        assert code == 0, err
+        report = json.loads(out)
+        assert report["status"] == "optimal"
+        assert (report["formulation"], report["backend"]) == (formulation, backend)
+        assert set(report["violation"]) >= {"motion_limit", "equal_distance", "obstacle_safety", "separation"}
+        assert report["objective"] > 0 and report["solve_time_s"] > 0 and report["iterations"] > 0
+        assert len(report["plan"]) == 1 and len(report["plan"][0]) == 3
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["simulate", "--scenario", "nowhere"], "unknown scenario 'nowhere'"),
+    (["simulate", "--horizon", "0"], "--horizon: must be at least 1"),
+    (["simulate", "--formulation", "lp"], "invalid choice: 'lp'"),
+    (["solve", "--formulation", "qp", "--backend", "ipopt"], "does not solve formulation 'qp'"),
+    (["solve", "--time-limit", "nan"], "--time-limit: must be a positive finite number"),
+    (["scenarios", "--output", "x.toml"], "--output needs --write"),
+])
+def test_bad_arguments_are_one_line(capsys, argv, message):
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse's own errors exit
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("content,message", [
+    ("name = 'x'\n[attacker]\nstart = [1, 2]\n", "attacker.max_speed: missing"),
+    ("this is not toml", "not valid TOML"),
+    (TINY.replace("max_speed = 0.08", "max_speed = 0.01", 1), "defenders[0].max_speed"),
+    (TINY + "\n[[obstacles]]\ncentre = [5.0, 3.0]\nradius = 0.5\n", "defenders[0].start"),
+    (TINY.replace("[hunt]", "[hunt]\ncolour = 1"), "hunt.colour: unknown key"),
+])
+def test_bad_scenario_files_are_one_line(capsys, tmp_path, content, message):
+    path = tmp_path / "bad.toml"
+    path.write_text(content)
+    code, out, err = run(capsys, "simulate", "--scenario", str(path))
+    assert code == 2 and out == ""
+    assert message in err and err.count("\n") == 1
+
+
+def test_bad_state_file_is_one_line(capsys, tmp_path):
+    state = tmp_path / "state.json"
+    state.write_text(json.dumps({"attacker": [4.0, 11.0], "defenders": [[4.0, 10.3]]}))
+    code, _, err = run(capsys, "solve", "--scenario", "paper-open", "--state", str(state))
+    assert code == 2 and "defenders: expected 3 positions" in err and err.count("\n") == 1
+
+
+def test_console_script_runs_without_traceback():
+    result = subprocess.run([sys.executable, "-m", "mpc_hunt.cli", "simulate", "--scenario", "missing.toml"],
+                            capture_output=True, text=True)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
