@@ -53,8 +53,9 @@ def _norm(v):
 
 def repulsion(r, radius, eta):
     """H(r) of Eq. 2 (repulsive sign, NOTES E1), as in mpc_hunt.field.repulsion."""
-    d = ca.fmax(_norm(r), FIELD_FLOOR)
-    return ca.if_else(d < radius, eta * (radius**3 / d**3 - 1), 0) * r
+    length = _norm(r)
+    d = ca.fmax(length, FIELD_FLOOR)
+    return ca.if_else(d < radius, eta * (radius**3 / d**3 - 1), 0) * d / length * r
 
 
 def obstacle_repulsion(p, centre, radius, reach, eta):

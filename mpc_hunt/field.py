@@ -10,8 +10,10 @@ nearest point of its surface, with range ``protective_distance``. Measured from
 the centre, an obstacle of radius 1 m would exert no force outside itself with
 R = 1 m.
 
-Distances below ``FIELD_FLOOR`` are raised to it, so the field stays finite
-(and huge) at a contact or inside an obstacle instead of becoming NaN.
+Distances below ``FIELD_FLOOR`` are raised to it (the offset keeps its
+direction and takes the floor's length), so the field stays finite, and huge,
+at a contact or inside an obstacle instead of becoming NaN. Only an offset of
+exactly zero, which has no direction, gives no push.
 """
 
 from __future__ import annotations
@@ -26,8 +28,9 @@ FIELD_FLOOR = 1e-3
 def repulsion(r: np.ndarray, radius: float, eta: float) -> np.ndarray:
     """H(r) of Eq. 2 for vectors ``r`` of shape (..., 2): repulsive, zero for |r| ≥ radius."""
     r = np.asarray(r, dtype=float)
-    d = np.maximum(norm(r), FIELD_FLOOR)
-    gain = np.where(d < radius, eta * (radius**3 / d**3 - 1.0), 0.0)
+    length = norm(r)
+    d = np.maximum(length, FIELD_FLOOR)
+    gain = np.where(d < radius, eta * (radius**3 / d**3 - 1.0), 0.0) * d / np.where(length > 0, length, 1.0)
     return r * gain[..., None]
 
 

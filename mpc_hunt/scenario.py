@@ -18,23 +18,24 @@ from mpc_hunt.errors import ScenarioError
 Vector = tuple[float, float]
 
 
+def _is_number(value: object) -> bool:
+    """A real number, not a bool (a TOML ``true``) and not a numeric string."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
 def _vector(value: object, where: str) -> Vector:
-    try:
-        x, y = (float(v) for v in value)  # type: ignore[union-attr]
-    except (TypeError, ValueError):
-        raise ScenarioError(f"{where}: expected two numbers [x, y], got {value!r}") from None
+    if not (isinstance(value, (list, tuple, np.ndarray)) and len(value) == 2 and all(map(_is_number, value))):
+        raise ScenarioError(f"{where}: expected two numbers [x, y], got {value!r}")
+    x, y = float(value[0]), float(value[1])
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ScenarioError(f"{where}: must be finite, got [{x}, {y}]")
     return (x, y)
 
 
 def _number(value: object, where: str, *, positive: bool = False, non_negative: bool = False) -> float:
-    if isinstance(value, bool):
+    if not _is_number(value):
         raise ScenarioError(f"{where}: expected a number, got {value!r}")
-    try:
-        x = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ScenarioError(f"{where}: expected a number, got {value!r}") from None
+    x = float(value)  # type: ignore[arg-type]
     if not math.isfinite(x):
         raise ScenarioError(f"{where}: must be finite, got {x}")
     if positive and x <= 0:

@@ -17,6 +17,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from mpc_hunt import HuntResult, builtin_scenario, simulate
 from mpc_hunt.plotting import plot_hunt
 
@@ -104,6 +106,27 @@ def claims(runs: dict[tuple[str, bool], HuntResult]) -> list[str]:
     return lines
 
 
+def differences(runs: dict[tuple[str, bool], HuntResult]) -> list[str]:
+    """Where the time goes: all defenders in the capture stage, then captured."""
+    lines = ["## Where we differ, and why", "",
+             "- **Final hunting radius.** Ours is the radius when the success test has held for "
+             "`hold_time` (2 s); the circle is then still contracting towards R_hunt / 2. The paper "
+             "does not say when its 0.25 m and 0.41 m were measured.",
+             "- **Herding before contraction.** Capture-stage defenders stay near the edge of their field "
+             "(|r_ai| ≈ R_agg) until the herding has brought the attacker to the centre of the circle, and "
+             "only then contract (docs/model.md, E5 and E9). How long that takes depends on the directions "
+             "the defenders arrive from:"]
+    for key, result in runs.items():
+        all_in = np.flatnonzero(result.capture_stage.all(axis=1))
+        start = f"{result.times[all_in[0]]:.1f} s" if len(all_in) else "never"
+        end = f"{result.capture_time:.1f} s" if result.captured else "not captured"
+        lines.append(f"  - {run_name(*key)}: every defender in the capture stage at {start}; captured at {end}.")
+    lines.append("- **Obstacles on the straight route.** From [15, 15], defender 2's straight route to the "
+                 "attacker crosses the obstacle at [7, 12]; its field turns the defender around it inside the "
+                 "protective distance, which is the largest single difference from the paper's path lengths.")
+    return lines
+
+
 def readme(runs: dict[tuple[str, bool], HuntResult], command: str, seconds: float) -> str:
     figures = [f"![{run_name(*key)}]({run_name(*key)}.png)" for key in runs]
     return "\n".join([
@@ -118,6 +141,7 @@ def readme(runs: dict[tuple[str, bool], HuntResult], command: str, seconds: floa
         "The paper gives no capture times or clearances; a capture-stage fallback is a step whose "
         "solve failed and whose command came from the strategy's fallback.", "",
         *claims(runs), "",
+        *differences(runs), "",
         "## Figures", "", *figures, "",
     ])
 

@@ -118,11 +118,6 @@ def test_repulsion_is_finite_at_and_near_zero():
     assert np.linalg.norm(repulsion(np.array([FIELD_FLOOR, 0.0]), radius, eta)) > 1e5
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "field.py docstring: 'Distances below FIELD_FLOOR are raised to it, so the field stays finite "
-    "(and huge) at a contact'; but repulsion() raises only the distance in the gain and keeps the "
-    "short vector r, so |H| = |r| * eta*(R^3/F^3 - 1) collapses toward 0 as |r| -> 0 (|H| ~ 1 at "
-    "|r| = 1e-9, exactly 0 at r = 0) instead of staying at its floor value."))
 @pytest.mark.parametrize("d", [1e-9, 1e-6, FIELD_FLOOR / 2])
 def test_repulsion_below_floor_stays_at_least_floor_value(d):
     radius, eta = 1.0, 1.0

@@ -307,10 +307,6 @@ def test_malformed_vector(value):
     assert "two numbers" in str(err)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "scenario._vector converts with float() and so accepts a TOML boolean ([true, 1.0] -> (1.0, 1.0)) "
-    "or numeric strings ([\"1\", \"2\"]) as a vector, although _number rejects booleans explicitly "
-    "and the message promises 'expected two numbers'"))
 @pytest.mark.parametrize("value", [[True, 1.0], ["1", "2"]])
 def test_vector_of_non_numbers_is_rejected(value):
     d = base()
@@ -318,9 +314,6 @@ def test_vector_of_non_numbers_is_rejected(value):
     rejects(d, "defenders[0].start")
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "scenario._number converts with float() and so accepts a TOML string such as \"0.08\" as a "
-    "number; the message says 'expected a number'"))
 def test_numeric_string_is_rejected():
     d = base()
     d["defenders"][0]["max_speed"] = "0.08"

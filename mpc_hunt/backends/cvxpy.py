@@ -10,6 +10,7 @@ default, Clarabel, is an accurate interior-point method, which a reference needs
 from __future__ import annotations
 
 import time
+import warnings
 
 import cvxpy as cp
 import numpy as np
@@ -86,7 +87,9 @@ class CvxpyBackend:
         if self.time_limit is not None and self.solver in ("CLARABEL", "OSQP"):
             kwargs["time_limit"] = self.time_limit
         try:
-            self._problem.solve(**kwargs)
+            with warnings.catch_warnings():  # "may be inaccurate" is reported through the status
+                warnings.simplefilter("ignore", UserWarning)
+                self._problem.solve(**kwargs)
         except (cp.error.SolverError, cp.error.DCPError, ValueError) as exc:
             return BackendResult(Status.ERROR, str(exc).splitlines()[0], None, None, 0, 0.0, setup_time)
         stats = self._problem.solver_stats
