@@ -47,7 +47,6 @@ class LinearisedCapture:
         delta = ca.SX.sym("delta", nX)     # the decision is the step from the reference: X = X̄ + δ
         q, s = ca.SX.sym("q", N), ca.SX.sym("s", N * nc)
         x = ca.vertcat(delta, q, s)
-        self.nX, self.n = nX, nX + N + N * nc
 
         def at_ref(expr):
             return ca.substitute(expr, X, Xref)

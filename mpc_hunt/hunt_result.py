@@ -39,11 +39,6 @@ class HuntResult:
     def steps(self) -> int:
         return len(self.times) - 1
 
-    @property
-    def collided(self) -> bool:
-        """A defender ever inside an obstacle."""
-        return self.min_obstacle_clearance is not None and self.min_obstacle_clearance < 0
-
     def solve_time_stats(self) -> dict:
         t = self.solve_times
         if len(t) == 0:

@@ -14,7 +14,6 @@ import json
 import platform
 from pathlib import Path
 
-import numpy as np
 
 from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 

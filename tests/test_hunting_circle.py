@@ -2,32 +2,20 @@
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from mpc_hunt.geometry import encloses, norm, saturate, unit
 from mpc_hunt.hunting_circle import MIN_MEMBERS, desired_velocity, members, success_test
 
-FAST = settings(deadline=None, max_examples=150)
-# Finite floats without subnormals (whose products underflow and defeat relative tolerances).
-floats = functools.partial(st.floats, allow_nan=False, allow_infinity=False, allow_subnormal=False)
+from strategies import FAST, angles, floats, points, polar
 
-# Rounded so that no subnormal coordinates (underflowing norms) are generated.
-coords = floats(min_value=-50.0, max_value=50.0, allow_nan=False, allow_infinity=False).map(
-    lambda x: round(x, 9))
-points = st.tuples(coords, coords).map(np.array)
-angles = floats(min_value=-math.pi, max_value=math.pi).map(lambda x: round(x, 12))
 NO_CENTRES, NO_RADII = np.zeros((0, 2)), np.zeros(0)
 R_HUNT, TOL = 0.5, 0.25
-
-
-def polar(length: float, angle: float) -> np.ndarray:
-    return np.array([length * math.cos(angle), length * math.sin(angle)])
 
 
 def ring(centre, radius, n, phase=0.0):

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from mpc_hunt.approach import approach_target, approach_velocity
@@ -15,19 +14,7 @@ from mpc_hunt.prediction import intercept_point, intercept_time
 from mpc_hunt.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.scenario_io import builtin_scenario
 
-FAST = settings(deadline=None, max_examples=150)
-# Finite floats without subnormals (whose products underflow and defeat relative tolerances).
-floats = functools.partial(st.floats, allow_nan=False, allow_infinity=False, allow_subnormal=False)
-
-# Rounded so that no subnormal coordinates (underflowing norms) are generated.
-coords = floats(min_value=-50.0, max_value=50.0, allow_nan=False, allow_infinity=False).map(
-    lambda x: round(x, 9))
-points = st.tuples(coords, coords).map(np.array)
-angles = floats(min_value=-math.pi, max_value=math.pi).map(lambda x: round(x, 12))
-
-
-def polar(length: float, angle: float) -> np.ndarray:
-    return np.array([length * math.cos(angle), length * math.sin(angle)])
+from strategies import FAST, angles, floats, points, polar
 
 
 def gap(t, p_a, v_a, p_d, speed):

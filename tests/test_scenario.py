@@ -243,7 +243,7 @@ def test_coinciding_starts():
     ("hunt", "time_limit", "+inf", "hunt.time_limit"),
 ])
 def test_non_finite_numbers_in_toml(table, key, literal, field):
-    text = f"""
+    text = """
 name = "t"
 [attacker]
 start = [1.0, 14.0]

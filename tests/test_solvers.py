@@ -127,9 +127,15 @@ def _closed_loop_iterations(formulation, backend, warm, steps=8):
         total += solution.iterations
         attacker = problem.attacker_step(attacker, defenders)
         defenders = solution.plan[0]
+    assert solver.backend.setups == 1  # set up once; every later step only updated numbers
     return total
 
 
 @pytest.mark.parametrize("formulation,backend", [("nlp", "ipopt"), ("sqp", "clarabel")])
 def test_warm_start_cuts_iterations(formulation, backend):
     assert _closed_loop_iterations(formulation, backend, True) < _closed_loop_iterations(formulation, backend, False)
+
+
+@pytest.mark.parametrize("backend", ["osqp", "clarabel", "cvxpy"])
+def test_a_persistent_qp_backend_is_set_up_once_in_the_loop(backend):
+    _closed_loop_iterations("qp", backend, True)

@@ -42,26 +42,16 @@ class _ConicLayout:
             cone_rows[start:start + size] = True
         upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
         lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
-        cone_list = [np.arange(s, s + k) for s, k in data.cones]
-        # destination row, sign, source row for each block
-        blocks = [(upper, 1.0), (lower, -1.0)] + [(rows, 1.0) for rows in cone_list]
-        dest_of, sign_of, offset = [], [], 0
-        self.b_index, self.b_sign, self.b_from_upper = [], [], []
-        for rows, sign in blocks:
-            for r in rows:
-                dest_of.append((r, offset, sign))
-                self.b_index.append(r)
-                self.b_sign.append(sign)
-                self.b_from_upper.append(sign > 0)
-                offset += 1
-        self.rows = offset
-        self.b_index = np.array(self.b_index, dtype=int)
-        self.b_sign = np.array(self.b_sign)
-        self.b_from_upper = np.array(self.b_from_upper, dtype=bool)
+        # Each stacked row: the source row of A and its sign (+1: u − Ax ≥ 0 or a cone row, −1: Ax − l ≥ 0).
+        rows = [(r, 1.0) for r in upper] + [(r, -1.0) for r in lower] \
+            + [(r, 1.0) for start, k in data.cones for r in range(start, start + k)]
+        self.rows = len(rows)
+        self.b_index = np.array([r for r, _ in rows], dtype=int)
+        self.b_sign = np.array([sign for _, sign in rows])
         coo = data.A.tocoo()
         by_row: dict[int, list[tuple[int, float]]] = {}
-        for r, dest, sign in dest_of:
-            by_row.setdefault(r, []).append((dest, sign))
+        for dest, (r, sign) in enumerate(rows):
+            by_row.setdefault(int(r), []).append((dest, sign))
         dst, col, src, sgn = [], [], [], []
         for k, (r, c) in enumerate(zip(coo.row, coo.col)):
             for dest, sign in by_row.get(int(r), []):
@@ -75,13 +65,17 @@ class _ConicLayout:
         self.cones = ([clarabel.NonnegativeConeT(len(upper) + len(lower))] if len(upper) + len(lower) else []) \
             + [clarabel.SecondOrderConeT(k) for _, k in data.cones]
 
+    def values(self, data: QPData) -> np.ndarray:
+        """The stacked matrix's non-zeros, in its CSC order (what ``update`` takes)."""
+        return self.sign * data.A.data[self.src]
+
     def matrix(self, data: QPData) -> sp.csc_matrix:
         A = self.pattern.copy()
-        A.data = self.sign * data.A.data[self.src]
+        A.data = self.values(data)
         return A
 
     def vector(self, data: QPData) -> np.ndarray:
-        return self.b_sign * np.where(self.b_from_upper, data.u[self.b_index], data.l[self.b_index])
+        return self.b_sign * np.where(self.b_sign > 0, data.u[self.b_index], data.l[self.b_index])
 
 
 class ClarabelBackend:
@@ -114,8 +108,7 @@ class ClarabelBackend:
             setup_time = time.perf_counter() - t0
             self.setups += 1
         else:
-            self._solver.update(P=data.P.data, q=data.q, A=self._layout.matrix(data).data,
-                                b=self._layout.vector(data))
+            self._solver.update(P=data.P.data, q=data.q, A=self._layout.values(data), b=self._layout.vector(data))
         sol = self._solver.solve()
         raw = str(sol.status).split(".")[-1]
         status = _STATUS.get(raw, Status.ERROR)
