@@ -110,8 +110,9 @@ def _simulate(args) -> int:
         return 0
     stats = report["solve_time"]
     lines = [
-        f"scenario {scenario.name}: {'captured' if result.captured else 'NOT captured'} ({result.termination})"
-        + (f" at t = {result.capture_time:.1f} s" if result.captured else ""),
+        f"scenario {scenario.name}: "
+        + (f"captured at t = {result.capture_time:.1f} s" if result.captured
+           else f"NOT captured ({result.termination.replace('_', ' ')})"),
         f"capture stage: {result.formulation} on {result.backend}, horizon {result.horizon}; "
         f"trajectory prediction {'on' if result.prediction else 'off'}",
         "path lengths: " + ", ".join(f"{x:.2f} m" for x in result.path_lengths),
