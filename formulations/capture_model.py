@@ -157,12 +157,13 @@ def x_from_plan(problem: CaptureProblem, plan: np.ndarray) -> np.ndarray:
     return np.asarray(plan, dtype=float)[:, problem.controlled].reshape(-1)
 
 
-def decision_point(problem: CaptureProblem, X: np.ndarray) -> np.ndarray:
+def decision_point(problem: CaptureProblem, X: np.ndarray, theta: np.ndarray | None = None) -> np.ndarray:
     """[X, q, s] for positions X: q_k the mean squared distance of step k, s the remaining gaps.
 
     A point consistent with Eq. 14's elastic form, used as the starting guess.
     """
     model = capture_model(*problem.structure)
-    sq = np.array(model.squared_distance_function(X, parameter_vector(problem))).reshape(problem.horizon, -1)
+    theta = parameter_vector(problem) if theta is None else theta
+    sq = np.array(model.squared_distance_function(X, theta)).reshape(problem.horizon, -1)
     q = sq.mean(axis=1)
     return np.concatenate([X, q, np.abs(sq - q[:, None]).ravel()])

@@ -114,7 +114,7 @@ class NLPFormulation(Formulation):
     def solve(self, problem, backend, warm_plan, duals) -> FormulationResult:
         data = self.data(problem)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
-        warm = WarmStart(decision_point(problem, x_from_plan(problem, plan0)),
+        warm = WarmStart(decision_point(problem, x_from_plan(problem, plan0), data.p),
                          None if duals is None else duals.y, None if duals is None else duals.z)
         raw = backend.solve(data, warm)
         plan = None if raw.x is None else plan_from_x(problem, raw.x)

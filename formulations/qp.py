@@ -152,7 +152,7 @@ class QPFormulation(Formulation):
         """Solve the QP linearised at the plan ``reference``; returns (backend result, QP objective)."""
         lin = self.linearisation(problem)
         Xref = x_from_plan(problem, reference)
-        guess = decision_point(problem, Xref)
+        guess = decision_point(problem, Xref, theta)
         guess[:len(Xref)] = 0.0
         data = lin.data((self.name,) + problem.structure, theta, Xref, guess)
         warm = WarmStart(guess, None if duals is None else duals.y)
