@@ -98,16 +98,23 @@ def _simulate(args) -> int:
     strategy = HuntingStrategy(scenario, prediction=not args.no_prediction, formulation=args.formulation,
                                backend=args.backend, horizon=args.horizon, time_limit=args.time_budget)
     result = simulate(scenario, strategy)
+    report = result.to_dict()
+    # The report goes out before any figure is written, so a bad output path loses nothing computed.
+    print(json.dumps(report) if args.json else _summary(result, report, scenario))
     if args.plot:
         from mpc_hunt.plotting import plot_hunt
         plot_hunt(result, scenario, args.plot)
     if args.animate:
         from mpc_hunt.animation import animate_hunt
         animate_hunt(result, scenario, args.animate)
-    report = result.to_dict()
-    if args.json:
-        print(json.dumps(report))
-        return 0
+    if not args.json:
+        for path in (args.plot, args.animate):
+            if path:
+                print(f"wrote {path}")
+    return 0
+
+
+def _summary(result, report: dict, scenario) -> str:
     stats = report["solve_time"]
     lines = [
         f"scenario {scenario.name}: "
@@ -126,11 +133,7 @@ def _simulate(args) -> int:
         lines.append(f"capture-stage solves: {stats['count']}, median {stats['median_s'] * 1e3:.2f} ms, "
                      f"p95 {stats['p95_s'] * 1e3:.2f} ms, max {stats['max_s'] * 1e3:.2f} ms; "
                      f"failed {result.failed_solves}, fallbacks {result.fallbacks}")
-    for path in (args.plot, args.animate):
-        if path:
-            lines.append(f"wrote {path}")
-    print("\n".join(lines))
-    return 0
+    return "\n".join(lines)
 
 
 def _solve(args) -> int:

@@ -141,3 +141,12 @@ def test_console_script_runs_without_traceback():
     result = subprocess.run([sys.executable, "-m", "mpc_hunt.cli", "simulate", "--scenario", "missing.toml"],
                             capture_output=True, text=True)
     assert result.returncode == 2 and "Traceback" not in result.stderr
+
+
+def test_a_bad_output_path_keeps_the_report(capsys, tmp_path):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    code, out, err = run(capsys, "simulate", "--scenario", str(path), "--json",
+                         "--plot", str(tmp_path / "missing-folder" / "hunt.png"))
+    assert code == 2 and err.count("\n") == 1 and "hunt.png" in err
+    assert json.loads(out)["steps"] == 50   # the hunt's report was printed before the write failed
