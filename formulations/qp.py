@@ -39,7 +39,6 @@ class LinearisedCapture:
 
     def __init__(self, structure: tuple, exact_motion_cone: bool = False):
         model = capture_model(*structure)
-        self.structure, self.cone = structure, exact_motion_cone
         p, nc, nf, m, N = model.p, model.nc, model.nf, model.m, model.N
         X, theta = model.X, model.theta
         nX = N * nc * 2

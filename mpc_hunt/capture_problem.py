@@ -13,8 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.field import attacker_resultant, nominal_intent
-from mpc_hunt.geometry import norm, saturate
+from mpc_hunt import attacker
 from mpc_hunt.hunting_circle import desired_velocity, members
 from mpc_hunt.scenario import Scenario
 
@@ -80,7 +79,7 @@ class CaptureProblem:
         p_a = np.asarray(attacker_position, dtype=float)
         p_d = np.asarray(defender_positions, dtype=float)
         a, hunt = scenario.attacker, scenario.hunt
-        controlled = norm(p_a - p_d) < a.perception_radius
+        controlled = attacker.perceives(scenario, p_a, p_d)
         circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
         u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
         return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights())
@@ -92,8 +91,7 @@ class CaptureProblem:
 
     @property
     def nominal_velocity(self) -> np.ndarray:
-        a = self.scenario.attacker
-        return nominal_intent(np.array(a.nominal_velocity), a.max_speed)
+        return attacker.nominal_velocity(self.scenario)
 
     @property
     def step_limits(self) -> np.ndarray:
@@ -113,16 +111,11 @@ class CaptureProblem:
 
     def resultant(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         """The attacker's resultant (Eq. 9 plus its nominal intent) for defenders at ``p_d``."""
-        s, a, hunt = self.scenario, self.scenario.attacker, self.scenario.hunt
-        return attacker_resultant(p_a, p_d, s.obstacle_centres, s.obstacle_radii,
-                                  nominal=self.nominal_velocity, perception_radius=a.perception_radius,
-                                  protective_distance=hunt.protective_distance, eta=hunt.eta,
-                                  k_d=hunt.k_d, k_o=hunt.k_o)
+        return attacker.resultant(self.scenario, p_a, p_d)
 
     def attacker_step(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         """One Euler step of Eq. 2: p_a + T · sat(resultant, v_a,max)."""
-        v = saturate(self.resultant(p_a, p_d), self.scenario.attacker.max_speed)
-        return np.asarray(p_a, dtype=float) + self.time_step * v
+        return np.asarray(p_a, dtype=float) + self.time_step * attacker.velocity(self.scenario, p_a, p_d)
 
     def held_plan(self) -> np.ndarray:
         """Every defender held where it is for the whole horizon: shape (N, n, 2)."""

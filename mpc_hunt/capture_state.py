@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mpc_hunt import attacker
 from mpc_hunt.errors import MpcHuntError, ScenarioError
 from mpc_hunt.geometry import norm
 from mpc_hunt.scenario import Scenario
@@ -39,7 +40,7 @@ def circle_formed(scenario: Scenario, obs: Observation) -> bool:
     """Every defender within R_agg, their distances to the attacker within 2 r_d of each other."""
     d = norm(obs.attacker - obs.defenders)
     r_d = float(np.min(scenario.defender_max_speeds)) * scenario.hunt.time_step
-    return bool(np.all(d < scenario.attacker.perception_radius) and d.max() - d.min() <= 2 * r_d)
+    return bool(attacker.perceives(scenario, obs.attacker, obs.defenders).all() and d.max() - d.min() <= 2 * r_d)
 
 
 def first_formed_circle(scenario: Scenario) -> HuntState:

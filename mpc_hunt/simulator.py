@@ -16,23 +16,12 @@ from typing import Callable
 
 import numpy as np
 
-from mpc_hunt.field import attacker_resultant, nominal_intent
+from mpc_hunt import attacker
 from mpc_hunt.geometry import norm, saturate
 from mpc_hunt.hunt_result import HuntResult
 from mpc_hunt.hunting_circle import success_test
 from mpc_hunt.scenario import Scenario
 from mpc_hunt.strategy import HuntingStrategy, Observation
-
-
-def attacker_velocity(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-    """Eq. 2: the attacker's resultant, capped at its max speed."""
-    a, hunt = scenario.attacker, scenario.hunt
-    force = attacker_resultant(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii,
-                               nominal=nominal_intent(np.array(a.nominal_velocity), a.max_speed),
-                               perception_radius=a.perception_radius,
-                               protective_distance=hunt.protective_distance,
-                               eta=hunt.eta, k_d=hunt.k_d, k_o=hunt.k_o)
-    return saturate(force, a.max_speed)
 
 
 def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *, prediction: bool = True,
@@ -52,7 +41,7 @@ def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *, pre
 
     p_a = np.array(scenario.attacker.start, dtype=float)
     p_d = scenario.defender_starts.copy()
-    attacker, defenders, stages, intercepts = [p_a.copy()], [p_d.copy()], [], []
+    attacker_path, defender_paths, stages, intercepts = [p_a.copy()], [p_d.copy()], [], []
     solve_times, iterations = [], []
     failed = fallbacks = held = 0
     previous = None
@@ -68,11 +57,11 @@ def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *, pre
             iterations.append(cmd.solution.iterations)
             failed += not cmd.solution.success
         fallbacks += cmd.fallback
-        velocity = attacker_velocity(scenario, p_a, p_d)
+        velocity = attacker.velocity(scenario, p_a, p_d)
         previous = p_a.copy()
         p_d = p_d + T * saturate(cmd.velocities, speeds)
         p_a = p_a + T * velocity
-        attacker.append(p_a.copy()); defenders.append(p_d.copy())
+        attacker_path.append(p_a.copy()); defender_paths.append(p_d.copy())
         stages.append(cmd.capture_stage); intercepts.append(cmd.intercepts)
         if not (np.all(np.isfinite(p_a)) and np.all(np.isfinite(p_d))):
             termination = "non_finite_state"
@@ -82,7 +71,7 @@ def simulate(scenario: Scenario, strategy: HuntingStrategy | None = None, *, pre
         if held >= hold_steps:
             termination = "captured"
             break
-    return _result(scenario, strategy, np.array(attacker), np.array(defenders), np.array(stages),
+    return _result(scenario, strategy, np.array(attacker_path), np.array(defender_paths), np.array(stages),
                    np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks)
 
 

@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from formulations import shift_plan
+from mpc_hunt import attacker
 from mpc_hunt.approach import approach_target, approach_velocity
 from mpc_hunt.capture_problem import CaptureProblem
-from mpc_hunt.geometry import norm
 from mpc_hunt.scenario import Scenario
 from mpc_hunt.solution import Solution
 from mpc_hunt.solver import CaptureSolver
@@ -70,7 +70,7 @@ class HuntingStrategy:
         s = self.scenario
         T = s.hunt.time_step
         speeds = s.defender_max_speeds
-        capture = norm(obs.attacker - obs.defenders) < s.attacker.perception_radius
+        capture = attacker.perceives(s, obs.attacker, obs.defenders)
         velocities = np.zeros_like(obs.defenders)
         intercepts = np.full_like(obs.defenders, np.nan)
         v_a = self.attacker_velocity_estimate(obs)
