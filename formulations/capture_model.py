@@ -27,6 +27,19 @@ def _layout(nc: int, nf: int, m: int) -> list[tuple[str, int]]:
             ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
 
 
+def unpack(theta, nc: int, nf: int, m: int) -> dict:
+    """The named parts of θ (symbols or numbers), in the order of :func:`_layout`."""
+    out, offset = {}, 0
+    for name, size in _layout(nc, nf, m):
+        out[name] = theta[offset:offset + size]
+        offset += size
+    return out
+
+
+def parameter_size(nc: int, nf: int, m: int) -> int:
+    return sum(size for _, size in _layout(nc, nf, m))
+
+
 def parameter_vector(problem: CaptureProblem) -> np.ndarray:
     """θ for ``problem``, in the order of :func:`_layout`."""
     s, hunt, w = problem.scenario, problem.scenario.hunt, problem.weights
@@ -76,16 +89,9 @@ class CaptureModel:
     def __init__(self, nc: int, nf: int, m: int, N: int):
         self.nc, self.nf, self.m, self.N = nc, nf, m, N
         self.X = ca.SX.sym("X", N * nc * 2)
-        self.theta = ca.SX.sym("theta", sum(size for _, size in _layout(nc, nf, m)))
-        self.p = self._unpack()
+        self.theta = ca.SX.sym("theta", parameter_size(nc, nf, m))
+        self.p = unpack(self.theta, nc, nf, m)
         self._build()
-
-    def _unpack(self) -> dict:
-        out, offset = {}, 0
-        for name, size in _layout(self.nc, self.nf, self.m):
-            out[name] = self.theta[offset:offset + size]
-            offset += size
-        return out
 
     def defender(self, k: int, i: int):
         """p_di at step k+1 (k = 0..N−1) for controlled defender i."""

@@ -10,16 +10,19 @@ with the attacker propagated through its APF dynamics inside ε and r_ai.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import lru_cache
 
 import casadi as ca
 import numpy as np
 
-from formulations.base import FormulationResult, Formulation, separation_pairs
+from formulations.base import Formulation, separation_pairs
 from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
                                         x_from_plan)
-from mpc_hunt.backends.base import NLPData, WarmStart
+from mpc_hunt.backends.base import NLPData
 from mpc_hunt.capture_problem import CaptureProblem
+from mpc_hunt.evaluator import VIOLATION_NAMES
+from mpc_hunt.solution import Solution, WarmStart
 
 
 def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[str]]:
@@ -76,8 +79,9 @@ class NLPFormulation(Formulation):
     """The true problem, expanded to SX, parametric in the state; warm-started by a shifted plan."""
 
     name = "nlp"
-    backends = ("ipopt",)
+    kind = "nlp"
     default_backend = "ipopt"
+    exact = frozenset(VIOLATION_NAMES)
 
     def prepare(self, structure: tuple) -> None:
         constraint_set(structure)
@@ -111,13 +115,11 @@ class NLPFormulation(Formulation):
         ubx = np.full(nX + N + N * nc, np.inf)
         return NLPData(("nlp",) + structure, lambda: self._nlp(structure), theta, lbx, ubx, lbg, ubg)
 
-    def solve(self, problem, backend, warm_plan, duals) -> FormulationResult:
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
         data = self.data(problem)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
         warm = WarmStart(decision_point(problem, x_from_plan(problem, plan0), data.p),
                          None if duals is None else duals.y, None if duals is None else duals.z)
-        raw = backend.solve(data, warm)
-        plan = None if raw.x is None else plan_from_x(problem, raw.x)
-        return FormulationResult(raw.status, raw.message, plan, raw.objective, raw.solver_time,
-                                 raw.setup_time, raw.iterations, raw.duals)
+        result = backend.solve(data, warm)
+        return replace(result, plan=None if result.x is None else plan_from_x(problem, result.x))
 

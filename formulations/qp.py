@@ -13,18 +13,20 @@ structure; each step only changes their values.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import lru_cache
 
 import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-from formulations.base import FormulationResult, Formulation, separation_pairs
+from formulations.base import Formulation, separation_pairs
 from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
                                         x_from_plan)
 from formulations.nlp import relaxed_lower_bounds
-from mpc_hunt.backends.base import QPData, WarmStart
+from mpc_hunt.backends.base import QPData
 from mpc_hunt.capture_problem import CaptureProblem
+from mpc_hunt.solution import Solution, WarmStart
 
 POLYGON_SIDES = 8
 TRUST_REGION = 2.0  # in units of r_d
@@ -61,15 +63,16 @@ class LinearisedCapture:
         P = 2 * ca.mtimes(Jx.T, Jx)
         qvec = 2 * ca.mtimes(Jx.T, c) + lin
 
-        rows, lo, hi, relax, self.cones = [], [], [], [], []
+        rows, lo, hi, relax, family, self.cones = [], [], [], [], [], []
 
-        def add(expr, lower, upper, relaxable=False):
+        def add(expr, lower, upper, name, relaxable=False):
             rows.append(expr); lo.append(lower); hi.append(upper)
-            relax.extend([relaxable] * expr.shape[0])
+            relax.extend([relaxable] * expr.shape[0]); family.extend([name] * expr.shape[0])
 
         step_limits = ca.vertcat(*[ca.repmat(p["step_limits"][i], 2, 1) for i in range(nc)])
-        add(X - Xref, -TRUST_REGION * ca.repmat(step_limits, N, 1), TRUST_REGION * ca.repmat(step_limits, N, 1))
-        add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc))
+        add(X - Xref, -TRUST_REGION * ca.repmat(step_limits, N, 1), TRUST_REGION * ca.repmat(step_limits, N, 1),
+            "trust_region")
+        add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc), "equal_distance")
         n_rows = nX + N * nc
         for k in range(N):
             a_k, a_ref_k = a_lin[2 * k:2 * k + 2], a_ref[2 * k:2 * k + 2]
@@ -78,34 +81,38 @@ class LinearisedCapture:
                 step = xi - model.previous(k, i)
                 if exact_motion_cone:     # b − A x = (r_d, step) ∈ SOC
                     self.cones.append((n_rows, 3))
-                    add(ca.vertcat(0, -step), -ca.inf * ca.SX.ones(3), ca.vertcat(p["step_limits"][i], 0, 0))
+                    add(ca.vertcat(0, -step), -ca.inf * ca.SX.ones(3), ca.vertcat(p["step_limits"][i], 0, 0),
+                        "motion_limit")
                     n_rows += 3
                 else:
                     for j in range(POLYGON_SIDES):
                         angle = 2 * np.pi * j / POLYGON_SIDES
                         normal = ca.DM([np.cos(angle), np.sin(angle)])
-                        add(ca.dot(normal, step), -ca.inf, p["step_limits"][i] * np.cos(np.pi / POLYGON_SIDES))
+                        add(ca.dot(normal, step), -ca.inf, p["step_limits"][i] * np.cos(np.pi / POLYGON_SIDES),
+                            "motion_limit")
                         n_rows += 1
                 for o in range(m):
                     centre = p["centres"][2 * o:2 * o + 2]
                     add(ca.dot(_unit(xi_ref - centre), xi - centre) - p["radii"][o] - p["safety_distance"],
-                        0.0, ca.inf, True)
+                        0.0, ca.inf, "obstacle_safety", True)
                     n_rows += 1
-                add(ca.dot(_unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"], 0.0, ca.inf, True)
+                add(ca.dot(_unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"], 0.0, ca.inf,
+                    "attacker_distance", True)
                 r_ref = xi_ref - a_ref_k
                 d2 = ca.dot(r_ref, r_ref) + 2 * ca.dot(r_ref, (xi - xi_ref) - (a_k - a_ref_k))
-                add(d2 - q[k] - s[k * nc + i], -ca.inf, 0.0)
-                add(d2 - q[k] + s[k * nc + i], 0.0, ca.inf)
+                add(d2 - q[k] - s[k * nc + i], -ca.inf, 0.0, "equal_distance")
+                add(d2 - q[k] + s[k * nc + i], 0.0, ca.inf, "equal_distance")
                 n_rows += 3
             for i, j in separation_pairs(nc, nf):
                 xi = model.defender(k, i)
                 xj = model.defender(k, j) if j < nc else model.held(j - nc)
                 xi_ref = Xref[(k * nc + i) * 2:(k * nc + i) * 2 + 2]
                 xj_ref = Xref[(k * nc + j) * 2:(k * nc + j) * 2 + 2] if j < nc else model.held(j - nc)
-                add(ca.dot(_unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, True)
+                add(ca.dot(_unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, "separation", True)
                 n_rows += 1
         g = ca.substitute(ca.vertcat(*rows), X, Xref + delta)
         self.relax = np.array(relax, dtype=bool)
+        self.family = np.array(family)  # each row's constraint family (evaluator names, or "trust_region")
         A = ca.jacobian(g, x)
         b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
         self.function = ca.Function("capture_qp", [theta, Xref],
@@ -136,45 +143,31 @@ class QPFormulation(Formulation):
     """One linearisation, one convex QP, solved by a persistent QP backend."""
 
     name = "qp"
-    backends = ("osqp", "clarabel", "cvxpy")
+    kind = "qp"
     default_backend = "osqp"
+    # Eq. 14 and the attacker distance are linearised; the inner approximations are exact.
+    exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     exact_motion_cone = False
 
     def prepare(self, structure: tuple) -> None:
         linearised_capture(structure, self.exact_motion_cone)
 
-    def linearisation(self, problem: CaptureProblem) -> LinearisedCapture:
-        return linearised_capture(problem.structure, self.exact_motion_cone)
-
     def solve_at(self, problem: CaptureProblem, backend, reference: np.ndarray, theta: np.ndarray,
-                 duals: WarmStart | None):
-        """Solve the QP linearised at the plan ``reference``; returns (backend result, QP objective)."""
-        lin = self.linearisation(problem)
+                 duals: WarmStart | None) -> Solution:
+        """Solve the QP linearised at the plan ``reference``; ``x`` and ``plan`` in absolute positions."""
+        lin = linearised_capture(problem.structure, self.exact_motion_cone)
         Xref = x_from_plan(problem, reference)
         guess = decision_point(problem, Xref, theta)
         guess[:len(Xref)] = 0.0
         data = lin.data((self.name,) + problem.structure, theta, Xref, guess)
-        warm = WarmStart(guess, None if duals is None else duals.y)
-        raw = backend.solve(data, warm)
-        objective = None
-        if raw.x is not None:
-            residual = data.J @ raw.x + data.c
-            objective = float(residual @ residual + data.lin @ raw.x)
-            raw.x = np.concatenate([Xref + raw.x[:len(Xref)], raw.x[len(Xref):]])
-        return raw, objective
+        result = backend.solve(data, WarmStart(guess, None if duals is None else duals.y))
+        if result.x is None:
+            return result
+        residual = data.J @ result.x + data.c
+        x = np.concatenate([Xref + result.x[:len(Xref)], result.x[len(Xref):]])
+        return replace(result, x=x, plan=plan_from_x(problem, x),
+                       formulation_objective=float(residual @ residual + data.lin @ result.x))
 
-    def solve(self, problem, backend, warm_plan, duals) -> FormulationResult:
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
         reference = problem.held_plan() if warm_plan is None else warm_plan
-        raw, objective = self.solve_at(problem, backend, reference, parameter_vector(problem), duals)
-        plan = None if raw.x is None else plan_from_x(problem, raw.x)
-        return FormulationResult(raw.status, raw.message, plan, objective, raw.solver_time,
-                                 raw.setup_time, raw.iterations, raw.duals)
-
-
-class SOCPFormulation(QPFormulation):
-    """``socp``: the QP with Eq. 13 as its exact second-order cone instead of a polygon (Clarabel, CVXPY)."""
-
-    name = "socp"
-    backends = ("clarabel", "cvxpy")
-    default_backend = "clarabel"
-    exact_motion_cone = True
+        return self.solve_at(problem, backend, reference, parameter_vector(problem), duals)

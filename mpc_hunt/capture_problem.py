@@ -74,12 +74,18 @@ class CaptureProblem:
 
     @classmethod
     def at_state(cls, scenario: Scenario, attacker_position, defender_positions, horizon: int = 1,
-                 weights: CaptureWeights | None = None) -> "CaptureProblem":
-        """The problem the strategy poses at this state (controlled set and u'_a derived)."""
+                 weights: CaptureWeights | None = None, active=None) -> "CaptureProblem":
+        """The problem the strategy poses at this state (controlled set and u'_a derived).
+
+        ``active`` (default: every defender) marks the robots that can move; a
+        failed one is held where it stands, like a defender in the approaching stage.
+        """
         p_a = np.asarray(attacker_position, dtype=float)
         p_d = np.asarray(defender_positions, dtype=float)
         a, hunt = scenario.attacker, scenario.hunt
         controlled = attacker.perceives(scenario, p_a, p_d)
+        if active is not None:
+            controlled = controlled & np.asarray(active, dtype=bool)
         circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
         u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
         return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights())
@@ -108,6 +114,11 @@ class CaptureProblem:
         """What fixes a formulation's sizes: (controlled, held, obstacles, horizon)."""
         nc = int(self.controlled.sum())
         return (nc, len(self.controlled) - nc, len(self.scenario.obstacles), self.horizon)
+
+    @property
+    def signature(self) -> tuple:
+        """The structure and which defenders are controlled: when two problems may share duals."""
+        return self.structure + (tuple(int(i) for i in np.flatnonzero(self.controlled)),)
 
     def resultant(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         """The attacker's resultant (Eq. 9 plus its nominal intent) for defenders at ``p_d``."""

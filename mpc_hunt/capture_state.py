@@ -11,7 +11,6 @@ written to, a JSON file: {"time": t, "attacker": [x, y], "defenders": [[x, y], â
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -19,31 +18,22 @@ import numpy as np
 from mpc_hunt import attacker
 from mpc_hunt.errors import MpcHuntError, ScenarioError
 from mpc_hunt.geometry import norm
+from mpc_hunt.problem_set import HuntState, read_json, state_from_dict
 from mpc_hunt.scenario import Scenario
 from mpc_hunt.simulator import simulate
-from mpc_hunt.strategy import Observation
-
-
-@dataclass(frozen=True)
-class HuntState:
-    """Where everybody is at one time."""
-
-    time: float
-    attacker: np.ndarray
-    defenders: np.ndarray
-
-    def to_dict(self) -> dict:
-        return {"time": self.time, "attacker": self.attacker.tolist(), "defenders": self.defenders.tolist()}
+from mpc_hunt.controller import Observation
 
 
 def circle_formed(scenario: Scenario, obs: Observation) -> bool:
-    """Every defender within R_agg, their distances to the attacker within 2 r_d of each other."""
-    d = norm(obs.attacker - obs.defenders)
+    """Every working defender within R_agg, their distances to the attacker within 2 r_d of each other."""
+    active = obs.active
+    d = norm(obs.attacker - obs.defenders[active])
     r_d = float(np.min(scenario.defender_max_speeds)) * scenario.hunt.time_step
-    return bool(attacker.perceives(scenario, obs.attacker, obs.defenders).all() and d.max() - d.min() <= 2 * r_d)
+    return bool(attacker.perceives(scenario, obs.attacker, obs.defenders[active]).all()
+                and d.max() - d.min() <= 2 * r_d)
 
 
-def first_formed_circle(scenario: Scenario) -> HuntState:
+def first_formed_circle(scenario: Scenario, progress=None) -> HuntState:
     """The default state of ``mpc-hunt solve`` (see the module's docstring)."""
     found: list[Observation] = []
 
@@ -53,44 +43,42 @@ def first_formed_circle(scenario: Scenario) -> HuntState:
             return True
         return False
 
-    simulate(scenario, until=until)
+    simulate(scenario, until=until, progress=progress)
     if not found:
         raise MpcHuntError(f"scenario {scenario.name!r}: the hunting circle never formed in its closed-loop run")
     obs = found[0]
     return HuntState(obs.time, obs.attacker, obs.defenders)
 
 
+def formed_circle_states(scenario: Scenario, count: int, progress=None) -> list[HuntState]:
+    """``count`` consecutive states of the same closed-loop run, from the first with a formed circle.
+
+    The states a capture-stage controller meets in turn (for warm-started
+    benchmarks); fewer if the run stops first (capture or time limit).
+    """
+    found: list[Observation] = []
+
+    def until(obs: Observation) -> bool:
+        if found or circle_formed(scenario, obs):
+            found.append(obs)
+        return len(found) > count
+
+    simulate(scenario, until=until, progress=progress)
+    return [HuntState(obs.time, obs.attacker, obs.defenders) for obs in found[:count]]
+
+
 def load_state(path: str | Path, scenario: Scenario) -> HuntState:
-    """Read a state file; its shapes are checked against ``scenario``."""
+    """Read a state file, checked against ``scenario`` as its starts are (docs/robustness.md).
+
+    Every problem is a one-line ScenarioError naming the file and the field
+    (see :func:`mpc_hunt.problem_set.state_from_dict`).
+    """
     path = Path(path)
+    data = read_json(path)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{path}: not valid JSON ({exc})") from None
-    if not isinstance(data, dict):
-        raise ScenarioError(f"{path}: expected a JSON object with 'attacker' and 'defenders'")
-    unknown = sorted(set(data) - {"time", "attacker", "defenders"})
-    if unknown:
-        raise ScenarioError(f"{path}: {unknown[0]}: unknown key (known: attacker, defenders, time)")
-    n = len(scenario.defenders)
-    try:
-        attacker = np.array(data["attacker"], dtype=float)
-        defenders = np.array(data["defenders"], dtype=float)
-        time = float(data.get("time", 0.0))
-    except KeyError as exc:
-        raise ScenarioError(f"{path}: {exc.args[0]}: missing") from None
-    except (TypeError, ValueError):
-        raise ScenarioError(f"{path}: attacker, defenders and time must be numbers") from None
-    if attacker.shape != (2,):
-        raise ScenarioError(f"{path}: attacker: expected [x, y], got shape {attacker.shape}")
-    if defenders.shape != (n, 2):
-        raise ScenarioError(f"{path}: defenders: expected {n} positions [x, y] for scenario "
-                            f"{scenario.name!r}, got shape {defenders.shape}")
-    if not (np.all(np.isfinite(attacker)) and np.all(np.isfinite(defenders)) and np.isfinite(time)):
-        raise ScenarioError(f"{path}: positions and time must be finite")
-    return HuntState(time, attacker, defenders)
+        return state_from_dict(data, scenario)
+    except ScenarioError as exc:
+        raise ScenarioError(f"{exc} (in {path})") from None
 
 
 def save_state(state: HuntState, path: str | Path) -> None:

@@ -1,21 +1,27 @@
-"""The ``mpc-hunt`` command line: simulate, solve, scenarios.
+"""The ``mpc-hunt`` command line: simulate, solve, compare, problems, scenarios, backends.
 
-Every error is one line on stderr and a non-zero exit status, never a traceback.
+Every name and output path is checked before any work, and every error is one
+line on stderr with exit status 2, never a traceback. Formulations, backends
+and controllers are listed from the registry without importing them.
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
+import shlex
 import sys
 from pathlib import Path
 
-from formulations import FORMULATIONS
-from mpc_hunt.backends import BACKENDS
+from mpc_hunt import cli_sweep, registry
+from mpc_hunt.cli_common import Progress, non_negative_int, positive_float, positive_int
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.scenario_io import DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario, resolve_scenario
 
 EXIT_ERROR = 2
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
+ANIMATION_SUFFIXES = (".gif",)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -25,81 +31,184 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_ERROR, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def _positive_int(text: str) -> int:
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
     try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
+        return version("mpc-hunt")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
 
 
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
-    return value
+def _backend_help() -> str:
+    defaults = ", ".join(f"{f}→{registry.formulation_class(f).default_backend}" for f in registry.FORMULATIONS)
+    return f"solver backend (default: the formulation's own: {defaults})"
 
 
-def _solver_arguments(p: argparse.ArgumentParser, formulation_default: str | None) -> None:
+def _solver_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
                    help=f"built-in name ({', '.join(builtin_names())}) or a TOML file (default: {DEFAULT_SCENARIO})")
-    p.add_argument("--formulation", default=formulation_default, choices=sorted(FORMULATIONS),
-                   help="capture-stage formulation" + (f" (default: {formulation_default})" if formulation_default else ""))
-    p.add_argument("--backend", choices=sorted(BACKENDS),
-                   help="solver backend (default: the formulation's own: nlp→ipopt, qp/sqp→osqp, socp→clarabel)")
-    p.add_argument("--horizon", type=_positive_int, default=1, metavar="N",
+    p.add_argument("--formulation", default="nlp", choices=sorted(registry.FORMULATIONS),
+                   help="capture-stage formulation (default: nlp)")
+    p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
+    p.add_argument("--horizon", type=positive_int, default=1, metavar="N",
                    help="receding horizon in steps (default: 1, the paper's one-step problem)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
+    parser.add_argument("--version", action="version", version=f"mpc-hunt {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     sim = sub.add_parser("simulate", help="run one closed-loop hunt",
-                         description="Run one closed-loop hunt and report capture, path lengths and clearances.")
-    _solver_arguments(sim, "nlp")
+                         description="Run one closed-loop hunt and report capture, path lengths and clearances. "
+                                     "Progress goes to stderr (not with --json).")
+    _solver_arguments(sim)
+    sim.add_argument("--controller", default="paper", choices=sorted(registry.CONTROLLERS),
+                     help="paper: the paper's strategy with its capture-stage optimisation (default); "
+                          "apf: the traditional potential-field encirclement, no optimisation "
+                          "(--formulation, --backend, --horizon and --time-budget do not apply)")
     sim.add_argument("--no-prediction", action="store_true",
                      help="approach the attacker's current position instead of the predicted intercept")
-    sim.add_argument("--time-budget", type=_positive_float, metavar="SECONDS",
+    sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",
                      help="per-step limit handed to the capture-stage solver")
-    sim.add_argument("--plot", type=Path, metavar="FILE", help="write the trajectory figure (PNG, PDF, SVG)")
+    sim.add_argument("--plot", type=Path, metavar="FILE",
+                     help=f"write the trajectory figure ({', '.join(FIGURE_SUFFIXES)})")
     sim.add_argument("--animate", type=Path, metavar="FILE.gif", help="write an animation of the hunt")
 
     solve = sub.add_parser(
         "solve", help="solve one capture-stage problem",
         description="Solve one capture-stage problem (Eqs. 12-15) and score it with the shared evaluator. "
-                    "The state is the first one of the scenario's closed-loop run (paper strategy, prediction on) "
-                    "at which every defender is within R_agg and their distances to the attacker differ by at most "
-                    "2 r_d (the hunting circle has formed), or the state in --state FILE.")
-    _solver_arguments(solve, "nlp")
+                    "The state is --state FILE, or the scenario's default state: for a built-in scenario the one "
+                    "shipped in the problem set 'default'; for a scenario file the first state of its closed-loop "
+                    "run (paper strategy, prediction on) at which every defender is within R_agg and their "
+                    "distances to the attacker differ by at most 2 r_d (the hunting circle has formed).")
+    _solver_arguments(solve)
     solve.add_argument("--state", type=Path, metavar="FILE",
                        help='JSON state {"attacker": [x, y], "defenders": [[x, y], ...]} to solve at')
     solve.add_argument("--save-state", type=Path, metavar="FILE", help="write the state solved at as JSON")
-    solve.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="solver time limit")
+    solve.add_argument("--time-limit", type=positive_float, metavar="SECONDS", help="solver time limit")
 
     scen = sub.add_parser("scenarios", help="list built-in scenarios, or write one out as TOML",
                           description="List the built-in scenarios, or write one out as TOML to start from.")
     scen.add_argument("--write", metavar="NAME", help="print (or with --output, save) this built-in as TOML")
     scen.add_argument("--output", type=Path, metavar="FILE", help="where --write saves the TOML")
+
+    sub.add_parser("backends", help="list formulations, backends and which pairs work here",
+                   description="List every registered formulation and backend, what each accepts, and whether "
+                               "its solver package is installed (with the install command if not).")
+    _compare_parser(sub)
+    _problems_parser(sub)
+    cli_sweep.add_parsers(sub)
     return parser
+
+
+def _compare_parser(sub) -> None:
+    from mpc_hunt.accuracy import accuracy_table
+    from mpc_hunt.backends.base import ACCURACIES
+    from mpc_hunt.compare import MODES
+    from mpc_hunt.evaluator import OBJECTIVE
+
+    cmp = sub.add_parser(
+        "compare", help="score formulations x backends over a problem set, like a solver benchmark",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Run every (formulation, backend) pair asked for over a problem set, at each horizon, in two "
+                    "modes: cold (each problem alone, fresh solver) and closed-loop (the set's sequences, "
+                    "warm-started as the controller does). Per pair, mode and horizon: success rate, all-in solve "
+                    "time (median, p95, shifted geometric mean), solver time and our overhead, set-up apart, "
+                    "iterations, optimality gap against the best known, and the largest true violations. "
+                    "A progress bar goes to stderr (not with --json); Ctrl-C stops and keeps the finished solves.",
+        epilog=f"The score of every plan, for every pair:\n\n{OBJECTIVE}\n\nAccuracy levels (the success rule's "
+               f"violation tolerance and what each backend is handed):\n\n{accuracy_table()}\n\n"
+               "Metrics are defined in docs/benchmarks.md.")
+    cmp.add_argument("--problems", default="default", metavar="NAME_OR_FILE",
+                     help="a shipped problem set or a problem set file (default: default; see mpc-hunt problems)")
+    cmp.add_argument("--tag", action="append", default=[], metavar="TAG", help="only problems with this tag "
+                     "(repeat for several, all required)")
+    cmp.add_argument("--limit", type=positive_int, metavar="K",
+                     help="at most K problems, drawn with --seed (sequences kept whole)")
+    cmp.add_argument("--seed", type=int, default=0, help="seed of the draw and of the reference's random starts "
+                     "(default: 0)")
+    cmp.add_argument("--pair", action="append", metavar="FORMULATION[:BACKEND]",
+                     help="a pair to run (a formulation alone: all its installed backends); repeat for several "
+                          "(default: every registered pair whose solver is installed)")
+    cmp.add_argument("--horizon", type=positive_int, nargs="+", default=[1], metavar="N",
+                     help="one or more horizons (default: 1)")
+    cmp.add_argument("--mode", nargs="+", choices=MODES, default=list(MODES), help="default: both")
+    cmp.add_argument("--accuracy", choices=ACCURACIES, default="default", help="default: default")
+    cmp.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
+                     help="handed to each solver call; a failed solve then counts at it in the shifted mean")
+    cmp.add_argument("--starts", type=positive_int, default=4,
+                     help="starts of the reference multi-start NLP (default: 4)")
+    cmp.add_argument("--json", action="store_true", help="print one JSON object (machine, settings, rows)")
+    cmp.add_argument("--csv", type=Path, metavar="FILE.csv", help="also write the rows as CSV")
+    cmp.add_argument("--report", type=Path, metavar="DIR",
+                     help="also write a Markdown report with its figures and every solve (results.json) into DIR")
+    cmp.add_argument("--plot", type=Path, metavar="DIR", help="also write the figures into DIR")
+
+
+def _problems_parser(sub) -> None:
+    prob = sub.add_parser(
+        "problems", help="list, describe or build problem sets",
+        description="Without arguments, list the problem sets shipped with mpc-hunt. With a set (a shipped name or "
+                    "a .json file), describe it, one line per problem. With --build, build a set: each scenario's "
+                    "default state and runs of consecutive capture-stage states from its closed-loop hunt, then "
+                    "random states around random obstacle layouts, each making one constraint family active; the "
+                    "format is documented in docs/benchmarks.md.")
+    prob.add_argument("set", nargs="?", metavar="NAME_OR_FILE", help="the set to describe")
+    prob.add_argument("--build", type=Path, metavar="FILE.json", help="build a set and write it here")
+    prob.add_argument("--scenario", action="append", metavar="NAME_OR_FILE",
+                      help="a scenario whose hunt is sampled; repeat for several (default: every built-in); "
+                           "the first one's robots are the random states' template")
+    prob.add_argument("--every", type=positive_int, default=560, metavar="K",
+                      help="a run starts at every K-th capture-stage state (default: 560)")
+    prob.add_argument("--run-length", type=positive_int, default=4, metavar="L",
+                      help="consecutive states per run (default: 4)")
+    prob.add_argument("--random", type=non_negative_int, default=2, metavar="M",
+                      help="random states per constraint family (default: 2)")
+    prob.add_argument("--seed", type=int, default=0, help="seed of the random states (default: 0)")
+
+
+def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
+    """Refuse, before any work, an output path that cannot be written in a supported format."""
+    if path is None:
+        return
+    if path.suffix.lower() not in suffixes:
+        got = f"extension {path.suffix!r}" if path.suffix else "no extension"
+        raise MpcHuntError(f"{option} {path}: {got} (use {', '.join(suffixes)})")
+    if path.is_dir():
+        raise MpcHuntError(f"{option} {path}: is a directory")
+    if not path.parent.is_dir():
+        raise MpcHuntError(f"{option} {path}: folder {path.parent} does not exist")
+
+
+def _controller(args, scenario):
+    prediction = not args.no_prediction
+    if args.controller != "paper":
+        given = [flag for flag, value in (("--formulation", args.formulation != "nlp"), ("--backend", args.backend),
+                                          ("--horizon", args.horizon != 1), ("--time-budget", args.time_budget))
+                 if value]
+        if given:
+            raise MpcHuntError(f"{', '.join(given)}: only with --controller paper "
+                               f"(controller {args.controller!r} solves no capture problem)")
+        return registry.make_controller(args.controller, scenario, prediction=prediction)
+    return registry.make_controller("paper", scenario, prediction=prediction, formulation=args.formulation,
+                                    backend=args.backend, horizon=args.horizon, time_limit=args.time_budget)
 
 
 def _simulate(args) -> int:
     from mpc_hunt.simulator import simulate
-    from mpc_hunt.strategy import HuntingStrategy
 
+    if args.controller == "paper":
+        registry.check_pair(args.formulation, args.backend)
+    check_output(args.plot, FIGURE_SUFFIXES, "--plot")
+    check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
     scenario = resolve_scenario(args.scenario)
-    strategy = HuntingStrategy(scenario, prediction=not args.no_prediction, formulation=args.formulation,
-                               backend=args.backend, horizon=args.horizon, time_limit=args.time_budget)
-    result = simulate(scenario, strategy)
+    controller = _controller(args, scenario)
+    with Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
+        result = simulate(scenario, controller, progress=update)
     report = result.to_dict()
-    # The report goes out before any figure is written, so a bad output path loses nothing computed.
+    # The report goes out before any figure is written, so a failed write loses nothing computed.
     print(json.dumps(report) if args.json else _summary(result, report, scenario))
     if args.plot:
         from mpc_hunt.plotting import plot_hunt
@@ -116,12 +225,16 @@ def _simulate(args) -> int:
 
 def _summary(result, report: dict, scenario) -> str:
     stats = report["solve_time"]
+    c = result.controller
+    if c["controller"] == "paper":
+        how = f"capture stage: {c['formulation']} on {c['backend']}, horizon {c['horizon']}"
+    else:
+        how = f"controller: {c['controller']} (no capture-stage optimisation)"
     lines = [
         f"scenario {scenario.name}: "
         + (f"captured at t = {result.capture_time:.1f} s" if result.captured
            else f"NOT captured ({result.termination.replace('_', ' ')})"),
-        f"capture stage: {result.formulation} on {result.backend}, horizon {result.horizon}; "
-        f"trajectory prediction {'on' if result.prediction else 'off'}",
+        f"{how}; trajectory prediction {'on' if c['prediction'] else 'off'}",
         "path lengths: " + ", ".join(f"{x:.2f} m" for x in result.path_lengths),
         f"final hunting radius: {result.final_hunting_radius:.3f} m (R_hunt {scenario.hunt.hunt_radius} m)",
         "min clearance to an obstacle surface: "
@@ -136,17 +249,32 @@ def _summary(result, report: dict, scenario) -> str:
     return "\n".join(lines)
 
 
+def _state(args, scenario):
+    from mpc_hunt.capture_state import first_formed_circle, load_state
+    from mpc_hunt.problem_set import builtin_problem_set
+
+    if args.state:
+        return load_state(args.state, scenario)
+    if args.scenario in builtin_names():
+        state = builtin_problem_set("default").default_state(scenario.name)
+        if state is not None:
+            return state
+    with Progress(scenario.hunt.time_limit, "finding the default state", quiet=args.json) as update:
+        return first_formed_circle(scenario, progress=update)
+
+
 def _solve(args) -> int:
     from mpc_hunt.capture_problem import CaptureProblem
-    from mpc_hunt.capture_state import first_formed_circle, load_state, save_state
-    from mpc_hunt.solver import solve
+    from mpc_hunt.capture_state import save_state
+    from mpc_hunt.solver import CaptureSolver
 
+    solver = CaptureSolver(args.formulation, args.backend, time_limit=args.time_limit)
     scenario = resolve_scenario(args.scenario)
-    state = load_state(args.state, scenario) if args.state else first_formed_circle(scenario)
+    state = _state(args, scenario)
     if args.save_state:
         save_state(state, args.save_state)
     problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, args.horizon)
-    solution = solve(problem, args.formulation, args.backend, time_limit=args.time_limit)
+    solution = solver.solve(problem)
     report = solution.to_dict()
     report.update(scenario=scenario.name, state=state.to_dict(), horizon=args.horizon)
     if args.json:
@@ -184,9 +312,113 @@ def _scenarios(args) -> int:
     return 0
 
 
+def _backends(args) -> int:
+    for f in registry.FORMULATIONS:
+        cls = registry.formulation_class(f)
+        print(f"formulation {f} (emits {cls.kind}; default backend {cls.default_backend}): "
+              f"{', '.join(registry.compatible_backends(f))}")
+    for b in registry.BACKENDS:
+        cls = registry.backend_class(b)
+        where = "installed" if registry.installed(b) else f"NOT installed: pip install {cls.install}"
+        print(f"backend {b} (accepts {', '.join(cls.accepts)}): {where}")
+    return 0
+
+
+def check_folder(path: Path | None, option: str) -> None:
+    """Refuse, before any work, an output folder that is a file or whose parent does not exist."""
+    if path is not None and (path.exists() and not path.is_dir() or not path.parent.is_dir()):
+        raise MpcHuntError(f"{option} {path}: " + ("is not a folder" if path.exists()
+                                                   else f"folder {path.parent} does not exist"))
+
+
+def _compare(args) -> int:
+    import numpy as np
+
+    from mpc_hunt.compare import check_pairs, planned_solves, run_compare
+    from mpc_hunt.compare_plots import plot_compare
+    from mpc_hunt.compare_report import document, dumps, table, write_csv, write_report
+    from mpc_hunt.compare_rows import rows as score_rows
+    from mpc_hunt.machine import describe_machine, load_average
+    from mpc_hunt.problem_set import resolve_problem_set
+
+    pairs = check_pairs(args.pair)
+    check_output(args.csv, (".csv",), "--csv")
+    check_folder(args.report, "--report")
+    check_folder(args.plot, "--plot")
+    rng = np.random.default_rng(args.seed)
+    problem_set = resolve_problem_set(args.problems).select(tuple(args.tag), args.limit, rng)
+    if not problem_set.problems:
+        raise MpcHuntError(f"--tag {' '.join(args.tag)}: no problem of {args.problems!r} carries every tag")
+    machine = describe_machine()
+    total = planned_solves(problem_set, len(pairs), args.horizon, args.mode, args.starts)
+    with Progress(total, "compare", quiet=args.json, unit="solves") as update:
+        done = itertools.count(1)
+        run = run_compare(problem_set, pairs, args.horizon, args.mode, rng, accuracy=args.accuracy,
+                          time_limit=args.time_limit, starts=args.starts,
+                          progress=(lambda: update(next(done))) if update else None)
+    machine["load_average_end"] = load_average()
+    rows = score_rows(run)
+    extra = {"problem_set": args.problems, "tags": args.tag, "limit": args.limit, "seed": args.seed}
+    print(dumps(document(run, machine, rows, extra)) if args.json else table(rows))
+    if args.csv:
+        write_csv(rows, args.csv)
+    if args.plot:
+        args.plot.mkdir(exist_ok=True)
+        plot_compare(run, rows, args.plot)
+    if args.report:
+        write_report(run, machine, args.report, "mpc-hunt " + shlex.join(args.argv), extra)
+    if run.interrupted:
+        print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.records)} finished solves",
+              file=sys.stderr)
+        return EXIT_ERROR
+    return 0
+
+
+def _problems(args) -> int:
+    from mpc_hunt.problem_set import builtin_problem_set, builtin_problem_sets, resolve_problem_set
+
+    if args.build:
+        if args.set:
+            raise MpcHuntError("--build: give either a set to describe or --build FILE, not both")
+        return _build_problems(args)
+    if args.set is None:
+        for name in builtin_problem_sets():
+            ps = builtin_problem_set(name)
+            print(f"{name}: {len(ps.problems)} problems; {ps.description}")
+        return 0
+    ps = resolve_problem_set(args.set)
+    print("\n".join(ps.describe()))
+    for p in ps.problems:
+        controlled = int(ps.problem(p).controlled.sum())
+        print(f"{p.id}: scenario {p.scenario}, t = {p.state.time:.1f} s, {controlled} controlled"
+              + (f", sequence {p.sequence}" if p.sequence else "") + f"; tags: {', '.join(p.tags) or '-'}")
+    return 0
+
+
+def _build_problems(args) -> int:
+    import numpy as np
+
+    from mpc_hunt.build_problems import build_problem_set
+    from mpc_hunt.problem_set import save_problem_set
+
+    check_output(args.build, (".json",), "--build")
+    scenarios = [resolve_scenario(s) for s in (args.scenario or builtin_names())]
+    ps = build_problem_set(scenarios, np.random.default_rng(args.seed), every=args.every, run_length=args.run_length,
+                           random_per_case=args.random,
+                           description=f"Built by mpc-hunt problems --build (every {args.every}, runs of "
+                                       f"{args.run_length}, {args.random} random states per family, seed "
+                                       f"{args.seed}).")
+    save_problem_set(ps, args.build)
+    print("\n".join(ps.describe()))
+    print(f"wrote {args.build}")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
-    command = {"simulate": _simulate, "solve": _solve, "scenarios": _scenarios}[args.command]
+    args.argv = sys.argv[1:] if argv is None else list(argv)
+    command = {"simulate": _simulate, "solve": _solve, "scenarios": _scenarios, "backends": _backends,
+               "compare": _compare, "problems": _problems, **cli_sweep.HANDLERS}[args.command]
     try:
         return command(args)
     except MpcHuntError as exc:

@@ -13,8 +13,20 @@ class SolverError(MpcHuntError):
     """A solve failed and the caller asked for an exception instead of a status."""
 
 
+class SolverNotFoundError(MpcHuntError):
+    """A backend's solver package is not installed; the message says how to install it."""
+
+
+class BenchmarkError(MpcHuntError, ValueError):
+    """A benchmark's input cannot be scored (an empty or negative sample, no problem selected)."""
+
+
+class SweepStopped(MpcHuntError):
+    """A sweep could not go on (its workers kept dying, its cluster went away); its finished rows are kept."""
+
+
 class UnknownNameError(MpcHuntError, KeyError):
-    """A formulation, backend or scenario name is not registered."""
+    """A formulation, backend, controller or scenario name is not registered."""
 
     def __str__(self) -> str:  # KeyError would quote the message
         return str(self.args[0]) if self.args else ""

@@ -12,16 +12,13 @@ class HuntResult:
     """Every trajectory of one hunt, and the figures computed from them."""
 
     scenario: str
-    prediction: bool
-    formulation: str
-    backend: str
-    horizon: int
+    controller: dict                  # the controller's describe(): name and settings
     times: np.ndarray                 # (K+1,)
     attacker: np.ndarray              # (K+1, 2)
     defenders: np.ndarray             # (K+1, n, 2)
     capture_stage: np.ndarray         # (K, n) bool
     intercepts: np.ndarray            # (K, n, 2): approach targets, NaN in the capture stage
-    termination: str                  # "captured", "time_limit", "non_finite_state" or "stopped"
+    termination: str                  # "captured", "time_limit", "non_finite_state", "attacker_escaped", "stopped"
     captured: bool
     capture_time: float | None
     path_lengths: np.ndarray          # (n,)
@@ -34,6 +31,23 @@ class HuntResult:
     solve_iterations: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     failed_solves: int = 0
     fallbacks: int = 0
+    longest_failure_streak: int = 0   # most consecutive failed capture-stage solves
+
+    @property
+    def formulation(self) -> str | None:
+        return self.controller.get("formulation")
+
+    @property
+    def backend(self) -> str | None:
+        return self.controller.get("backend")
+
+    @property
+    def horizon(self) -> int | None:
+        return self.controller.get("horizon")
+
+    @property
+    def prediction(self) -> bool | None:
+        return self.controller.get("prediction")
 
     @property
     def steps(self) -> int:
@@ -52,10 +66,7 @@ class HuntResult:
             return None if x is None else float(x)
         return {
             "scenario": self.scenario,
-            "prediction": self.prediction,
-            "formulation": self.formulation,
-            "backend": self.backend,
-            "horizon": self.horizon,
+            **self.controller,
             "captured": self.captured,
             "termination": self.termination,
             "capture_time_s": opt(self.capture_time),
@@ -71,4 +82,5 @@ class HuntResult:
                                         if len(self.solve_iterations) else None),
             "failed_solves": self.failed_solves,
             "fallbacks": self.fallbacks,
+            "longest_failure_streak": self.longest_failure_streak,
         }

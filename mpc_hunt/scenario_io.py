@@ -1,19 +1,72 @@
-"""Scenarios to and from TOML files, and the built-in scenarios shipped as TOML."""
+"""Scenarios to and from TOML files, and the built-in scenarios shipped as TOML.
+
+Every problem with a scenario file is a :class:`~mpc_hunt.errors.ScenarioError`
+of one line that names the file: ``FILE: problem`` when the file itself cannot
+be read or parsed, ``FIELD: problem (in FILE)`` when a value is wrong
+(docs/robustness.md).
+"""
 
 from __future__ import annotations
 
+import stat
 import tomllib
-from dataclasses import asdict, fields
+from dataclasses import MISSING, asdict, fields
 from importlib import resources
 from pathlib import Path
 
 import tomli_w
 
 from mpc_hunt.errors import ScenarioError, UnknownNameError
-from mpc_hunt.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
+from mpc_hunt.scenario import LIMITS_DOC, Attacker, Defender, HuntParameters, Obstacle, Scenario, key_shown
 
 DEFAULT_SCENARIO = "paper-obstacles"
-_TOP_KEYS = {"name", "description", "attacker", "defenders", "obstacles", "hunt"}
+MAX_FILE_BYTES = 1 << 20   # a scenario or state file is a few kB at most
+_TOP_KEYS = {"name", "description", "arena", "attacker", "defenders", "obstacles", "hunt"}
+
+
+def read_input_file(path: str | Path) -> str:
+    """The text of a small UTF-8 input file (a leading byte-order mark is dropped).
+
+    A missing or unreadable path, a directory or other non-regular file, a
+    file larger than ``MAX_FILE_BYTES`` or one that is not UTF-8 is a
+    ScenarioError naming the file.
+    """
+    path = Path(path)
+    try:
+        mode = path.stat().st_mode
+    except OSError as exc:
+        raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if stat.S_ISDIR(mode):
+        raise ScenarioError(f"{path}: cannot read (a directory, not a file)")
+    if not stat.S_ISREG(mode):
+        raise ScenarioError(f"{path}: cannot read (not a regular file)")
+    try:
+        with path.open("rb") as f:
+            data = f.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise ScenarioError(f"{path}: larger than the limit of {MAX_FILE_BYTES} bytes ({LIMITS_DOC})")
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{path}: not a UTF-8 text file (byte 0x{data[exc.start]:02x} "
+                            f"at offset {exc.start})") from None
+
+
+def parse_toml(text: str, source: str) -> dict:
+    """TOML text as a table; a syntax error, or a file with nothing in it, is a ScenarioError naming ``source``."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{source}: not valid TOML ({exc})") from None
+    except ValueError:  # Python converts whole numbers of at most sys.get_int_max_str_digits() digits
+        raise ScenarioError(f"{source}: not valid TOML (a whole number with too many digits)") from None
+    except RecursionError:
+        raise ScenarioError(f"{source}: not valid TOML (arrays or tables nested too deeply)") from None
+    if not data:
+        raise ScenarioError(f"{source}: empty (no keys, only blank lines or comments)")
+    return data
 
 
 def _keys(table: object, cls: type, where: str, required: bool = True) -> dict:
@@ -22,9 +75,9 @@ def _keys(table: object, cls: type, where: str, required: bool = True) -> dict:
     known = {f.name for f in fields(cls)}
     unknown = sorted(set(table) - known)
     if unknown:
-        raise ScenarioError(f"{where}.{unknown[0]}: unknown key (known: {', '.join(sorted(known))})")
+        raise ScenarioError(f"{where}.{key_shown(unknown[0])}: unknown key (known: {', '.join(sorted(known))})")
     if required:
-        missing = sorted(f.name for f in fields(cls) if f.name not in table)
+        missing = sorted(f.name for f in fields(cls) if f.name not in table and f.default is MISSING)
         if missing:
             raise ScenarioError(f"{where}.{missing[0]}: missing")
     return table
@@ -43,7 +96,7 @@ def scenario_from_dict(data: dict) -> Scenario:
         raise ScenarioError("scenario: expected a table at the top level")
     unknown = sorted(set(data) - _TOP_KEYS)
     if unknown:
-        raise ScenarioError(f"{unknown[0]}: unknown key (known: {', '.join(sorted(_TOP_KEYS))})")
+        raise ScenarioError(f"{key_shown(unknown[0])}: unknown key (known: {', '.join(sorted(_TOP_KEYS))})")
     if "name" not in data:
         raise ScenarioError("name: missing")
     if "attacker" not in data:
@@ -59,29 +112,35 @@ def scenario_from_dict(data: dict) -> Scenario:
         defenders=defenders,
         obstacles=obstacles,
         hunt=HuntParameters(**_keys(data.get("hunt", {}), HuntParameters, "hunt", required=False)),
+        arena=data.get("arena"),
     )
 
 
 def scenario_to_dict(scenario: Scenario) -> dict:
-    """Plain data for TOML: vectors as lists, every hunt parameter written out."""
+    """Plain data for TOML: vectors as lists, every hunt parameter written out, the arena if there is one."""
     def plain(obj):
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(obj).items()}
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(obj).items() if v is not None}
 
-    data = {"name": scenario.name, "description": scenario.description,
-            "attacker": plain(scenario.attacker),
-            "defenders": [plain(d) for d in scenario.defenders]}
+    data = {"name": scenario.name, "description": scenario.description}
+    if scenario.arena is not None:
+        data["arena"] = list(scenario.arena)
+    data["attacker"] = plain(scenario.attacker)
+    data["defenders"] = [plain(d) for d in scenario.defenders]
     if scenario.obstacles:
         data["obstacles"] = [plain(o) for o in scenario.obstacles]
     data["hunt"] = plain(scenario.hunt)
     return data
 
 
-def loads_scenario(text: str, source: str = "<string>") -> Scenario:
+def loads_scenario(text: str, source: str | None = None) -> Scenario:
+    """A scenario from TOML text; ``source`` (a file name) is named in every error."""
+    data = parse_toml(text, source or "<string>")
     try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{source}: not valid TOML ({exc})") from None
-    return scenario_from_dict(data)
+        return scenario_from_dict(data)
+    except ScenarioError as exc:
+        if source is None:
+            raise
+        raise ScenarioError(f"{exc} (in {source})") from None
 
 
 def dumps_scenario(scenario: Scenario) -> str:
@@ -90,14 +149,7 @@ def dumps_scenario(scenario: Scenario) -> str:
 
 def load_scenario(path: str | Path) -> Scenario:
     """Read a scenario from a TOML file."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except UnicodeDecodeError:
-        raise ScenarioError(f"{path}: not a UTF-8 text file") from None
-    return loads_scenario(text, str(path))
+    return loads_scenario(read_input_file(path), str(path))
 
 
 def save_scenario(scenario: Scenario, path: str | Path) -> None:
@@ -130,3 +182,4 @@ def resolve_scenario(name_or_file: str | Path | None = None) -> Scenario:
         return load_scenario(text)
     raise UnknownNameError(f"unknown scenario {text!r}: neither a built-in "
                            f"({', '.join(builtin_names())}) nor an existing .toml file")
+

@@ -1,4 +1,11 @@
-"""One result type for every formulation and backend (scipy.optimize style)."""
+"""One result type for every layer: backend, formulation and solver (scipy.optimize style).
+
+A backend fills what the solver computed (status, message, ``x``, its own
+objective, iterations, times, duals, extras); the formulation adds the ``plan``
+read back from ``x``; the solver adds the evaluator's ``objective`` and
+``violation`` and its own timing. Each layer builds a new value with
+:func:`dataclasses.replace`, never by changing the one it was handed.
+"""
 
 from __future__ import annotations
 
@@ -26,34 +33,47 @@ class Status(str, Enum):
         return self in (Status.OPTIMAL, Status.OPTIMAL_INACCURATE)
 
 
-@dataclass
+@dataclass(frozen=True)
+class WarmStart:
+    """A starting point: primal ``x``, constraint duals ``y`` and (NLP) bound duals ``z``."""
+
+    x: np.ndarray | None = None
+    y: np.ndarray | None = None
+    z: np.ndarray | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
 class Solution:
-    """What a solve returns: status, plan, objectives, violations, times and iterations.
+    """What a solve returns: status, plan, objectives, violations, times, iterations, duals.
 
     ``objective`` and ``violation`` come from the shared evaluator (the true
     nonlinear problem); ``formulation_objective`` is the formulation's own
     value, reported beside it. Times are in seconds: ``solver_time`` inside the
     solver, ``overhead_time`` our own work around it for this solve (building
     data, evaluating), ``setup_time`` a one-off set-up done by this call (0 when
-    the persistent solver was reused). ``warm_started``: a previous plan seeded
-    this solve (as the starting point and, for the QP family, the linearisation
-    point; Clarabel itself takes no starting point).
+    the persistent solver was reused). ``warm_started``: a plan seeded this
+    solve (as the starting point and, for the QP family, the linearisation
+    point). ``duals`` are what the next warm start may reuse; ``extras`` holds
+    solver-specific figures (plain numbers and strings).
     """
 
-    formulation: str
-    backend: str
     status: Status
-    message: str
-    plan: np.ndarray | None
-    formulation_objective: float | None
-    objective: float | None
-    violation: dict[str, float] | None
-    solver_time: float
-    overhead_time: float
+    message: str = ""
+    formulation: str = ""
+    backend: str = ""
+    x: np.ndarray | None = field(default=None, repr=False)
+    plan: np.ndarray | None = field(default=None, repr=False)
+    formulation_objective: float | None = None
+    objective: float | None = None
+    violation: dict[str, float] | None = None
+    solver_time: float = 0.0
+    overhead_time: float = 0.0
     setup_time: float = 0.0
     iterations: int = 0
     warm_started: bool = False
     attacker_path: np.ndarray | None = field(default=None, repr=False)
+    duals: WarmStart = field(default_factory=WarmStart, repr=False)
+    extras: dict = field(default_factory=dict, repr=False)
 
     @property
     def success(self) -> bool:
@@ -61,7 +81,7 @@ class Solution:
 
     @property
     def solve_time(self) -> float:
-        """Solver time plus our own overhead (set-up excluded)."""
+        """Solver time plus our own overhead (set-up excluded): the time the controller waits."""
         return self.solver_time + self.overhead_time
 
     @property
@@ -90,5 +110,6 @@ class Solution:
             "setup_time_s": self.setup_time,
             "iterations": self.iterations,
             "warm_started": self.warm_started,
+            "extras": self.extras,
             "plan": None if self.plan is None else self.plan.tolist(),
         }

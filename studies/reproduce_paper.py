@@ -7,12 +7,16 @@ setting our numbers beside the published ones, with the paper's claims checked
 against them.
 
     python studies/reproduce_paper.py [--out studies/reproduction]
+    python studies/reproduce_paper.py --check    # fail if the committed results no longer match the code
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import re
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,6 +29,10 @@ from mpc_hunt.plotting import plot_hunt
 DEFAULT_OUT = Path(__file__).resolve().parent / "reproduction"
 SCENARIOS = ("paper-open", "paper-obstacles")
 TOLERANCE = 0.15    # claim (c): every path length within this fraction of the paper's
+# What --check compares: every figure the README quotes (timings aside), to this relative tolerance.
+CHECKED = ("captured", "termination", "capture_time_s", "path_lengths_m", "final_hunting_radius_m",
+           "min_obstacle_clearance_m", "min_defender_separation_m", "steps", "failed_solves", "fallbacks")
+CHECK_RTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -146,12 +154,8 @@ def readme(runs: dict[tuple[str, bool], HuntResult], command: str, seconds: floa
     ])
 
 
-def main(argv: list[str] | None = None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
-                        help="output folder (default: studies/reproduction/ beside this script)")
-    args = parser.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
+def run_all(out: Path | None) -> tuple[dict[tuple[str, bool], HuntResult], float]:
+    """Every run of the study; figures written into ``out`` if given."""
     start = time.perf_counter()
     runs: dict[tuple[str, bool], HuntResult] = {}
     for name in SCENARIOS:
@@ -159,18 +163,61 @@ def main(argv: list[str] | None = None) -> None:
         for prediction in (True, False):
             result = simulate(scenario, prediction=prediction)
             runs[(name, prediction)] = result
-            plot_hunt(result, scenario, args.out / f"{run_name(name, prediction)}.png")
+            if out is not None:
+                plot_hunt(result, scenario, out / f"{run_name(name, prediction)}.png")
             print(f"{run_name(name, prediction)}: captured={result.captured}, "
-                  f"path lengths {', '.join(f'{x:.2f}' for x in result.path_lengths)} m")
-    seconds = time.perf_counter() - start
-    report = {run_name(*key): r.to_dict() for key, r in runs.items()}
-    (args.out / "results.json").write_text(json.dumps(report, indent=2) + "\n")
+                  f"path lengths {', '.join(f'{x:.2f}' for x in result.path_lengths)} m", flush=True)
+    return runs, time.perf_counter() - start
+
+
+def _close(a, b) -> bool:
+    if isinstance(a, list) and isinstance(b, list):
+        return len(a) == len(b) and all(map(_close, a, b))
+    if isinstance(a, float) and isinstance(b, float):
+        return math.isclose(a, b, rel_tol=CHECK_RTOL)
+    return a == b
+
+
+def differing(committed: dict, report: dict) -> list[str]:
+    """The checked figures that differ between the committed results and a new run."""
+    return [f"{run}.{key}: committed {committed.get(run, {}).get(key)}, now {new[key]}"
+            for run, new in report.items() for key in CHECKED
+            if not _close(committed.get(run, {}).get(key), new[key])]
+
+
+def _without_timing(text: str) -> str:
+    return re.sub(r"about \d+ s", "about N s", text)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
+                        help="output folder (default: studies/reproduction/ beside this script)")
+    parser.add_argument("--check", action="store_true",
+                        help="rerun and compare with the committed results.json and README.md; write nothing")
+    args = parser.parse_args(argv)
     command = "python studies/reproduce_paper.py"
     if args.out.resolve() != DEFAULT_OUT:
         command += f" --out {args.out}"
+    if args.check:
+        runs, seconds = run_all(None)
+        report = {run_name(*key): r.to_dict() for key, r in runs.items()}
+        problems = differing(json.loads((args.out / "results.json").read_text()), report)
+        if not problems and _without_timing((args.out / "README.md").read_text()) \
+                != _without_timing(readme(runs, command, seconds)):
+            problems.append("README.md: text differs")
+        for line in problems:
+            print(f"differs: {line}", file=sys.stderr)
+        print(f"{args.out}: {'up to date' if not problems else f'{len(problems)} differences; rerun {command}'}")
+        return 1 if problems else 0
+    args.out.mkdir(parents=True, exist_ok=True)
+    runs, seconds = run_all(args.out)
+    report = {run_name(*key): r.to_dict() for key, r in runs.items()}
+    (args.out / "results.json").write_text(json.dumps(report, indent=2) + "\n")
     (args.out / "README.md").write_text(readme(runs, command, seconds))
     print(f"wrote {args.out}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

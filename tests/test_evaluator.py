@@ -7,6 +7,7 @@ import pytest
 
 from conftest import small_scenario
 from mpc_hunt import CaptureProblem, CaptureWeights, evaluate
+from mpc_hunt.evaluator import TERM_NAMES, equal_distance_penalty
 from mpc_hunt.field import nominal_intent
 
 
@@ -27,12 +28,35 @@ def test_objective_of_a_plan_outside_the_field_is_the_nominal_error():
     expected = 0.0
     for k in (1, 2):  # the attacker drifts at its nominal velocity: p_a,k = p_a,0 + k T v_nom
         d = np.linalg.norm(np.array([5.0, 5.0]) + k * 0.1 * nominal - np.array(defenders), axis=1)
-        expected += w.force * force + w.ring * np.sum(((d - 0.25) / 0.5) ** 2)
+        squared = d**2     # Eq. 14's L1 penalty at its minimiser q_k, the median squared distance
+        expected += (w.force * force + w.ring * np.sum(((d - 0.25) / 0.5) ** 2)
+                     + w.equal_distance * np.sum(np.abs(squared - np.median(squared))) / 0.5**2)
     result = evaluate(p, plan)
     np.testing.assert_allclose(result.attacker_path, [[5.0, 5.0] + 0.1 * nominal, [5.0, 5.0] + 0.2 * nominal])
     assert result.objective == pytest.approx(expected, rel=1e-12)
     for name in ("motion_limit", "obstacle_safety", "separation", "attacker_distance"):
         assert result.violation[name] == 0.0
+
+
+def test_equal_distance_penalty_is_the_l1_gap_to_the_median():
+    # Distances 0.3, 0.4, 0.5 m from the attacker: squares 0.09, 0.16, 0.25, median 0.16, gaps 0.07 + 0 + 0.09.
+    assert equal_distance_penalty(np.array([0.09, 0.16, 0.25])) == pytest.approx(0.16, rel=1e-12)
+    assert equal_distance_penalty(np.array([0.2, 0.2])) == 0.0
+    # Any q between the two middle values minimises the sum; the median is one of them.
+    assert equal_distance_penalty(np.array([0.1, 0.2, 0.3, 0.7])) == pytest.approx(0.7, rel=1e-12)
+
+
+def test_terms_add_up_to_the_objective_and_the_penalty_counts_only_controlled_defenders():
+    defenders = np.array([[5.0, 4.5], [5.6, 5.0], [3.0, 5.0]])
+    p = _problem(defenders, controlled=(True, True, False), horizon=2)
+    result = evaluate(p, p.held_plan())
+    assert set(result.terms) == set(TERM_NAMES)
+    assert result.objective == pytest.approx(sum(result.terms.values()), rel=1e-15)
+    expected = 0.0
+    for a in result.attacker_path:
+        squared = np.sum((defenders[:2] - a) ** 2, axis=1)
+        expected += 1e3 * abs(squared[0] - squared[1]) / 0.5**2
+    assert result.terms["equal_distance"] == pytest.approx(expected, rel=1e-12)
 
 
 def test_known_violations():

@@ -70,4 +70,4 @@ def test_predicted_path_only_with_prediction(short_hunt):
     along = line[1] - line[0]
     assert abs(motion[0] * along[1] - motion[1] * along[0]) <= 1e-9 * np.linalg.norm(along)
     assert motion @ along > 0
-    assert predicted_path(dataclasses.replace(result, prediction=False)) is None
+    assert predicted_path(dataclasses.replace(result, controller={**result.controller, "prediction": False})) is None

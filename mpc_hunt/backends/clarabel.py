@@ -9,16 +9,11 @@ take a starting point: Clarabel is never warm-started (reported as such).
 
 from __future__ import annotations
 
-import time
-
-import clarabel
 import numpy as np
 import scipy.sparse as sp
 
-from mpc_hunt.backends.base import BackendResult, QPData, WarmStart
-from mpc_hunt.solution import Status
-
-KIND = "qp"
+from mpc_hunt.backends.base import Backend, QPData
+from mpc_hunt.solution import Solution, Status, WarmStart
 
 _STATUS = {
     "Solved": Status.OPTIMAL,
@@ -32,8 +27,8 @@ _STATUS = {
 }
 
 
-class _ConicLayout:
-    """How the rows of ``A`` map onto Clarabel's stacked, signed rows (fixed per structure)."""
+class ConicLayout:
+    """How the rows of ``A`` map onto stacked, signed rows ``b − A'x ∈ K`` (fixed per structure)."""
 
     def __init__(self, data: QPData):
         m, n = data.A.shape
@@ -42,6 +37,7 @@ class _ConicLayout:
             cone_rows[start:start + size] = True
         upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
         lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
+        self.nonnegative = len(upper) + len(lower)
         # Each stacked row: the source row of A and its sign (+1: u − Ax ≥ 0 or a cone row, −1: Ax − l ≥ 0).
         rows = [(r, 1.0) for r in upper] + [(r, -1.0) for r in lower] \
             + [(r, 1.0) for start, k in data.cones for r in range(start, start + k)]
@@ -62,8 +58,7 @@ class _ConicLayout:
         self.pattern = ids
         self.src = np.array(src, dtype=int)[order]
         self.sign = np.array(sgn)[order]
-        self.cones = ([clarabel.NonnegativeConeT(len(upper) + len(lower))] if len(upper) + len(lower) else []) \
-            + [clarabel.SecondOrderConeT(k) for _, k in data.cones]
+        self.cone_sizes = tuple(k for _, k in data.cones)
 
     def values(self, data: QPData) -> np.ndarray:
         """The stacked matrix's non-zeros, in its CSC order (what ``update`` takes)."""
@@ -78,43 +73,44 @@ class _ConicLayout:
         return self.b_sign * np.where(self.b_sign > 0, data.u[self.b_index], data.l[self.b_index])
 
 
-class ClarabelBackend:
+class ClarabelBackend(Backend):
     """Persistent Clarabel: ``update(P, q, A, b)`` between solves of one structure."""
 
     name = "clarabel"
-    kind = KIND
+    accepts = ("qp", "socp")
+    package = "clarabel"
+    install = "clarabel"
+    ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+                "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
 
-    def __init__(self, time_limit: float | None = None, max_iter: int = 200):
-        self.settings = clarabel.DefaultSettings()
-        self.settings.verbose = False
-        self.settings.presolve_enable = False
-        self.settings.input_sparse_dropzeros = False
-        self.settings.max_iter = max_iter
-        if time_limit is not None:
-            self.settings.time_limit = float(time_limit)
-        self._solver = None
-        self._key: tuple | None = None
-        self._layout: _ConicLayout | None = None
-        self.setups = 0
+    def setup(self, data: QPData):
+        import clarabel
 
-    def solve(self, data: QPData, warm: WarmStart | None = None) -> BackendResult:
-        setup_time = 0.0
-        if self._key != data.key:
-            t0 = time.perf_counter()
-            self._layout = _ConicLayout(data)
-            self._solver = clarabel.DefaultSolver(data.P, data.q, self._layout.matrix(data),
-                                                  self._layout.vector(data), self._layout.cones, self.settings)
-            self._key = data.key
-            setup_time = time.perf_counter() - t0
-            self.setups += 1
-        else:
-            self._solver.update(P=data.P.data, q=data.q, A=self._layout.values(data), b=self._layout.vector(data))
-        sol = self._solver.solve()
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.presolve_enable = False
+        settings.input_sparse_dropzeros = False
+        settings.max_iter = 200
+        for key, value in self.options.items():
+            setattr(settings, key, value)
+        if self.time_limit is not None:
+            settings.time_limit = float(self.time_limit)
+        layout = ConicLayout(data)
+        cones = ([clarabel.NonnegativeConeT(layout.nonnegative)] if layout.nonnegative else []) \
+            + [clarabel.SecondOrderConeT(k) for k in layout.cone_sizes]
+        solver = clarabel.DefaultSolver(data.P, data.q, layout.matrix(data), layout.vector(data), cones, settings)
+        return solver, layout
+
+    def update(self, state, data: QPData) -> None:
+        solver, layout = state
+        solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
+
+    def run(self, state, data: QPData, warm: WarmStart) -> Solution:
+        solver, _ = state
+        sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
-        status = _STATUS.get(raw, Status.ERROR)
         x = np.array(sol.x)
-        if not np.all(np.isfinite(x)):
-            status, x = Status.ERROR, None
-        objective = float(sol.obj_val) if x is not None else None
-        return BackendResult(status, raw, x, objective, int(sol.iterations), float(sol.solve_time),
-                             setup_time, WarmStart(x, np.array(sol.z)))
+        return Solution(status=_STATUS.get(raw, Status.ERROR), message=raw, x=x,
+                        formulation_objective=float(sol.obj_val), iterations=int(sol.iterations),
+                        duals=WarmStart(x, np.array(sol.z)),
+                        extras={"reported_solve_time_s": float(sol.solve_time)})

@@ -9,97 +9,94 @@ default, Clarabel, is an accurate interior-point method, which a reference needs
 
 from __future__ import annotations
 
-import time
 import warnings
+from dataclasses import dataclass
 
-import cvxpy as cp
 import numpy as np
 
-from mpc_hunt.backends.base import BackendResult, QPData, WarmStart
-from mpc_hunt.solution import Status
-
-KIND = "qp"
-
-_STATUS = {
-    cp.OPTIMAL: Status.OPTIMAL,
-    cp.OPTIMAL_INACCURATE: Status.OPTIMAL_INACCURATE,
-    cp.INFEASIBLE: Status.INFEASIBLE,
-    cp.INFEASIBLE_INACCURATE: Status.INFEASIBLE,
-    cp.UNBOUNDED: Status.INFEASIBLE,
-    cp.UNBOUNDED_INACCURATE: Status.INFEASIBLE,
-    cp.USER_LIMIT: Status.ITERATION_LIMIT,
-}
+from mpc_hunt.backends.base import Backend, QPData
+from mpc_hunt.solution import Solution, Status, WarmStart
 
 
-class CvxpyBackend:
+@dataclass
+class _Problem:
+    """The parametric CVXPY problem and its parameters."""
+
+    problem: object
+    x: object
+    J: object
+    c: object
+    lin: object
+    A: object
+    b: object    # u on upper and cone rows
+    bl: object   # l on lower rows
+
+
+class CvxpyBackend(Backend):
     """Persistent CVXPY problem with parameters J, c, lin, A, l, u."""
 
     name = "cvxpy"
-    kind = KIND
+    accepts = ("qp", "socp")
+    package = "cvxpy"
+    install = "cvxpy"
+    ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+                "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
 
-    def __init__(self, time_limit: float | None = None, solver: str = "CLARABEL"):
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", solver: str = "CLARABEL",
+                 **options):
+        super().__init__(time_limit, accuracy if solver == "CLARABEL" else "default", **options)
         self.solver = solver
-        self.time_limit = time_limit
-        self._key: tuple | None = None
-        self.setups = 0
 
-    def _setup(self, data: QPData) -> None:
+    def setup(self, data: QPData) -> _Problem:
+        import cvxpy as cp
+
         m, n = data.A.shape
         cone_rows = np.zeros(m, dtype=bool)
         for start, size in data.cones:
             cone_rows[start:start + size] = True
-        self._upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
-        self._lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
-        self._x = cp.Variable(n)
-        self._J = cp.Parameter(data.J.shape)
-        self._c = cp.Parameter(data.c.shape)
-        self._lin = cp.Parameter(n)
-        self._A = cp.Parameter((m, n))
-        self._b = cp.Parameter(m)   # u on upper and cone rows, l on lower rows
-        self._bl = cp.Parameter(m)
+        upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
+        lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
+        x, J, c, lin = cp.Variable(n), cp.Parameter(data.J.shape), cp.Parameter(data.c.shape), cp.Parameter(n)
+        A, b, bl = cp.Parameter((m, n)), cp.Parameter(m), cp.Parameter(m)
         constraints = []
-        if len(self._upper):
-            constraints.append(self._A[self._upper] @ self._x <= self._b[self._upper])
-        if len(self._lower):
-            constraints.append(self._A[self._lower] @ self._x >= self._bl[self._lower])
+        if len(upper):
+            constraints.append(A[upper] @ x <= b[upper])
+        if len(lower):
+            constraints.append(A[lower] @ x >= bl[lower])
         for start, size in data.cones:
-            t = self._b[start] - self._A[start] @ self._x
-            v = self._b[start + 1:start + size] - self._A[start + 1:start + size] @ self._x
-            constraints.append(cp.SOC(t, v))
-        objective = cp.Minimize(cp.sum_squares(self._J @ self._x + self._c) + self._lin @ self._x)
-        self._problem = cp.Problem(objective, constraints)
-        self._key = data.key
-        self.setups += 1
+            constraints.append(cp.SOC(b[start] - A[start] @ x, b[start + 1:start + size] - A[start + 1:start + size] @ x))
+        objective = cp.Minimize(cp.sum_squares(J @ x + c) + lin @ x)
+        state = _Problem(cp.Problem(objective, constraints), x, J, c, lin, A, b, bl)
+        self.update(state, data)
+        return state
 
-    def solve(self, data: QPData, warm: WarmStart | None = None) -> BackendResult:
-        setup_time = 0.0
-        if self._key != data.key:
-            t0 = time.perf_counter()
-            self._setup(data)
-            setup_time = time.perf_counter() - t0
-        self._J.value, self._c.value, self._lin.value = data.J, data.c, data.lin
-        self._A.value = data.A.toarray()
-        self._b.value = np.where(np.isfinite(data.u), data.u, 0.0)
-        self._bl.value = np.where(np.isfinite(data.l), data.l, 0.0)
-        if warm is not None and warm.x is not None:
-            self._x.value = warm.x
-        kwargs = {"warm_start": True, "solver": self.solver}
+    def update(self, state: _Problem, data: QPData) -> None:
+        state.J.value, state.c.value, state.lin.value = data.J, data.c, data.lin
+        state.A.value = data.A.toarray()
+        state.b.value = np.where(np.isfinite(data.u), data.u, 0.0)
+        state.bl.value = np.where(np.isfinite(data.l), data.l, 0.0)
+
+    def run(self, state: _Problem, data: QPData, warm: WarmStart) -> Solution:
+        import cvxpy as cp
+
+        if warm.x is not None:
+            state.x.value = warm.x
+        kwargs = {"warm_start": True, "solver": self.solver, **self.options}
         if self.time_limit is not None and self.solver in ("CLARABEL", "OSQP"):
             kwargs["time_limit"] = self.time_limit
         try:
             with warnings.catch_warnings():  # "may be inaccurate" is reported through the status
                 warnings.simplefilter("ignore", UserWarning)
-                self._problem.solve(**kwargs)
-        except (cp.error.SolverError, cp.error.DCPError, ValueError) as exc:
-            return BackendResult(Status.ERROR, str(exc).splitlines()[0], None, None, 0, 0.0, setup_time)
-        stats = self._problem.solver_stats
-        status = _STATUS.get(self._problem.status, Status.ERROR)
-        x = self._x.value
-        if x is None or not np.all(np.isfinite(x)):
-            x = None
-            if status.usable:
-                status = Status.ERROR
-        objective = None if x is None else float(self._problem.value - data.c @ data.c)
-        return BackendResult(status, f"{self._problem.status} ({stats.solver_name})",
-                             None if x is None else np.array(x), objective, int(stats.num_iters or 0),
-                             float(stats.solve_time or 0.0), setup_time, WarmStart(x))
+                state.problem.solve(**kwargs)
+        except (cp.error.SolverError, cp.error.DCPError) as exc:
+            raise RuntimeError(str(exc)) from None
+        status = {cp.OPTIMAL: Status.OPTIMAL, cp.OPTIMAL_INACCURATE: Status.OPTIMAL_INACCURATE,
+                  cp.INFEASIBLE: Status.INFEASIBLE, cp.INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+                  cp.UNBOUNDED: Status.INFEASIBLE, cp.UNBOUNDED_INACCURATE: Status.INFEASIBLE,
+                  cp.USER_LIMIT: Status.ITERATION_LIMIT}.get(state.problem.status, Status.ERROR)
+        stats = state.problem.solver_stats
+        x = None if state.x.value is None else np.array(state.x.value)
+        objective = None if x is None else float(state.problem.value - data.c @ data.c)
+        return Solution(status=status, message=f"{state.problem.status} ({stats.solver_name})", x=x,
+                        formulation_objective=objective, iterations=int(stats.num_iters or 0),
+                        duals=WarmStart(x), extras={"reported_solve_time_s": float(stats.solve_time or 0.0)})

@@ -1,4 +1,4 @@
-"""OSQP, persistent: ``setup`` once per structure, then ``update`` values and warm-start.
+"""OSQP (ADMM), persistent: ``setup`` once per structure, then ``update`` values and warm-start.
 
 ADMM converges slowly when the cost dwarfs the constraints (the capture QP's
 Hessian reaches 1e5 against constraint rows of order 1), so the backend hands
@@ -8,70 +8,61 @@ the minimiser unchanged; the objective and the duals are scaled back.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
-import osqp
 
-from mpc_hunt.backends.base import BackendResult, QPData, WarmStart
-from mpc_hunt.solution import Status
-
-KIND = "qp"
-
-_S = osqp.SolverStatus
-_STATUS = {
-    _S.OSQP_SOLVED: Status.OPTIMAL,
-    _S.OSQP_SOLVED_INACCURATE: Status.OPTIMAL_INACCURATE,
-    _S.OSQP_PRIMAL_INFEASIBLE: Status.INFEASIBLE,
-    _S.OSQP_PRIMAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
-    _S.OSQP_DUAL_INFEASIBLE: Status.INFEASIBLE,
-    _S.OSQP_DUAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
-    _S.OSQP_MAX_ITER_REACHED: Status.ITERATION_LIMIT,
-    _S.OSQP_TIME_LIMIT_REACHED: Status.TIME_LIMIT,
-}
+from mpc_hunt.backends.base import Backend, QPData
+from mpc_hunt.solution import Solution, Status, WarmStart
 
 
-class OsqpBackend:
-    """Persistent OSQP (ADMM): warm-started from the previous plan (primal only)."""
+def _scale(data: QPData) -> float:
+    return 1.0 / max(1.0, float(np.max(np.abs(data.P.data), initial=0.0)))
+
+
+class OsqpBackend(Backend):
+    """Persistent OSQP, warm-started from the previous plan (primal only)."""
 
     name = "osqp"
-    kind = KIND
+    accepts = ("qp",)
+    package = "osqp"
+    install = "osqp"
+    ACCURACY = {"default": {"eps_abs": 1e-7, "eps_rel": 1e-7}, "high": {"eps_abs": 1e-9, "eps_rel": 1e-9},
+                "low": {"eps_abs": 1e-4, "eps_rel": 1e-4}}
 
-    def __init__(self, time_limit: float | None = None, max_iter: int = 20000, eps: float = 1e-7):
-        self.settings = dict(verbose=False, eps_abs=eps, eps_rel=eps, max_iter=max_iter,
-                             polishing=True, warm_starting=True)
-        if time_limit is not None:
-            self.settings["time_limit"] = float(time_limit)
-        self._solver: osqp.OSQP | None = None
-        self._key: tuple | None = None
-        self.setups = 0
+    def setup(self, data: QPData):
+        import osqp
 
-    def solve(self, data: QPData, warm: WarmStart | None = None) -> BackendResult:
-        if data.cones:
-            return BackendResult(Status.ERROR, "osqp cannot take second-order cones", None, None, 0, 0.0)
-        setup_time = 0.0
-        scale = 1.0 / max(1.0, float(np.max(np.abs(data.P.data), initial=0.0)))
-        if self._key != data.key:
-            t0 = time.perf_counter()
-            self._solver = osqp.OSQP()
-            self._solver.setup(data.P * scale, data.q * scale, data.A, data.l, data.u, **self.settings)
-            self._key = data.key
-            setup_time = time.perf_counter() - t0
-            self.setups += 1
-        else:
-            self._solver.update(q=data.q * scale, l=data.l, u=data.u, Px=data.P.data * scale, Ax=data.A.data)
-        if warm is not None and warm.x is not None:
+        settings = dict(verbose=False, max_iter=20000, polishing=True, warm_starting=True, **self.options)
+        if self.time_limit is not None:
+            settings["time_limit"] = float(self.time_limit)
+        solver = osqp.OSQP()
+        scale = _scale(data)
+        solver.setup(data.P * scale, data.q * scale, data.A, data.l, data.u, **settings)
+        return solver
+
+    def update(self, solver, data: QPData) -> None:
+        scale = _scale(data)
+        solver.update(q=data.q * scale, l=data.l, u=data.u, Px=data.P.data * scale, Ax=data.A.data)
+
+    def run(self, solver, data: QPData, warm: WarmStart) -> Solution:
+        import osqp
+
+        if warm.x is not None:
             # Primal only: the previous step's duals belong to another linearisation and,
             # measured on closed-loop sequences, cost ADMM iterations instead of saving them.
-            self._solver.warm_start(x=warm.x)
-        res = self._solver.solve(raise_error=False)
+            solver.warm_start(x=warm.x)
+        res = solver.solve(raise_error=False)
         info = res.info
-        status = _STATUS.get(info.status_val, Status.ERROR)
-        x = None if res.x is None or not np.all(np.isfinite(res.x)) else np.array(res.x)
-        if x is None and status.usable:
-            status = Status.ERROR
-        objective = float(info.obj_val) / scale if x is not None else None
-        solver_time = float(info.solve_time + info.update_time + info.polish_time)
+        S = osqp.SolverStatus
+        status = {S.OSQP_SOLVED: Status.OPTIMAL, S.OSQP_SOLVED_INACCURATE: Status.OPTIMAL_INACCURATE,
+                  S.OSQP_PRIMAL_INFEASIBLE: Status.INFEASIBLE, S.OSQP_PRIMAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+                  S.OSQP_DUAL_INFEASIBLE: Status.INFEASIBLE, S.OSQP_DUAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+                  S.OSQP_MAX_ITER_REACHED: Status.ITERATION_LIMIT,
+                  S.OSQP_TIME_LIMIT_REACHED: Status.TIME_LIMIT}.get(info.status_val, Status.ERROR)
+        x = None if res.x is None else np.array(res.x)
+        scale = _scale(data)
         y = None if res.y is None else np.array(res.y) / scale
-        return BackendResult(status, info.status, x, objective, int(info.iter), solver_time,
-                             setup_time, WarmStart(x, y))
+        return Solution(status=status, message=info.status, x=x,
+                        formulation_objective=None if x is None else float(info.obj_val) / scale,
+                        iterations=int(info.iter), duals=WarmStart(x, y),
+                        extras={"reported_solve_time_s": float(info.solve_time + info.update_time
+                                                               + info.polish_time)})

@@ -1,0 +1,139 @@
+"""``ms-nlp``: the capture problem (Eqs. 12–15) in multiple-shooting form, on the smoothed field.
+
+The same problem as ``nlp`` (Eq. 14 as the same exact L1 penalty), posed with
+the attacker's and the defenders' positions at every step as variables, tied
+by the dynamics as equality constraints (:mod:`formulations.stage_model`), and
+declared stage by stage, so that the Jacobian and the Hessian are block-banded:
+
+    w = (u_0, x_1, u_1, …, x_N, u_N),  u_0 = Δp_d,0,
+    u_k = (Δp_d,k, q_k, s_k) (0 < k < N),  u_N = (q_N, s_N),
+    g = (x_1 − f(x_0, u_0), c_0(u_0), x_2 − f(x_1, u_1), c_1(x_1, u_1), …, c_N(x_N, u_N)),
+
+with the current state x_0 a parameter (fixing it by bounds lbx = ubx would give
+an interior-point method a zero-width inequality). This is the order a
+structure-exploiting solver reads (kind ``ocp-nlp``; docs/architecture.md);
+IPOPT takes it as any NLP, and its sparse factorisation then works on a banded
+system. The optimiser's field is rounded on a band of half-width
+``smoothing`` around its kinks (docs/model.md, E11); ``smoothing = 0`` poses
+``nlp``'s problem exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+from formulations.base import Formulation
+from formulations.capture_model import parameter_vector, unpack, x_from_plan
+from formulations.nlp import RELAXABLE
+from formulations.stage_model import SMOOTHING, stage_model
+from mpc_hunt.backends.base import NLPData
+from mpc_hunt.solution import Solution, WarmStart
+
+
+class StagedNLP:
+    """The multiple-shooting NLP of one structure, its starting point and its read-back (built once)."""
+
+    def __init__(self, structure: tuple):
+        nc, nf, m, N = structure
+        sm = stage_model(nc, nf, m)
+        theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
+        p = unpack(theta, nc, nf, m)
+        D = ca.SX.sym("D", N * 2 * nc)          # the controlled defenders' plan, steps 1..N
+        x = x_guess = ca.vertcat(p["attacker"], p["controlled"])   # x_0: the state, a parameter
+        # The first move of the attacker follows from the state alone: the paper's field, unsmoothed.
+        exact = ca.vertcat(theta[:-1], 0)
+        w, guess, g, f = [], [], [], 0
+        lbg, ubg, relax, kinds = [], [], [], []
+
+        def rows(expr, lower, upper, relaxable):
+            g.append(expr)
+            lbg.extend(np.broadcast_to(lower, expr.shape[0])); ubg.extend(np.broadcast_to(upper, expr.shape[0]))
+            relax.extend(np.broadcast_to(relaxable, expr.shape[0]))
+
+        for k in range(N + 1):
+            u, u_guess, u_kinds = [], [], []
+            if k < N:
+                du = ca.SX.sym(f"du{k}", sm.nu)
+                u.append(du); u_guess.append(D[sm.nu * k:sm.nu * (k + 1)] - x_guess[2:]); u_kinds += ["move"] * sm.nu
+            if k > 0:
+                q, s = ca.SX.sym(f"q{k}"), ca.SX.sym(f"s{k}", nc)
+                sq_guess = sm.squared_distance(x_guess)
+                q_guess = ca.sum1(sq_guess) / nc
+                u += [q, s]; u_guess += [q_guess, ca.fabs(sq_guess - q_guess)]; u_kinds += ["q"] + ["s"] * nc
+            w.append(ca.vertcat(*u)); guess.append(ca.vertcat(*u_guess)); kinds.append(np.array(u_kinds, dtype=object))
+            if k < N:
+                x_next = ca.SX.sym(f"x{k + 1}", sm.nx)
+                rows(x_next - sm.dynamics(x, du, exact if k == 0 else theta), 0.0, 0.0, False)
+                steps, limits = sm.motion(du, theta)
+                rows(steps - limits, -np.inf, 0.0, False)                            # Eq. 13
+                f += ca.sumsqr(sm.move(du, theta))
+            if k > 0:
+                values, lower = sm.path(x, theta)
+                rows(values - lower, 0.0, np.inf, np.array([fam in RELAXABLE for fam in sm.families]))
+                gap = sm.squared_distance(x) - q                                     # Eq. 14, exact L1
+                rows(gap - s, -np.inf, 0.0, False)
+                rows(gap + s, 0.0, np.inf, False)
+                f += ca.sumsqr(sm.residual(x, theta)) + p["w_equal"] * ca.sum1(s) / p["hunt_radius"] ** 2
+            if k < N:
+                x_guess = sm.dynamics(x_guess, u_guess[0], exact if k == 0 else theta)
+                x = x_next
+                w.append(x); guess.append(x_guess); kinds.append(np.full(sm.nx, "state", dtype=object))
+        w, g = ca.vertcat(*w), ca.vertcat(*g)
+        self.problem = {"x": w, "p": theta, "f": f, "g": g}
+        self.lbg, self.ubg, self.relax = np.array(lbg), np.array(ubg), np.array(relax, dtype=bool)
+        kinds = np.concatenate(kinds)
+        self.slack = kinds == "s"
+        state = np.flatnonzero(kinds == "state")
+        self.plan_index = state.reshape(N, sm.nx)[:, 2:].ravel()     # p_d,k for k = 1..N
+        guess = ca.vertcat(*guess)
+        held = ca.repmat(p["controlled"], N, 1)
+        at_held = ca.substitute(g, w, ca.substitute(guess, D, held))
+        self.start = ca.Function("start", [theta, D], [guess, at_held])
+
+    def bounds(self, theta: np.ndarray, D: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(w0 from the plan D, lbx, ubx, lbg relaxed to the held plan: never worse than now)."""
+        w0, at_held = self.start(theta, D)
+        w0 = np.array(w0).ravel()
+        lbx, ubx = np.full(w0.shape, -np.inf), np.full(w0.shape, np.inf)
+        lbx[self.slack] = 0.0
+        lbg = self.lbg.copy()
+        lbg[self.relax] = np.minimum(lbg[self.relax], np.array(at_held).ravel()[self.relax])
+        return w0, lbx, ubx, lbg
+
+
+@lru_cache(maxsize=32)
+def staged_nlp(structure: tuple) -> StagedNLP:
+    return StagedNLP(structure)
+
+
+class MSNLPFormulation(Formulation):
+    """The true problem in stage form (multiple shooting), warm-started by the shifted plan."""
+
+    name = "ms-nlp"
+    kind = "ocp-nlp"
+    default_backend = "ipopt"
+    # Eq. 14 and the attacker distance hold along the optimiser's (smoothed) prediction of the attacker,
+    # which differs from the paper's while a distance lies within the smoothing band (docs/model.md, E11).
+    exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
+    smoothing = SMOOTHING
+
+    def prepare(self, structure: tuple) -> None:
+        staged_nlp(structure)
+
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
+        nlp = staged_nlp(problem.structure)
+        theta = np.append(parameter_vector(problem), self.smoothing)
+        plan0 = problem.held_plan() if warm_plan is None else warm_plan
+        w0, lbx, ubx, lbg = nlp.bounds(theta, x_from_plan(problem, plan0))
+        data = NLPData(("ms-nlp",) + problem.structure, lambda: nlp.problem, theta, lbx, ubx, lbg, nlp.ubg, self.kind)
+        result = backend.solve(data, WarmStart(w0, None if duals is None else duals.y,
+                                                None if duals is None else duals.z))
+        if result.x is None:
+            return result
+        plan = problem.held_plan().copy()
+        plan[:, problem.controlled] = result.x[nlp.plan_index].reshape(problem.horizon, -1, 2)
+        return replace(result, plan=plan)

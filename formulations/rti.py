@@ -1,0 +1,129 @@
+"""``rti``: a real-time iteration, one Gauss–Newton QP per control step, in stage form.
+
+Around the reference (the previous plan shifted one step, or every defender
+held), rolled out through the attacker's dynamics from the current state, the
+multiple-shooting model is linearised stage by stage
+(:mod:`formulations.stage_linearisation`) as ``qp`` linearises the condensed
+one: Gauss–Newton objective, tangent half-planes for Eq. 15, the separations
+and the attacker distance, Eq. 14's exact L1 penalty through the squared
+distances, Eq. 13 as the inscribed octagon, the trust region |δp_d| ≤ 2 r_d,
+"never worse than now". In stage order it is an optimal-control QP (kind
+``ocp-qp``):
+
+    z = (ξ_0, ν_0, ξ_1, ν_1, …, ξ_N),  ξ_0 = 0,
+    rows = (gap_0, c_0, gap_1, c_1, …, c_N),  gap_k: ξ_k+1 + G_x ξ_k + G_u ν_k = 0.
+
+Eq. 14's rows for step k+1 sit on stage k (through the dynamics), because the
+last stage has no controls to hold their slacks. The QP's data, the QP and the
+plan form one CasADi graph, which the backend closes with its solver into one
+Function: a control step is one call, with no Python loop and no matrix built
+in Python. Where no distance lies in the smoothing band, its QP is ``qp``'s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+from formulations.base import Formulation
+from formulations.capture_model import parameter_vector, plan_from_x, unpack, x_from_plan
+from formulations.nlp import RELAXABLE
+from formulations.qp import TRUST_REGION
+from formulations.stage_linearisation import stage_linearisation
+from formulations.stage_model import SMOOTHING, stage_model
+from mpc_hunt.backends.base import StageQPData
+from mpc_hunt.solution import Solution
+
+def _place(block, left: int, total: int):
+    """``block`` between ``left`` zero columns and enough zero columns to make ``total``."""
+    return ca.horzcat(ca.SX(block.shape[0], left), block, ca.SX(block.shape[0], total - left - block.shape[1]))
+
+
+class LinearisedStages:
+    """The stage-structured QP of one structure, as CasADi expressions of (θ, reference plan)."""
+
+    def __init__(self, structure: tuple):
+        nc, nf, m, N = structure
+        sm = stage_model(nc, nf, m)
+        st = stage_linearisation(nc, nf, m)
+        nx, nd, nu = st.nx, st.nd, st.nu
+        theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
+        D = ca.SX.sym("D", N * nd)                                     # the reference plan, steps 1..N
+        p = unpack(theta, nc, nf, m)
+        S_x = st.S_x(theta)
+        exact = ca.vertcat(theta[:-1], 0)
+        relaxable = ca.DM([f in RELAXABLE for f in st.families])
+        nz = (N + 1) * nx + N * nu
+        x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []
+        constant = 0                                                   # |ε|² at the reference
+        x_ref.append(ca.vertcat(p["attacker"], p["controlled"]))
+        for k in range(N + 1):
+            col = k * (nx + nu)                                        # where ξ_k starts in z
+            c_rows, c_lower, c_upper = [], [], []                      # c_k: the stage's rows
+            if k == 0:
+                hessian.append(ca.SX(nx, nx)); gradient.append(ca.SX(nx, 1))
+                lbz.append(ca.DM.zeros(nx)); ubz.append(ca.DM.zeros(nx))
+            else:
+                r, J, c, C = st.state(x_ref[k], theta)
+                constant += ca.sumsqr(r)
+                hessian.append(2 * ca.mtimes(J.T, J)); gradient.append(2 * ca.mtimes(J.T, r))
+                region = TRUST_REGION * ca.DM.ones(nd)
+                lbz.append(ca.vertcat(-ca.inf, -ca.inf, -region)); ubz.append(ca.vertcat(ca.inf, ca.inf, region))
+                c_rows.append(_place(C, col, nz))                      # path rows: ≥ 0, never worse than now
+                c_lower.append(ca.if_else(relaxable, ca.fmin(-c, 0), -c)); c_upper.append(ca.DM.inf(c.shape[0]))
+            if k < N:
+                u_ref = D[nd * k:nd * (k + 1)] - x_ref[k][2:]
+                # The attacker's first move follows from the state alone: the paper's field, unsmoothed.
+                move, M, nxt, G_x, G_u, c, C_x, C_u, penalty = st.control(x_ref[k], u_ref, exact if k == 0 else theta)
+                constant += ca.sumsqr(move)
+                x_ref.append(nxt)
+                hessian.append(2 * ca.mtimes(M.T, M)); gradient.append(2 * ca.mtimes(M.T, move) + penalty)
+                lo, hi, lo_rows, hi_rows = st.control_bounds(u_ref, theta)
+                lbz.append(lo); ubz.append(hi)
+                # gap_k: ξ_k+1 + G_x ξ_k + G_u ν_k = 0 (the reference has no gaps)
+                rows.append(_place(ca.horzcat(G_x, G_u, ca.SX.eye(nx)), col, nz))
+                lower.append(ca.SX.zeros(nx)); upper.append(ca.SX.zeros(nx))
+                c_rows.append(_place(ca.horzcat(C_x, C_u), col, nz))
+                c_lower.append(lo_rows - c); c_upper.append(hi_rows - c)
+            rows += c_rows; lower += c_lower; upper += c_upper
+            ng.append(sum(row.shape[0] for row in c_rows))
+        self.inputs = [theta, D]
+        self.z = ca.SX.sym("z", nz)
+        self.qp = {"h": ca.diagcat(*hessian), "g": ca.vertcat(*gradient), "a": ca.vertcat(*rows),
+                   "lba": ca.vertcat(*lower), "uba": ca.vertcat(*upper),
+                   "lbx": ca.vertcat(*lbz), "ubx": ca.vertcat(*ubz)}
+        xi = [self.z[k * (nx + nu):k * (nx + nu) + nx] for k in range(N + 1)]
+        self.plan = ca.vertcat(*[x_ref[k][2:] + S_x[2:] * xi[k][2:] for k in range(1, N + 1)])
+        h, g = self.qp["h"], self.qp["g"]
+        self.cost = constant + 0.5 * ca.bilin(h, self.z, self.z) + ca.dot(g, self.z)   # the model's objective
+        self.stages = (N, [nx] * (N + 1), [nu] * N + [0], ng)
+
+
+@lru_cache(maxsize=32)
+def linearised_stages(structure: tuple) -> LinearisedStages:
+    return LinearisedStages(structure)
+
+
+class RTIFormulation(Formulation):
+    """One Gauss–Newton QP per step in stage form; linearisation, QP and plan in one call."""
+
+    name = "rti"
+    kind = "ocp-qp"
+    default_backend = "hpipm"
+    # Eq. 15 and the separations are inner approximations; Eq. 13 an inscribed octagon.
+    exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
+    smoothing = SMOOTHING
+
+    def prepare(self, structure: tuple) -> None:
+        linearised_stages(structure)
+
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
+        stages = linearised_stages(problem.structure)
+        theta = np.append(parameter_vector(problem), self.smoothing)
+        reference = x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
+        data = StageQPData((self.name,) + problem.structure, lambda: stages, (theta, reference))
+        result = backend.solve(data, duals)
+        return result if result.x is None else replace(result, plan=plan_from_x(problem, result.x))

@@ -1,0 +1,84 @@
+"""One stage of the capture problem linearised and scaled, for the real-time iteration (``rti``).
+
+At a reference stage (x̄, ū) of :mod:`formulations.stage_model`, in the scaled
+deviations ξ = S_x⁻¹ (x − x̄) and ν = ((u − ū) / r_d, q̃, s̃): the residuals
+and their Jacobians (Gauss–Newton), the linearised dynamics, and the rows with
+their Jacobians and bounds. S_x holds each state's reach in one step (v_a T
+for the attacker, r_d for a defender); rows in metres are divided by r̄_d,
+Eq. 14's squared distances by R_hunt r̄_d, so that the Hessian and the rows
+are of order one. Built once per structure; independent of the horizon.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+from formulations.capture_model import unpack
+from formulations.stage_model import stage_model
+
+_DIAGONALS = ca.DM([[1.0, 1.0], [-1.0, 1.0]]) / np.sqrt(2.0)   # the octagon's diagonal normals
+_APOTHEM = np.cos(np.pi / 8)                                   # distance of its sides, per r_d
+
+
+class StageLinearisation:
+    """One stage's linearisation, as CasADi functions of (x̄, ū, θ), for one structure (any horizon).
+
+    ``state(x̄, θ)``: the residuals of step k and their Jacobian in ξ, the path rows (Eq. 15,
+    separations, attacker distance) over r̄_d and theirs. ``control(x̄, ū, θ)``: the smoothness
+    residual and its Jacobian in ν, the gap x̄_k+1 − f and its Jacobians in (ξ, ν), the octagon's
+    diagonal rows and Eq. 14's rows for step k+1 with theirs, and the gradient of Eq. 14's penalty.
+    """
+
+    def __init__(self, nc: int, nf: int, m: int):
+        sm = stage_model(nc, nf, m)
+        self.nx, self.nd, self.nu = sm.nx, sm.nu, sm.nu + 1 + nc
+        self.families = sm.families
+        theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
+        p = unpack(theta, nc, nf, m)
+        reach = ca.vertcat(*[p["step_limits"][i] for i in range(nc) for _ in range(2)])
+        attacker_reach = p["time_step"] * p["attacker_max_speed"]
+        self.S_x = ca.Function("S_x", [theta], [ca.vertcat(attacker_reach, attacker_reach, reach)])
+        length = ca.sum1(p["step_limits"]) / nc                       # the rows' length scale, r̄_d
+        sigma = p["hunt_radius"] * length                             # Eq. 14's squared-distance scale
+        S_x = self.S_x(theta)
+        x_ref, u_ref = ca.SX.sym("x_ref", self.nx), ca.SX.sym("u_ref", self.nd)
+        xi, nu = ca.SX.sym("xi", self.nx), ca.SX.sym("nu", self.nu)
+        x, u = x_ref + S_x * xi, u_ref + reach * nu[:self.nd]
+
+        def at_zero(name, inputs, outputs):
+            """Outputs evaluated at ξ = ν = 0, as a function of ``inputs``."""
+            f = ca.Function(name, inputs + [xi, nu], outputs)
+            return ca.Function(name, inputs, f(*inputs, 0, 0))
+
+        r = sm.residual(x, theta)
+        values, bound = sm.path(x, theta)
+        c = (values - bound) / length
+        self.state = at_zero("state", [x_ref, theta], [r, ca.jacobian(r, xi), c, ca.jacobian(c, xi)])
+
+        move = sm.move(u, theta)
+        nxt = sm.dynamics(x, u, theta)
+        gap = -nxt / S_x                       # the row is ξ_k+1 + gap (+ x̄_k+1 / S_x): unit diagonal on ξ_k+1
+        side = ca.vertcat(*[_APOTHEM * p["step_limits"][i] for i in range(nc) for _ in range(2)])
+        diagonals = ca.vertcat(*[ca.mtimes(_DIAGONALS, u[2 * i:2 * i + 2]) for i in range(nc)]) / length
+        squared = sm.squared_distance(nxt)                                # Eq. 14 for step k+1
+        q = ca.sum1(squared) / nc + sigma * nu[self.nd]
+        s = sigma * nu[self.nd + 1:]
+        rows = ca.vertcat(diagonals, (squared - q - s) / sigma, (squared - q + s) / sigma)
+        penalty = p["w_equal"] * ca.sum1(s) / p["hunt_radius"] ** 2
+        self.control = at_zero("control", [x_ref, u_ref, theta], [
+            move, ca.jacobian(move, nu), nxt, ca.jacobian(gap, xi), ca.jacobian(gap, nu),
+            rows, ca.jacobian(rows, xi), ca.jacobian(rows, nu), ca.gradient(penalty, nu)])
+        inf = ca.DM.inf(nc)
+        octagon = side / length
+        self.control_bounds = ca.Function("control_bounds", [u_ref, theta], [
+            ca.vertcat(-octagon * length / reach - u_ref / reach, -ca.inf, ca.DM.zeros(nc)),   # Eq. 13, axis sides
+            ca.vertcat(octagon * length / reach - u_ref / reach, ca.inf, inf),
+            ca.vertcat(-octagon, -inf, ca.DM.zeros(nc)), ca.vertcat(octagon, ca.DM.zeros(nc), inf)])
+
+
+@lru_cache(maxsize=32)
+def stage_linearisation(nc: int, nf: int, m: int) -> StageLinearisation:
+    return StageLinearisation(nc, nf, m)

@@ -1,0 +1,85 @@
+"""The capture problem stage by stage (multiple shooting), on the optimiser's smoothed field.
+
+Stage k = 0..N has the state x_k = (p_a,k, p_di,k for i ∈ C) and, for k < N,
+the control u_k = p_d,k+1 − p_d,k (Eq. 1). The attacker's dynamics (Eqs. 2, 9)
+
+    x_{k+1} = f(x_k, u_k) = (p_a,k + T sat_{v_a}(u_a(p_a,k, p_d,k)), p_d,k + u_k)
+
+tie consecutive stages, so every other term touches one stage only: the
+residuals of step k (Eq. 12's force error, the ring) depend on x_k, the
+smoothness term and Eq. 13 on u_{k−1}, Eq. 15, the separations and the
+attacker distance on x_k. Written once per structure (controlled, held,
+obstacles) as functions of one stage; a formulation lays them out over the
+horizon. θ is :func:`formulations.capture_model.parameter_vector` followed by
+the smoothing half-width w of :mod:`formulations.smooth_field` (w = 0: the
+paper's field).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import casadi as ca
+
+from formulations.base import separation_pairs
+from formulations.capture_model import parameter_size, saturate, unpack
+from formulations.smooth_field import norm, obstacle_repulsion, repulsion
+
+SMOOTHING = 0.001   # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)
+
+
+class StageModel:
+    """CasADi functions of one stage for one structure (nc controlled, nf held, m obstacles)."""
+
+    def __init__(self, nc: int, nf: int, m: int):
+        self.nc, self.nf, self.m = nc, nf, m
+        self.nx, self.nu = 2 + 2 * nc, 2 * nc
+        theta = ca.SX.sym("theta", parameter_size(nc, nf, m) + 1)
+        p = unpack(theta, nc, nf, m)
+        w = theta[-1]
+        x, u = ca.SX.sym("x", self.nx), ca.SX.sym("u", self.nu)
+        a = x[:2]
+        defenders = [x[2 + 2 * i:4 + 2 * i] for i in range(nc)]
+        held = [p["held"][2 * j:2 * j + 2] for j in range(nf)]
+
+        force = p["nominal"]
+        for d in defenders + held:
+            force = force + p["k_d"] * repulsion(a - d, p["perception_radius"], p["eta"], w)
+        for o in range(m):
+            force = force + p["k_o"] * obstacle_repulsion(a, p["centres"][2 * o:2 * o + 2], p["radii"][o],
+                                                          p["protective_distance"], p["eta"], w)
+        step = p["time_step"] * saturate(force, p["attacker_max_speed"])
+        self.dynamics = ca.Function("f", [x, u, theta], [ca.vertcat(a + step, x[2:] + u)])
+
+        distance = [norm(d - a) for d in defenders]
+        residual = [ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"]]
+        residual += [ca.sqrt(p["w_ring"]) * (r - p["ring_radius"]) / p["hunt_radius"] for r in distance]
+        self.residual = ca.Function("residual", [x, theta], [ca.vertcat(*residual)])
+        reach = ca.vertcat(*[p["step_limits"][i] for i in range(nc) for _ in range(2)])
+        self.move = ca.Function("move", [u, theta], [ca.sqrt(p["w_move"]) * u / reach])
+        self.squared_distance = ca.Function("squared_distance", [x],
+                                            [ca.vertcat(*[ca.dot(d - a, d - a) for d in defenders])])
+
+        # Distances, not their squares: linearised, a distance gives the tangent half-plane
+        # n̄·(p − c) ≥ R, the tightest inner approximation (the one formulations/qp.py uses).
+        rows, lower, self.families = [], [], []
+        for d in defenders:
+            for o in range(m):
+                rows.append(norm(d - p["centres"][2 * o:2 * o + 2]))
+                lower.append(p["radii"][o] + p["safety_distance"])
+                self.families.append("obstacle_safety")
+            rows.append(norm(d - a)); lower.append(p["min_attacker_distance"])
+            self.families.append("attacker_distance")
+        for i, j in separation_pairs(nc, nf):
+            rows.append(norm(defenders[i] - (defenders[j] if j < nc else held[j - nc])))
+            lower.append(p["min_separation"])
+            self.families.append("separation")
+        self.path = ca.Function("path", [x, theta], [ca.vertcat(*rows), ca.vertcat(*lower)])
+        steps = [ca.dot(u[2 * i:2 * i + 2], u[2 * i:2 * i + 2]) for i in range(nc)]
+        self.motion = ca.Function("motion", [u, theta], [ca.vertcat(*steps), p["step_limits"] ** 2])
+
+
+@lru_cache(maxsize=32)
+def stage_model(nc: int, nf: int, m: int) -> StageModel:
+    """The stage functions for one structure, built once per process."""
+    return StageModel(nc, nf, m)

@@ -1,0 +1,138 @@
+"""The compare benchmark: every installed (formulation, backend) pair on the shipped problem set.
+
+At horizons N = 1, 5 and 10, in both modes (cold, closed-loop), accuracy
+``default``, seed 0, no time limit: ``mpc-hunt compare`` as a study. It writes
+into ``studies/compare/`` the Markdown report (README.md) with its figures and
+``results.json`` (the machine's description, the settings, every row and every
+solve), and the headline table of ``docs/benchmarks.md``. About ten minutes on
+two cores.
+
+    python studies/compare.py              # run it and rewrite studies/compare/
+    python studies/compare.py --check      # the committed run's problems and pairs are what the code would run,
+                                           # and a rerun at N = 1 gives its statuses, successes and gaps
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from mpc_hunt import registry
+from mpc_hunt.compare import MODES, planned_solves, run_compare
+from mpc_hunt.compare_report import write_report
+from mpc_hunt.compare_rows import best_known, gap
+from mpc_hunt.machine import describe_machine, load_average
+from mpc_hunt.problem_set import builtin_problem_set
+
+from docs_block import read_block, write_block
+
+OUT = Path(__file__).resolve().parent / "compare"
+HORIZONS, SEED, STARTS, ACCURACY = [1, 5, 10], 0, 4, "default"
+COMMAND = "python studies/compare.py"
+GAP_RTOL, GAP_ATOL = 1e-3, 1e-6     # a rerun's gaps: solvers converge to their tolerance, not to the last digit
+
+
+def run(horizons: list[int], progress: bool = True):
+    problem_set = builtin_problem_set("default")
+    pairs = registry.pairs()
+    total = planned_solves(problem_set, len(pairs), horizons, list(MODES), STARTS)
+    with tqdm(total=total, desc="compare", unit=" solves", file=sys.stderr, disable=not progress) as bar:
+        return run_compare(problem_set, pairs, horizons, list(MODES), np.random.default_rng(SEED),
+                           accuracy=ACCURACY, starts=STARTS, progress=lambda: bar.update(1))
+
+
+def extra() -> dict:
+    return {"problem_set": "default", "tags": [], "limit": None, "seed": SEED}
+
+
+def check() -> list[str]:
+    """What differs between the committed run and the code: inputs, then each N = 1 solve's non-timing outcome."""
+    committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
+    problems = [p.id for p in builtin_problem_set("default").problems]
+    wanted = {"problems": problems, "pairs": [f"{f}:{b}" for f, b in registry.pairs()], "horizons": HORIZONS,
+              "modes": list(MODES), "accuracy": ACCURACY, "seed": SEED, "reference_starts": STARTS}
+    errors = [f"settings.{k}: committed {committed['settings'].get(k)!r}, the code runs {v!r}"
+              for k, v in wanted.items() if committed["settings"].get(k) != v]
+    if read_block("compare") != headline(committed):
+        errors.append("docs/benchmarks.md: its compare table is not the committed results'")
+    if errors:
+        return errors
+    rerun = run([1], progress=False)
+    best = best_known(rerun)
+    old = {(s["formulation"], s["backend"], s["mode"], s["problem"]): s for s in committed["solves"]
+           if s["horizon"] == 1}
+    for r in rerun.records:
+        key = (r.formulation, r.backend, r.mode, r.problem)
+        then = old.get(key)
+        if then is None:
+            errors.append(f"{key}: not in the committed run")
+            continue
+        if (then["status"], then["success"]) != (r.status, r.success):
+            errors.append(f"{key}: status/success committed {then['status']}/{then['success']}, now "
+                          f"{r.status}/{r.success}")
+        new_gap = gap(r, best)
+        old_gap = then.get("gap")
+        if (new_gap is None) != (old_gap is None) or (
+                new_gap is not None and abs(new_gap - old_gap) > GAP_ATOL + GAP_RTOL * abs(old_gap)):
+            errors.append(f"{key}: optimality gap committed {old_gap}, now {new_gap}")
+    return errors
+
+
+def _cell(row: dict | None) -> str:
+    if row is None:
+        return "–"
+    gap = "–" if row["optimality_gap_median"] is None else f"{row['optimality_gap_median']:.1e}"
+    return f"{row['success_rate']:.0%} · {row['solve_time_median_s'] * 1e3:.1f} ms · {gap}"
+
+
+def headline(results: dict) -> str:
+    """The docs' table: per pair and mode, at each horizon, success rate · median all-in time · median gap."""
+    horizons = results["settings"]["horizons"]
+    by = {(r["formulation"], r["backend"], r["mode"], r["horizon"]): r for r in results["rows"]}
+    lines = ["| pair | mode | " + " | ".join(f"N = {n}" for n in horizons) + " |",
+             "| --- | --- | " + " | ".join("---" for _ in horizons) + " |"]
+    for mode in results["settings"]["modes"]:
+        for pair in results["settings"]["pairs"]:
+            f, b = pair.split(":")
+            lines.append(f"| {f}/{b} | {mode} | " + " | ".join(_cell(by.get((f, b, mode, n))) for n in horizons)
+                         + " |")
+    m = results["machine"]
+    return "\n".join(lines) + (f"\n\nMachine: {m['cpu']}, {m['cores']} cores, Python {m['python']}; load average "
+                               f"{m['load_average'][0]} at the start, {m['load_average_end'][0]} at the end.\n")
+
+
+def write_docs() -> None:
+    """Rewrite the headline table in docs/benchmarks.md from the committed results."""
+    write_block("compare", headline(json.loads((OUT / "results.json").read_text(encoding="utf-8"))))
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="check the committed run instead of running")
+    args = parser.parse_args(argv)
+    if args.check:
+        errors = check()
+        for line in errors[:20]:
+            print(line, file=sys.stderr)
+        if errors:
+            print(f"{len(errors)} differences: rerun {COMMAND}", file=sys.stderr)
+            return 1
+        print("studies/compare: up to date")
+        return 0
+    machine = describe_machine()
+    result = run(HORIZONS)
+    machine["load_average_end"] = load_average()
+    for path in write_report(result, machine, OUT, COMMAND, extra()):
+        print(f"wrote {path}")
+    write_docs()
+    print("wrote the compare table of docs/benchmarks.md")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,252 @@
+"""Step latency of every capture-stage formulation × backend, and how the step grows with N and N_d.
+
+One run, side by side on one machine, so that the ratios hold even when the
+absolute times of a shared machine drift:
+
+* **Latency.** Every installed pair solves the same consecutive closed-loop
+  states of ``paper-obstacles`` (N_d = 3 in the capture stage, N = 10), each
+  warm-started as the controller does (the previous plan shifted one step).
+  *step* is state in → plan out (the capture problem posed, the solve) without
+  the shared evaluator; *all-in* adds it (what ``Solution.solve_time`` counts).
+  Ratios are to ``nlp``/``ipopt`` on the same states.
+* **Growth.** The step of the stage-structured pairs (and ``qp`` for contrast)
+  for N = 5…50 on the same states, and for N_d = 3…12 defenders evenly placed
+  around the attacker of the first state; the fitted exponent b of step ∝ N^b.
+
+The states are written to ``states.json`` (a problem set: one sequence) and
+read back with ``--reuse-states``, so that another checkout of the code can be
+measured on the very same states.
+
+    python studies/step_latency.py [--out studies/step_latency] [--states 60] [--pairs qp/osqp …]
+                                   [--reuse-states] [--no-growth]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate, registry
+from mpc_hunt.plan import shift_plan
+from mpc_hunt.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
+from mpc_hunt.scenario import Defender
+
+SCENARIO = "paper-obstacles"
+HORIZON = 10
+HORIZONS = (5, 10, 20, 30, 50)
+TEAM_SIZES = (3, 6, 9, 12)
+GROWTH_PAIRS = (("rti", "hpipm"), ("ms-nlp", "ipopt"), ("qp", "osqp"), ("qp", "clarabel"))
+GROWTH_STATES = 15
+BASELINE = ("nlp", "ipopt")
+
+
+def machine() -> dict:
+    model = ""
+    if Path("/proc/cpuinfo").exists():
+        model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                      if line.startswith("model name")), "")
+    import casadi
+    return {"platform": platform.platform(), "cpu": model, "cores": os.cpu_count(),
+            "load_average": os.getloadavg(), "python": platform.python_version(), "casadi": casadi.__version__,
+            "numpy": np.__version__}
+
+
+def closed_loop_states(count: int) -> ProblemSet:
+    from mpc_hunt.capture_state import formed_circle_states
+    scenario = builtin_scenario(SCENARIO)
+    states = formed_circle_states(scenario, count)
+    entries = tuple(ProblemEntry(f"{SCENARIO}/{i}", SCENARIO, s, f"{SCENARIO}/closed-loop")
+                    for i, s in enumerate(states))
+    return ProblemSet({SCENARIO: scenario}, entries,
+                      f"{count} consecutive closed-loop states of {SCENARIO} (the paper's strategy), from the first "
+                      "with the hunting circle formed. Rebuild with `python studies/step_latency.py`.")
+
+
+def solve_sequence(formulation: str, backend: str, problems: list[CaptureProblem]) -> list[dict]:
+    """Each problem in turn, warm-started as the controller does; per-step times and figures."""
+    solver = CaptureSolver(formulation, backend)
+    plan, rows = None, []
+    for make in problems:
+        t0 = time.perf_counter()
+        problem = make()
+        solution = solver.solve(problem, None if plan is None else shift_plan(plan))
+        all_in = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        if solution.plan is not None:
+            evaluate(problem, solution.plan)
+        evaluator = time.perf_counter() - t1
+        rows.append({"step_s": all_in - evaluator, "all_in_s": all_in, "solver_s": solution.solver_time,
+                     "setup_s": solution.setup_time, "iterations": solution.iterations,
+                     "success": solution.success, "objective": solution.objective,
+                     "obstacle_violation": None if solution.violation is None
+                     else solution.violation["obstacle_safety"],
+                     "max_violation": solution.max_violation})
+        usable = solution.plan is not None and (solution.success or solution.max_violation <= 1e-6)
+        plan = solution.plan if usable else None
+    return rows
+
+
+def summarise(rows: list[dict]) -> dict:
+    later = rows[1:]                      # the first solve also sets up
+    med = lambda key: float(np.median([r[key] for r in later]))  # noqa: E731
+    return {"median_step_ms": med("step_s") * 1e3, "median_all_in_ms": med("all_in_s") * 1e3,
+            "median_solver_ms": med("solver_s") * 1e3, "median_iterations": med("iterations"),
+            "setup_ms": rows[0]["setup_s"] * 1e3, "failed": sum(not r["success"] for r in rows), "solves": len(rows),
+            "max_obstacle_violation": max((r["obstacle_violation"] or 0.0) for r in rows),
+            "median_objective": float(np.median([r["objective"] for r in rows if r["objective"] is not None]))}
+
+
+def latency(problem_set: ProblemSet, pairs: list[tuple[str, str]]) -> list[dict]:
+    entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
+    problems = [lambda e=e: problem_set.problem(e, HORIZON) for e in entries]
+    out = []
+    for formulation, backend in pairs:
+        rows = solve_sequence(formulation, backend, problems)
+        row = {"formulation": formulation, "backend": backend, **summarise(rows)}
+        out.append(row)
+        print(f"{formulation}/{backend}: step {row['median_step_ms']:.3f} ms, all-in {row['median_all_in_ms']:.3f} ms, "
+              f"{row['median_iterations']:.0f} iterations, {row['failed']} failed", flush=True)
+    base = next((r for r in out if (r["formulation"], r["backend"]) == BASELINE), None)
+    for r in out:
+        r["step_ratio"] = None if base is None else base["median_step_ms"] / r["median_step_ms"]
+        r["all_in_ratio"] = None if base is None else base["median_all_in_ms"] / r["median_all_in_ms"]
+    return out
+
+
+def team(scenario, attacker: np.ndarray, size: int):
+    """``scenario`` with ``size`` defenders, placed evenly on a circle of 0.6 R_agg around ``attacker``."""
+    angles = 2 * np.pi * np.arange(size) / size
+    radius = 0.6 * scenario.attacker.perception_radius
+    positions = attacker + radius * np.column_stack([np.cos(angles), np.sin(angles)])
+    speed = scenario.defenders[0].max_speed
+    return replace(scenario, defenders=tuple(Defender(start=tuple(p), max_speed=speed) for p in positions)), positions
+
+
+def fit(sizes, times) -> float:
+    return float(np.polyfit(np.log(sizes), np.log(times), 1)[0])
+
+
+def growth(problem_set: ProblemSet, pairs: list[tuple[str, str]]) -> dict:
+    entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"][:GROWTH_STATES]
+    result = {"horizon": [], "team": []}
+    for formulation, backend in pairs:
+        times = []
+        for N in HORIZONS:
+            rows = solve_sequence(formulation, backend, [lambda e=e: problem_set.problem(e, N) for e in entries])
+            times.append(summarise(rows)["median_step_ms"])
+            result["horizon"].append({"formulation": formulation, "backend": backend, "N": N,
+                                      **summarise(rows)})
+            print(f"growth {formulation}/{backend} N={N}: {times[-1]:.3f} ms", flush=True)
+        result.setdefault("horizon_exponent", {})[f"{formulation}/{backend}"] = fit(HORIZONS, times)
+    first = entries[0].state
+    base = problem_set.scenarios[SCENARIO]
+    for formulation, backend in pairs:
+        times = []
+        for size in TEAM_SIZES:
+            scenario, positions = team(base, first.attacker, size)
+            problems = _team_sequence(scenario, first.attacker, positions)
+            rows = solve_sequence(formulation, backend, problems)
+            times.append(summarise(rows)["median_step_ms"])
+            result["team"].append({"formulation": formulation, "backend": backend, "N_d": size, **summarise(rows)})
+            print(f"growth {formulation}/{backend} N_d={size}: {times[-1]:.3f} ms", flush=True)
+        result.setdefault("team_exponent", {})[f"{formulation}/{backend}"] = fit(TEAM_SIZES, times)
+    return result
+
+
+def _team_sequence(scenario, attacker, defenders) -> list:
+    """GROWTH_STATES consecutive states of a capture stage driven by ``rti``/``hpipm`` (the same for every pair)."""
+    solver = CaptureSolver("rti", "hpipm")
+    states, plan = [], None
+    for _ in range(GROWTH_STATES):
+        states.append((attacker.copy(), defenders.copy()))
+        problem = CaptureProblem.at_state(scenario, attacker, defenders, HORIZON)
+        solution = solver.solve(problem, None if plan is None else shift_plan(plan))
+        plan = solution.plan
+        attacker = problem.attacker_step(attacker, defenders)
+        defenders = plan[0]
+    return [lambda a=a, d=d: CaptureProblem.at_state(scenario, a, d, HORIZON) for a, d in states]
+
+
+def latency_table(rows: list[dict]) -> str:
+    lines = ["| formulation | backend | step (ms) | × faster than nlp/ipopt | all-in (ms) | × | solver call (ms) "
+             "| iterations | failed / solves | set-up (ms) | max obstacle violation (m) |",
+             "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for r in rows:
+        ratio = lambda v: "–" if v is None else f"{v:.1f}"  # noqa: E731
+        lines.append(f"| {r['formulation']} | {r['backend']} | {r['median_step_ms']:.3f} | {ratio(r['step_ratio'])} "
+                     f"| {r['median_all_in_ms']:.3f} | {ratio(r['all_in_ratio'])} | {r['median_solver_ms']:.3f} "
+                     f"| {r['median_iterations']:.0f} | {r['failed']} / {r['solves']} | {r['setup_ms']:.0f} "
+                     f"| {r['max_obstacle_violation']:.1e} |")
+    return "\n".join(lines)
+
+
+def growth_tables(result: dict) -> str:
+    pairs = list(result["horizon_exponent"])
+    lines = ["| pair | " + " | ".join(f"N = {N}" for N in HORIZONS) + " | exponent b (step ∝ N^b) |",
+             "| --- | " + " | ".join("---:" for _ in HORIZONS) + " | ---: |"]
+    for pair in pairs:
+        times = [r["median_step_ms"] for r in result["horizon"] if f"{r['formulation']}/{r['backend']}" == pair]
+        lines.append(f"| {pair} | " + " | ".join(f"{t:.3f}" for t in times)
+                     + f" | {result['horizon_exponent'][pair]:.2f} |")
+    lines += ["", "| pair | " + " | ".join(f"N_d = {n}" for n in TEAM_SIZES) + " | exponent b (step ∝ N_d^b) |",
+              "| --- | " + " | ".join("---:" for _ in TEAM_SIZES) + " | ---: |"]
+    for pair in pairs:
+        times = [r["median_step_ms"] for r in result["team"] if f"{r['formulation']}/{r['backend']}" == pair]
+        lines.append(f"| {pair} | " + " | ".join(f"{t:.3f}" for t in times)
+                     + f" | {result['team_exponent'][pair]:.2f} |")
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "step_latency")
+    parser.add_argument("--states", type=int, default=60)
+    parser.add_argument("--pairs", nargs="+", metavar="FORMULATION/BACKEND")
+    parser.add_argument("--reuse-states", action="store_true", help="read the states from OUT/states.json")
+    parser.add_argument("--no-growth", action="store_true", help="skip the growth with N and N_d")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    states_file = args.out / "states.json"
+    if args.reuse_states:
+        problem_set = load_problem_set(states_file)
+    else:
+        problem_set = closed_loop_states(args.states)
+        save_problem_set(problem_set, states_file)
+    pairs = [tuple(p.split("/")) for p in args.pairs] if args.pairs else registry.pairs()
+    before = machine()
+    rows = latency(problem_set, pairs)
+    result = {"machine": before, "latency": rows}
+    if not args.no_growth:
+        result["growth"] = growth(problem_set, [p for p in GROWTH_PAIRS if p in pairs])
+    result["machine"]["load_average_after"] = os.getloadavg()
+    (args.out / "results.json").write_text(json.dumps(result, indent=1) + "\n")
+    m = result["machine"]
+    text = ["# Step latency of the capture stage", "",
+            "Regenerate with `python studies/step_latency.py` (all pairs, growth included). Measured in one run "
+            f"on {m['cpu'] or m['platform']} ({m['cores']} cores, shared: load average {m['load_average'][0]:.1f} "
+            f"before, {m['load_average_after'][0]:.1f} after), {m['platform']}, Python {m['python']}, "
+            f"CasADi {m['casadi']}. Absolute times drift on a shared machine; the ratios are from the same run.", "",
+            f"## Latency at N_d = 3, N = {HORIZON}", "",
+            f"{problem_set.description} Medians over {len(problem_set.problems) - 1} warm-started steps (the first, "
+            "which sets up, excluded). *step*: state in → plan out, the shared evaluator excluded; *all-in*: with "
+            "it (`Solution.solve_time` plus posing the problem); *solver call*: the backend's call alone.", "",
+            latency_table(rows), ""]
+    if "growth" in result:
+        text += ["## Growth with the horizon N and the team N_d", "",
+                 f"Median step over the first {GROWTH_STATES} states (N) or over {GROWTH_STATES} consecutive "
+                 "states of a capture stage with N_d defenders evenly placed around the attacker of the first state, "
+                 f"driven by `rti`/`hpipm` (N_d, at N = {HORIZON}); b from a least-squares fit of log step on "
+                 "log N (log N_d).", "", growth_tables(result["growth"]), ""]
+    (args.out / "README.md").write_text("\n".join(text))
+    print(f"wrote {args.out / 'README.md'}")
+
+
+if __name__ == "__main__":
+    main()
