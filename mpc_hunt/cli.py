@@ -17,6 +17,7 @@ from pathlib import Path
 from mpc_hunt import cli_sweep, registry
 from mpc_hunt.cli_common import Progress, non_negative_int, positive_float, positive_int
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.recommended import PAPER, RECOMMENDED
 from mpc_hunt.scenario_io import DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario, resolve_scenario
 
 EXIT_ERROR = 2
@@ -44,15 +45,25 @@ def _backend_help() -> str:
     return f"solver backend (default: the formulation's own: {defaults})"
 
 
-def _solver_arguments(p: argparse.ArgumentParser) -> None:
+def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> None:
     p.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
                    help=f"built-in name ({', '.join(builtin_names())}) or a TOML file (default: {DEFAULT_SCENARIO})")
-    p.add_argument("--formulation", default="nlp", choices=sorted(registry.FORMULATIONS),
-                   help="capture-stage formulation (default: nlp)")
+    p.add_argument("--formulation", choices=sorted(registry.FORMULATIONS),
+                   help=f"capture-stage formulation (default: {default['formulation']}, {which})")
     p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
-    p.add_argument("--horizon", type=positive_int, default=1, metavar="N",
-                   help="receding horizon in steps (default: 1, the paper's one-step problem)")
+    p.add_argument("--horizon", type=positive_int, metavar="N",
+                   help=f"receding horizon in steps (default: {default['horizon']} with the default formulation, "
+                        f"else 1)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
+    p.set_defaults(solver_default=default)
+
+
+def _solver_choice(args) -> tuple[str, str | None, int]:
+    """(formulation, backend, horizon): the command's default capture stage where the flags name none."""
+    default = args.solver_default
+    formulation = args.formulation or default["formulation"]
+    backend = args.backend or (default["backend"] if args.formulation is None else None)
+    return formulation, backend, args.horizon or (default["horizon"] if formulation == default["formulation"] else 1)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -63,7 +74,8 @@ def build_parser() -> argparse.ArgumentParser:
     sim = sub.add_parser("simulate", help="run one closed-loop hunt",
                          description="Run one closed-loop hunt and report capture, path lengths and clearances. "
                                      "Progress goes to stderr (not with --json).")
-    _solver_arguments(sim)
+    _solver_arguments(sim, RECOMMENDED, "the recommended capture stage; the paper's is --formulation nlp "
+                                        "--horizon 1 (docs/robustness.md)")
     sim.add_argument("--controller", default="paper", choices=sorted(registry.CONTROLLERS),
                      help="paper: the paper's strategy with its capture-stage optimisation (default); "
                           "apf: the traditional potential-field encirclement, no optimisation "
@@ -83,7 +95,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "shipped in the problem set 'default'; for a scenario file the first state of its closed-loop "
                     "run (paper strategy, prediction on) at which every defender is within R_agg and their "
                     "distances to the attacker differ by at most 2 r_d (the hunting circle has formed).")
-    _solver_arguments(solve)
+    _solver_arguments(solve, PAPER, "the paper's one-step problem")
     solve.add_argument("--state", type=Path, metavar="FILE",
                        help='JSON state {"attacker": [x, y], "defenders": [[x, y], ...]} to solve at')
     solve.add_argument("--save-state", type=Path, metavar="FILE", help="write the state solved at as JSON")
@@ -185,22 +197,23 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
 def _controller(args, scenario):
     prediction = not args.no_prediction
     if args.controller != "paper":
-        given = [flag for flag, value in (("--formulation", args.formulation != "nlp"), ("--backend", args.backend),
-                                          ("--horizon", args.horizon != 1), ("--time-budget", args.time_budget))
-                 if value]
+        given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
+                                          ("--horizon", args.horizon), ("--time-budget", args.time_budget))
+                 if value is not None]
         if given:
             raise MpcHuntError(f"{', '.join(given)}: only with --controller paper "
                                f"(controller {args.controller!r} solves no capture problem)")
         return registry.make_controller(args.controller, scenario, prediction=prediction)
-    return registry.make_controller("paper", scenario, prediction=prediction, formulation=args.formulation,
-                                    backend=args.backend, horizon=args.horizon, time_limit=args.time_budget)
+    formulation, backend, horizon = _solver_choice(args)
+    return registry.make_controller("paper", scenario, prediction=prediction, formulation=formulation,
+                                    backend=backend, horizon=horizon, time_limit=args.time_budget)
 
 
 def _simulate(args) -> int:
     from mpc_hunt.simulator import simulate
 
     if args.controller == "paper":
-        registry.check_pair(args.formulation, args.backend)
+        registry.check_pair(*_solver_choice(args)[:2])
     check_output(args.plot, FIGURE_SUFFIXES, "--plot")
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
     scenario = resolve_scenario(args.scenario)
@@ -268,19 +281,20 @@ def _solve(args) -> int:
     from mpc_hunt.capture_state import save_state
     from mpc_hunt.solver import CaptureSolver
 
-    solver = CaptureSolver(args.formulation, args.backend, time_limit=args.time_limit)
+    formulation, backend, horizon = _solver_choice(args)
+    solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)
     scenario = resolve_scenario(args.scenario)
     state = _state(args, scenario)
     if args.save_state:
         save_state(state, args.save_state)
-    problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, args.horizon)
+    problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon)
     solution = solver.solve(problem)
     report = solution.to_dict()
-    report.update(scenario=scenario.name, state=state.to_dict(), horizon=args.horizon)
+    report.update(scenario=scenario.name, state=state.to_dict(), horizon=horizon)
     if args.json:
         print(json.dumps(report))
         return 0 if solution.success else 1
-    lines = [f"{solution.formulation} on {solution.backend}, horizon {args.horizon}, scenario {scenario.name} "
+    lines = [f"{solution.formulation} on {solution.backend}, horizon {horizon}, scenario {scenario.name} "
              f"at t = {state.time:.1f} s: {solution.status.value} ({solution.message})"]
     if solution.objective is not None:
         lines.append(f"objective (evaluator): {solution.objective:.6g}; "

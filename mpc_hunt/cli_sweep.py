@@ -18,7 +18,7 @@ def add_parsers(sub) -> None:
         description="Run --hunts random hunts (mpc_hunt.random_scenario; ranges from --ranges FILE and --set) for "
                     "each strategy, on local worker processes or a Dask cluster, streaming one row per hunt into "
                     "an SQLite file; then print the summary per strategy. A strategy is "
-                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1, paper:qp:daqp:5, apf. "
+                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf. "
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")

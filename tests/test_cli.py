@@ -186,3 +186,23 @@ def test_solve_defaults_use_the_shipped_state(capsys):
     code, out, _ = run(capsys, "solve", "--formulation", "qp", "--backend", "clarabel", "--json")
     # Measured: 3.9e-8; Eq. 14's penalty (w_eq / R_hunt² = 4e3) magnifies the backends' ~1e-11 m differences.
     assert json.loads(out)["objective"] == pytest.approx(report["objective"], rel=1e-6)
+
+
+@pytest.mark.parametrize("flags, expected", [
+    ([], ("rti", "hpipm", 5)),                                # the recommended capture stage
+    (["--formulation", "nlp"], ("nlp", "ipopt", 1)),          # the paper's
+    (["--formulation", "qp", "--backend", "daqp"], ("qp", "daqp", 1)),
+    (["--horizon", "2"], ("rti", "hpipm", 2)),
+])
+def test_simulate_runs_the_recommended_capture_stage_unless_told(capsys, tmp_path, flags, expected):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY.replace("time_limit = 5.0", "time_limit = 0.2"), encoding="utf-8")
+    code, out, _ = run(capsys, "simulate", "--scenario", str(path), "--json", *flags)
+    report = json.loads(out)
+    assert code == 0 and (report["formulation"], report["backend"], report["horizon"]) == expected
+
+
+def test_solve_runs_the_papers_problem_by_default(capsys):
+    code, out, _ = run(capsys, "solve", "--scenario", "paper-open", "--json")
+    report = json.loads(out)
+    assert (report["formulation"], report["backend"], report["horizon"]) == ("nlp", "ipopt", 1)

@@ -1,0 +1,175 @@
+"""Random hunts at scale: the default sweep strategies on 500 random hunts (docs/robustness.md).
+
+Runs ``mpc-hunt sweep --hunts 500 --seed 1`` with the default strategies
+(``mpc_hunt.sweep.DEFAULT_STRATEGIES``) and the default scenario ranges into
+``studies/sweep/sweep.db``, resuming it if it exists, then writes
+``studies/sweep/`` (README.md, summary.json with the machine's description,
+the figures) and the results table of docs/robustness.md. About 1.5 hours on 2
+cores; an interrupted run continues where it stopped.
+
+    python studies/sweep.py             # run (or resume) the sweep, then write the report
+    python studies/sweep.py --check     # the committed report is the committed file's, for the code's strategies
+                                        # and ranges; a few of its hunts, rerun, give their committed rows
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from mpc_hunt.cli import main as mpc_hunt
+from mpc_hunt.machine import describe_machine, load_average, machine_lines
+from mpc_hunt.random_scenario import ScenarioRanges, ranges_to_dict
+from mpc_hunt.sweep import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt
+from mpc_hunt.sweep_plots import write_plots
+from mpc_hunt.sweep_store import SweepStore
+from mpc_hunt.sweep_summary import summarise, table
+
+from docs_block import read_block, write_block
+
+OUT = Path(__file__).resolve().parent / "sweep"
+DB = OUT / "sweep.db"
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "robustness.md"
+HUNTS, SEED = 500, 1
+COMMAND = "python studies/sweep.py"
+RERUN = 2          # --check reruns this many hunts per strategy: its captured hunts with the fewest steps
+EXACT = ("outcome", "cause", "termination", "steps", "solves", "failed_solves", "fallbacks")
+CLOSE = ("capture_time_s", "path_length_m", "min_obstacle_clearance_m", "min_defender_separation_m")
+
+
+def arguments() -> dict:
+    """What the sweep runs, as its results file stores it."""
+    return {"strategies": [Strategy.parse(s).label for s in DEFAULT_STRATEGIES], "hunts": HUNTS, "seed": SEED,
+            "ranges": ranges_to_dict(ScenarioRanges())}
+
+
+def wall_times(rows: list[dict]) -> dict:
+    """Per strategy: the hunts' total, median and largest wall time on their workers."""
+    out = {}
+    for strategy in dict.fromkeys(r["strategy"] for r in rows):
+        times = [r["wall_time_s"] for r in rows if r["strategy"] == strategy and r["wall_time_s"] is not None]
+        out[strategy] = {"total_s": float(np.sum(times)), "median_s": float(np.median(times)),
+                         "max_s": float(np.max(times))}
+    return out
+
+
+def _solve_lines(summaries: list[dict]) -> list[str]:
+    def ms(x):
+        return "–" if x is None else f"{1e3 * x:.1f} ms"
+
+    return [f"- `{s['strategy']}`: the longest capture-stage solve took {ms(s['solve_time_max_s'])}; least "
+            f"obstacle clearance {s['min_obstacle_clearance_m']:.3f} m, least defender separation "
+            f"{s['min_defender_separation_m']:.4f} m." for s in summaries]
+
+
+def report(summaries: list[dict], walls: dict, machine: dict) -> str:
+    lines = ["# 500 random hunts per strategy", "",
+             f"Regenerate with `{COMMAND}` (it runs `mpc-hunt sweep --hunts {HUNTS} --seed {SEED}` with the "
+             "default strategies and scenario ranges into `sweep.db`, then `mpc-hunt sweep-report sweep.db "
+             "--plot .`). Every strategy meets the same hunts: hunt i is the scenario `random-1-i`, drawn by "
+             "`mpc_hunt.random_scenario.sweep_scenario(1, i)` from the ranges in docs/robustness.md (20 × 20 m "
+             "arena, 2–5 defenders, 0–5 obstacles, attacker 0.25–0.75 × the defenders' speed, 300 s). The "
+             "success rate counts the hunts that can be captured by definition; failures are by cause "
+             "(docs/robustness.md). One row per hunt, with its scenario's full parameters, is in `sweep.db` "
+             "(SQLite).", "", "## Results", "", table(summaries), "", *_solve_lines(summaries), "",
+             "![success by defenders](success_by_n_defenders.png) "
+             "![success by obstacles](success_by_n_obstacles.png)",
+             "![success by speed ratio](success_by_speed_ratio.png) ![capture times](capture_times.png)", "",
+             "## Cost", "", "| strategy | wall time, all hunts | per hunt, median | longest hunt |",
+             "| --- | ---: | ---: | ---: |"]
+    lines += [f"| {s} | {w['total_s'] / 3600:.2f} h | {w['median_s']:.1f} s | {w['max_s']:.0f} s |"
+              for s, w in walls.items()]
+    lines += ["", "## Machine", "", *machine_lines(machine), ""]
+    return "\n".join(lines)
+
+
+def headline(summaries: list[dict]) -> str:
+    return (f"Produced by `{COMMAND}` ({HUNTS} hunts per strategy, seed {SEED}; the report, figures and every row "
+            f"are in [studies/sweep/](../studies/sweep/README.md)):\n\n{table(summaries)}\n")
+
+
+def _rows() -> list[dict]:
+    store = SweepStore(DB)
+    try:
+        return store.rows()
+    finally:
+        store.close()
+
+
+def write(machine: dict) -> None:
+    rows = _rows()
+    summaries = summarise(rows)
+    walls = wall_times(rows)
+    write_plots(rows, OUT)
+    (OUT / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(),
+                                                  "strategies": summaries, "wall_time": walls}, indent=1) + "\n",
+                                      encoding="utf-8")
+    (OUT / "README.md").write_text(report(summaries, walls, machine), encoding="utf-8")
+    write_block("sweep", headline(summaries), DOCS)
+
+
+def _differs(old, new) -> bool:
+    if isinstance(old, float) and isinstance(new, float):
+        return not math.isclose(old, new, rel_tol=1e-6, abs_tol=1e-9)
+    return old != new
+
+
+def check() -> list[str]:
+    store = SweepStore(DB)
+    stored = store.arguments
+    rows = store.rows()
+    store.close()
+    errors = [f"sweep.db: {k} is {stored.get(k)!r}, the study runs {v!r}"
+              for k, v in arguments().items() if stored.get(k) != v]
+    if len(rows) != HUNTS * len(stored["strategies"]):
+        errors.append(f"sweep.db: {len(rows)} hunts, not {HUNTS} per strategy (resume it)")
+    committed = json.loads((OUT / "summary.json").read_text(encoding="utf-8"))
+    summaries = json.loads(json.dumps(summarise(rows)))
+    if committed["strategies"] != summaries:
+        errors.append("summary.json: not the summary of sweep.db")
+    if read_block("sweep", DOCS) != headline(summaries):
+        errors.append("docs/robustness.md: its results table is not the summary of sweep.db")
+    if errors:
+        return errors
+    for strategy in stored["strategies"]:
+        captured = sorted((r for r in rows if r["strategy"] == strategy and r["outcome"] == "captured"),
+                          key=lambda r: (r["steps"], r["index"]))
+        for old in captured[:RERUN]:
+            new = run_hunt(Hunt(strategy, old["seed"], old["index"], stored["ranges"]))
+            errors += [f"{strategy} hunt {old['index']}: {k} committed {old[k]!r}, now {new[k]!r}"
+                       for k in EXACT + CLOSE if _differs(old[k], new[k])]
+    return errors
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    args = parser.parse_args(argv)
+    if args.check:
+        errors = check()
+        for line in errors:
+            print(line, file=sys.stderr)
+        if errors:
+            print(f"rerun {COMMAND}", file=sys.stderr)
+            return 1
+        print("studies/sweep: up to date")
+        return 0
+    OUT.mkdir(parents=True, exist_ok=True)
+    machine = describe_machine()
+    code = mpc_hunt(["sweep", "--hunts", str(HUNTS), "--seed", str(SEED), "--output", str(DB), "--json"]
+                    + (["--resume"] if DB.exists() else []))
+    if code:
+        return code
+    machine["load_average_end"] = load_average()
+    write(machine)
+    print(f"wrote {OUT / 'README.md'} and the results table of docs/robustness.md")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
