@@ -25,6 +25,7 @@ import numpy as np
 from mpc_hunt.cli import main as mpc_hunt
 from mpc_hunt.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.random_scenario import ScenarioRanges, ranges_to_dict
+from mpc_hunt.recommended import RECOMMENDED
 from mpc_hunt.sweep import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt
 from mpc_hunt.sweep_plots import write_plots
 from mpc_hunt.sweep_store import SweepStore
@@ -93,6 +94,16 @@ def headline(summaries: list[dict]) -> str:
             f"are in [studies/sweep/](../studies/sweep/README.md)):\n\n{table(summaries)}\n")
 
 
+def recommended_label() -> str:
+    return f"paper:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:{RECOMMENDED['horizon']}"
+
+
+def best_paper_strategy(summaries: list[dict]) -> str:
+    """The paper strategy's solver with the highest success rate (RECOMMENDED must name it)."""
+    return max((s for s in summaries if s["strategy"].startswith("paper:")),
+               key=lambda s: s["success_rate"] or 0.0)["strategy"]
+
+
 def _rows() -> list[dict]:
     store = SweepStore(DB)
     try:
@@ -134,6 +145,10 @@ def check() -> list[str]:
         errors.append("summary.json: not the summary of sweep.db")
     if read_block("sweep", DOCS) != headline(summaries):
         errors.append("docs/robustness.md: its results table is not the summary of sweep.db")
+    best = best_paper_strategy(summaries)
+    if best != recommended_label():
+        errors.append(f"mpc_hunt/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "
+                      "most often")
     if errors:
         return errors
     for strategy in stored["strategies"]:

@@ -22,36 +22,10 @@ from mpc_hunt.cli import main
 from mpc_hunt.random_scenario import ScenarioRanges
 from mpc_hunt.scenario import MAX_DEFENDERS, MAX_MAGNITUDE, MAX_OBSTACLES, MAX_SPEED, MAX_STEPS
 from mpc_hunt.scenario_io import MAX_FILE_BYTES, load_scenario
+from scenario_text import scenario_toml
 
-VALID = """\
-name = "bad-input"
-arena = [0.0, 0.0, 20.0, 20.0]
-
-[attacker]
-start = [5.0, 5.0]
-nominal_velocity = [0.03, 0.0]
-max_speed = 0.03
-perception_radius = 1.0
-
-[[defenders]]
-start = [5.0, 3.0]
-max_speed = 0.08
-
-[[defenders]]
-start = [7.0, 6.0]
-max_speed = 0.08
-
-[[defenders]]
-start = [3.5, 6.5]
-max_speed = 0.08
-
-[[obstacles]]
-centre = [10.0, 10.0]
-radius = 1.0
-
-[hunt]
-time_limit = 5.0
-"""
+VALID = scenario_toml("bad-input", [(5, 3), (7, 6), (3.5, 6.5)], time_limit=5.0, arena=(0, 0, 20, 20),
+                      obstacles=[((10, 10), 1.0)])
 
 
 def edit(old: str, new: str, text: str = VALID) -> str:

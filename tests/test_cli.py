@@ -10,26 +10,9 @@ import pytest
 
 from mpc_hunt.cli import main
 from mpc_hunt.scenario_io import builtin_scenario, load_scenario
+from scenario_text import scenario_toml
 
-TINY = """
-name = "tiny"
-[attacker]
-start = [5.0, 5.0]
-nominal_velocity = [0.03, 0.0]
-max_speed = 0.03
-perception_radius = 1.0
-[[defenders]]
-start = [5.0, 3.0]
-max_speed = 0.08
-[[defenders]]
-start = [7.0, 6.0]
-max_speed = 0.08
-[[defenders]]
-start = [3.5, 6.5]
-max_speed = 0.08
-[hunt]
-time_limit = 5.0
-"""
+TINY = scenario_toml("tiny", [(5, 3), (7, 6), (3.5, 6.5)], time_limit=5.0)
 
 
 def run(capsys, *argv):

@@ -16,6 +16,7 @@ from mpc_hunt.evaluator import VIOLATION_NAMES
 from mpc_hunt.problem_set import (ProblemSet, builtin_problem_set, dumps_problem_set, load_problem_set,
                                   problem_set_from_dict, save_problem_set)
 from mpc_hunt.random_states import random_entries
+from scenario_text import scenario_toml
 
 
 def test_the_shipped_set_round_trips_through_its_file(tmp_path):
@@ -97,25 +98,7 @@ def test_random_states_are_seeded_feasible_and_make_their_family_active():
         assert evaluate(problem, probe.optimum(problem)).max_violation <= ACTIVE_TOLERANCE
 
 
-TINY = """
-name = "tiny"
-[attacker]
-start = [5.0, 5.0]
-nominal_velocity = [0.03, 0.0]
-max_speed = 0.03
-perception_radius = 1.0
-[[defenders]]
-start = [5.0, 4.1]
-max_speed = 0.08
-[[defenders]]
-start = [5.8, 5.4]
-max_speed = 0.08
-[[defenders]]
-start = [4.2, 5.4]
-max_speed = 0.08
-[hunt]
-time_limit = 2.0
-"""
+TINY = scenario_toml("tiny", [(5, 4.1), (5.8, 5.4), (4.2, 5.4)], time_limit=2.0)
 
 
 def test_the_problems_command_lists_describes_and_builds(capsys, tmp_path):
