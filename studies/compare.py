@@ -30,6 +30,7 @@ from mpc_hunt.machine import describe_machine, load_average
 from mpc_hunt.problem_set import builtin_problem_set
 
 from docs_block import read_block, write_block
+from study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "compare"
 HORIZONS, SEED, STARTS, ACCURACY = [1, 5, 10], 0, 4, "default"
@@ -116,14 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="check the committed run instead of running")
     args = parser.parse_args(argv)
     if args.check:
-        errors = check()
-        for line in errors[:20]:
-            print(line, file=sys.stderr)
-        if errors:
-            print(f"{len(errors)} differences: rerun {COMMAND}", file=sys.stderr)
-            return 1
-        print("studies/compare: up to date")
-        return 0
+        return check_result(check(), "studies/compare", COMMAND)
     machine = describe_machine()
     result = run(HORIZONS)
     machine["load_average_end"] = load_average()

@@ -26,6 +26,7 @@ from mpc_hunt import HuntingStrategy, builtin_scenario, registry, simulate
 from mpc_hunt.machine import describe_machine, load_average, machine_lines
 
 from docs_block import read_block, write_block
+from study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "realtime"
 SCENARIOS = ("paper-open", "paper-obstacles")
@@ -140,14 +141,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")
     args = parser.parse_args(argv)
     if args.check or args.check_runs:
-        errors = check(args.check_runs)
-        for line in errors:
-            print(line, file=sys.stderr)
-        if errors:
-            print(f"rerun {COMMAND}", file=sys.stderr)
-            return 1
-        print("studies/realtime: up to date")
-        return 0
+        return check_result(check(args.check_runs), "studies/realtime", COMMAND)
     machine = describe_machine()
     rows = run(args.horizons)
     machine["load_average_end"] = load_average()

@@ -32,6 +32,7 @@ from mpc_hunt.sweep_store import SweepStore
 from mpc_hunt.sweep_summary import summarise, table
 
 from docs_block import read_block, write_block
+from study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "sweep"
 DB = OUT / "sweep.db"
@@ -166,14 +167,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
     args = parser.parse_args(argv)
     if args.check:
-        errors = check()
-        for line in errors:
-            print(line, file=sys.stderr)
-        if errors:
-            print(f"rerun {COMMAND}", file=sys.stderr)
-            return 1
-        print("studies/sweep: up to date")
-        return 0
+        return check_result(check(), "studies/sweep", COMMAND)
     OUT.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
     code = mpc_hunt(["sweep", "--hunts", str(HUNTS), "--seed", str(SEED), "--output", str(DB), "--json"]
