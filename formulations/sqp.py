@@ -39,6 +39,7 @@ class SQPFormulation(QPFormulation):
             if not result.status.usable:
                 return replace(result, message=f"QP {count + 1}: {result.message}",
                                x=None if last is None else last.x, plan=None if last is None else last.plan,
+                               formulation_objective=None if last is None else last.formulation_objective,
                                **totals)
             if np.max(np.abs(result.plan - reference)) <= self.tolerance:
                 return replace(result, message=f"converged after {count + 1} QPs", **totals)

@@ -11,6 +11,7 @@ import numpy as np
 
 from mpc_hunt.activity import ActivityProbe
 from mpc_hunt.closed_loop_states import capture_stage_observations, closed_loop_entries, default_entry
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.problem_set import ProblemEntry, ProblemSet
 from mpc_hunt.random_states import random_entries
 from mpc_hunt.scenario import Scenario
@@ -23,6 +24,9 @@ def build_problem_set(scenarios: list[Scenario], rng: np.random.Generator, *, ev
     scenario), its closed-loop runs, from one closed-loop run; then ``random_per_case`` random states per
     constraint family around the first scenario's robots. ``progress``, if given, is called with each run's
     simulated time."""
+    if random_per_case and scenarios and len(scenarios[0].defenders) < 3:
+        raise MpcHuntError(f"scenario {scenarios[0].name}: random states need at least 3 defenders, it has "
+                           f"{len(scenarios[0].defenders)} (use --random 0 or another first scenario)")
     probe = ActivityProbe()
     named: dict[str, Scenario] = {}
     problems: list[ProblemEntry] = []

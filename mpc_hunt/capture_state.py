@@ -27,6 +27,8 @@ from mpc_hunt.controller import Observation
 def circle_formed(scenario: Scenario, obs: Observation) -> bool:
     """Every working defender within R_agg, their distances to the attacker within 2 r_d of each other."""
     active = obs.active
+    if not active.any():
+        return False
     d = norm(obs.attacker - obs.defenders[active])
     r_d = float(np.min(scenario.defender_max_speeds)) * scenario.hunt.time_step
     return bool(attacker.perceives(scenario, obs.attacker, obs.defenders[active]).all()

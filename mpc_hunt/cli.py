@@ -52,8 +52,8 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
                    help=f"capture-stage formulation (default: {default['formulation']}, {which})")
     p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
     p.add_argument("--horizon", type=positive_int, metavar="N",
-                   help=f"receding horizon in steps (default: {default['horizon']} with the default formulation, "
-                        f"else 1)")
+                   help="receding horizon in steps (default: 1" + ("" if default["horizon"] == 1 else
+                        f"; {default['horizon']} with the default formulation") + ")")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
     p.set_defaults(solver_default=default)
 
@@ -139,8 +139,8 @@ def _compare_parser(sub) -> None:
                      "(repeat for several, all required)")
     cmp.add_argument("--limit", type=positive_int, metavar="K",
                      help="at most K problems, drawn with --seed (sequences kept whole)")
-    cmp.add_argument("--seed", type=int, default=0, help="seed of the draw and of the reference's random starts "
-                     "(default: 0)")
+    cmp.add_argument("--seed", type=non_negative_int, default=0,
+                     help="seed of the draw and of the reference's random starts (default: 0)")
     cmp.add_argument("--pair", action="append", metavar="FORMULATION[:BACKEND]",
                      help="a pair to run (a formulation alone: all its installed backends); repeat for several "
                           "(default: every registered pair whose solver is installed)")
@@ -178,7 +178,7 @@ def _problems_parser(sub) -> None:
                       help="consecutive states per run (default: 4)")
     prob.add_argument("--random", type=non_negative_int, default=2, metavar="M",
                       help="random states per constraint family (default: 2)")
-    prob.add_argument("--seed", type=int, default=0, help="seed of the random states (default: 0)")
+    prob.add_argument("--seed", type=non_negative_int, default=0, help="seed of the random states (default: 0)")
 
 
 def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
@@ -252,7 +252,8 @@ def _summary(result, report: dict, scenario) -> str:
         f"final hunting radius: {result.final_hunting_radius:.3f} m (R_hunt {scenario.hunt.hunt_radius} m)",
         "min clearance to an obstacle surface: "
         + ("no obstacles" if result.min_obstacle_clearance is None else f"{result.min_obstacle_clearance:.3f} m"),
-        f"min defender separation: {report['min_defender_separation_m']:.3f} m; "
+        "min defender separation: " + ("one defender" if report["min_defender_separation_m"] is None
+                                       else f"{report['min_defender_separation_m']:.3f} m") + "; "
         f"min attacker distance: {result.min_attacker_distance:.3f} m; steps: {result.steps}",
     ]
     if stats["count"]:
@@ -287,7 +288,8 @@ def _solve(args) -> int:
     state = _state(args, scenario)
     if args.save_state:
         save_state(state, args.save_state)
-    problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon)
+    problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon,
+                                      active=~scenario.failed(state.time))
     solution = solver.solve(problem)
     report = solution.to_dict()
     report.update(scenario=scenario.name, state=state.to_dict(), horizon=horizon)
@@ -297,8 +299,8 @@ def _solve(args) -> int:
     lines = [f"{solution.formulation} on {solution.backend}, horizon {horizon}, scenario {scenario.name} "
              f"at t = {state.time:.1f} s: {solution.status.value} ({solution.message})"]
     if solution.objective is not None:
-        lines.append(f"objective (evaluator): {solution.objective:.6g}; "
-                     f"formulation's own: {solution.formulation_objective:.6g}")
+        own = "–" if solution.formulation_objective is None else f"{solution.formulation_objective:.6g}"
+        lines.append(f"objective (evaluator): {solution.objective:.6g}; formulation's own: {own}")
         lines.append("violations (m): " + ", ".join(f"{k} {v:.2e}" for k, v in solution.violation.items()))
         lines.append("first step: " + "; ".join(f"defender {i}: [{x:.4f}, {y:.4f}]"
                                                   for i, (x, y) in enumerate(solution.plan[0])))

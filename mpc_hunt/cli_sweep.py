@@ -18,7 +18,8 @@ def add_parsers(sub) -> None:
         description="Run --hunts random hunts (mpc_hunt.random_scenario; ranges from --ranges FILE and --set) for "
                     "each strategy, on local worker processes or a Dask cluster, streaming one row per hunt into "
                     "an SQLite file; then print the summary per strategy. A strategy is "
-                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf. "
+                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
+                    "paper:qp:daqp:5, apf. "
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
@@ -59,7 +60,7 @@ def _ranges(args):
 
 
 def sweep(args) -> int:
-    from mpc_hunt.sweep import DEFAULT_STRATEGIES, Strategy, run_dask, run_local, tasks
+    from mpc_hunt.sweep import DEFAULT_STRATEGIES, Strategy, connect_dask, run_dask, run_local, tasks
     from mpc_hunt.sweep_store import SweepStore
     from mpc_hunt.random_scenario import ranges_to_dict
 
@@ -68,9 +69,10 @@ def sweep(args) -> int:
     if args.output.is_dir() or not args.output.parent.is_dir():
         raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
     arguments = {"strategies": strategies, "hunts": args.hunts, "seed": args.seed, "ranges": ranges_to_dict(ranges)}
+    client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None    # before any file is written
     store = SweepStore(args.output, arguments, resume=args.resume)
     todo = tasks(strategies, args.hunts, args.seed, ranges, store.done())
-    rows = run_dask(todo, args.dask_scheduler) if args.dask_scheduler else run_local(todo, args.workers)
+    rows = run_dask(todo, client) if client else run_local(todo, args.workers)
     stopped = None
     with Progress(len(todo), "sweep", quiet=args.json, unit="hunts") as update:
         try:

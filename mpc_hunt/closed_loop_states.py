@@ -43,7 +43,7 @@ def default_entry(scenario: Scenario, states: list[tuple[int, Observation]],
     formed (:func:`mpc_hunt.capture_state.first_formed_circle`, found here in the recorded run)."""
     for _, obs in states:
         if circle_formed(scenario, obs):
-            problem = CaptureProblem.at_state(scenario, obs.attacker, obs.defenders, 1)
+            problem = CaptureProblem.at_state(scenario, obs.attacker, obs.defenders, 1, active=obs.active)
             return ProblemEntry(f"{scenario.name}/default", scenario.name,
                                 HuntState(obs.time, obs.attacker, obs.defenders), None,
                                 ("default",) + probe.tags(problem))
@@ -55,8 +55,8 @@ def closed_loop_entries(scenario: Scenario, states: list[tuple[int, Observation]
     """Every ``every``-th of the capture-stage ``states``, each starting a run of ``run_length``."""
     if every < 1:
         raise MpcHuntError(f"every: must be at least 1, got {every}")
-    if run_length < 1:
-        raise MpcHuntError(f"run_length: must be at least 1, got {run_length}")
+    if not 1 <= run_length <= every:   # runs that overlapped would hold the same state twice
+        raise MpcHuntError(f"run_length: must be from 1 to every ({every}), got {run_length}")
     entries = []
     for start in range(0, len(states), every):
         run = states[start:start + run_length]
@@ -64,7 +64,7 @@ def closed_loop_entries(scenario: Scenario, states: list[tuple[int, Observation]
             continue      # the capture stage broke off (every defender left R_agg): no full run here
         sequence = f"{scenario.name}/run-{run[0][0]}" if run_length > 1 else None
         for step, obs in run:
-            problem = CaptureProblem.at_state(scenario, obs.attacker, obs.defenders, 1)
+            problem = CaptureProblem.at_state(scenario, obs.attacker, obs.defenders, 1, active=obs.active)
             entries.append(ProblemEntry(f"{scenario.name}/step-{step}", scenario.name,
                                         HuntState(obs.time, obs.attacker, obs.defenders), sequence,
                                         ("closed-loop",) + probe.tags(problem)))

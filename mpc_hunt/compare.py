@@ -153,6 +153,10 @@ def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons:
         raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
     if starts < 1:
         raise BenchmarkError(f"starts: must be at least 1, got {starts}")
+    untimed = [b for _, b in pairs if time_limit is not None and not registry.backend_class(b).TIME_LIMIT]
+    if untimed:
+        raise BenchmarkError(f"time_limit: backend {untimed[0]} takes none; leave it out of the pairs or drop the "
+                             f"time limit")
     run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts)
     tick = progress or (lambda: None)
     try:

@@ -73,8 +73,9 @@ class ProblemSet:
 
     def problem(self, entry: ProblemEntry, horizon: int = 1) -> CaptureProblem:
         """The capture problem the strategy poses at ``entry``'s state, over ``horizon`` steps."""
-        return CaptureProblem.at_state(self.scenarios[entry.scenario], entry.state.attacker,
-                                       entry.state.defenders, horizon)
+        scenario = self.scenarios[entry.scenario]
+        return CaptureProblem.at_state(scenario, entry.state.attacker, entry.state.defenders, horizon,
+                                       active=~scenario.failed(entry.state.time))
 
     def tagged(self, tag: str) -> list[ProblemEntry]:
         return [p for p in self.problems if tag in p.tags]
@@ -234,7 +235,14 @@ def problem_set_from_dict(data: object, source: str = "<data>") -> ProblemSet:
             state = state_from_dict(raw, scenarios[name], _ENTRY_KEYS)
         except ScenarioError as exc:
             raise ScenarioError(f"{where}: {exc}") from None
-        problems.append(ProblemEntry(str(raw.get("id", i)), name, state, raw.get("sequence"), tuple(tags)))
+        sequence = raw.get("sequence")
+        if sequence is not None and not isinstance(sequence, str):
+            raise ScenarioError(f"{where}: sequence: expected a string or null")
+        problems.append(ProblemEntry(str(raw.get("id", i)), name, state, sequence, tuple(tags)))
+    ids = [p.id for p in problems]
+    if len(set(ids)) < len(ids):
+        repeated = next(i for i in ids if ids.count(i) > 1)
+        raise ScenarioError(f"{source}: problems: id {repeated!r} appears more than once")
     return ProblemSet(scenarios, tuple(problems), str(data.get("description", "")))
 
 

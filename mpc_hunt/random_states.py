@@ -127,6 +127,9 @@ def random_entry(template: Scenario, case: str, name: str, rng: np.random.Genera
     """One random state of ``case`` (a family name) as scenario ``name``, tagged ``random``, ``case:<case>``."""
     if case not in VIOLATION_NAMES:
         raise MpcHuntError(f"case: unknown family {case!r} (known: {', '.join(VIOLATION_NAMES)})")
+    if len(template.defenders) < 3:     # a separation state needs two defenders inside R_agg and one held
+        raise MpcHuntError(f"scenario {template.name}: random states need at least 3 defenders, it has "
+                           f"{len(template.defenders)}")
     for _ in range(MAX_DRAWS):
         p_a, defenders, obstacles = _layout(rng, template, case)
         if not _admissible(template, p_a, defenders, obstacles):

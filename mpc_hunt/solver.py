@@ -39,6 +39,7 @@ class CaptureSolver:
                                                        **backend_options)
         self.raise_on_failure = raise_on_failure
         self._duals: tuple[tuple, WarmStart] | None = None   # (signature, duals) of the last usable solve
+        self._prepared: set[tuple] = set()                     # structures whose model this solver has built
 
     def reset(self) -> None:
         """Forget the last duals: the next solve starts cold even when handed a plan."""
@@ -52,8 +53,11 @@ class CaptureSolver:
             duals = self._duals[1]
         names = dict(formulation=self.formulation.name, backend=self.backend.name)
         try:
-            self.formulation.prepare(problem.structure)
-            build_time = time.perf_counter() - t0
+            build_time = 0.0
+            if problem.structure not in self._prepared:     # set-up time is counted once per structure
+                self.formulation.prepare(problem.structure)
+                self._prepared.add(problem.structure)
+                build_time = time.perf_counter() - t0
             result = self.formulation.solve(problem, self.backend, warm_plan, duals)
         except (RuntimeError, ValueError, ArithmeticError) as exc:
             message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__

@@ -196,16 +196,23 @@ def _interruptible_hunt(task: Hunt) -> dict:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def run_dask(todo: list[Hunt], address: str) -> Iterator[dict]:
-    """Rows as hunts finish, on the Dask distributed cluster at ``address``."""
+def connect_dask(address: str):
+    """A client of the Dask scheduler at ``address``; a one-line error if Dask or the scheduler is missing."""
     try:
-        from distributed import Client, KilledWorker, as_completed
+        from distributed import Client
     except ImportError:
         raise MpcHuntError('--dask-scheduler needs Dask: pip install "mpc-hunt[dask]"') from None
     try:
-        client = Client(address, timeout="10s")
+        return Client(address, timeout="10s")
     except (OSError, TimeoutError) as exc:
         raise MpcHuntError(f"--dask-scheduler {address}: cannot connect ({one_line(exc)})") from None
+
+
+def run_dask(todo: list[Hunt], client) -> Iterator[dict]:
+    """Rows as hunts finish, on the Dask cluster of ``client`` (:func:`connect_dask`), which it closes."""
+    from distributed import KilledWorker, as_completed
+
+    address = client.scheduler.address
     with client:
         futures = client.map(run_hunt, todo, pure=False)
         task_of = dict(zip((f.key for f in futures), todo))

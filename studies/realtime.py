@@ -10,7 +10,7 @@ writes ``studies/realtime/`` (README.md, results.json with the machine's
 description) and the real-time table of ``docs/benchmarks.md``. A few minutes.
 
     python studies/realtime.py [--horizons 1]       # run it and rewrite studies/realtime/
-    python studies/realtime.py --check              # the committed pairs, scenarios and horizons are the code's
+    python studies/realtime.py --check              # the committed pairs and scenarios are the code's
     python studies/realtime.py --check-runs         # ... and rerunning the hunts gives the same non-timing figures
 """
 

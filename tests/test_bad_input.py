@@ -243,7 +243,8 @@ def nothing_runs(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("bad input reached the simulator or the solver")
 
-    for target in ("mpc_hunt.simulator.simulate", "mpc_hunt.solver.solve", "mpc_hunt.strategy.HuntingStrategy",
+    for target in ("mpc_hunt.simulator.simulate", "mpc_hunt.solver.CaptureSolver.solve",
+                   "mpc_hunt.strategy.HuntingStrategy",
                    "mpc_hunt.capture_problem.CaptureProblem.at_state",
                    "mpc_hunt.capture_state.first_formed_circle"):
         monkeypatch.setattr(target, forbidden)

@@ -9,6 +9,7 @@ import sys
 import pytest
 
 from mpc_hunt.cli import main
+from mpc_hunt.problem_set import builtin_problem_set
 from mpc_hunt.scenario_io import builtin_scenario, load_scenario
 from scenario_text import scenario_toml
 
@@ -22,7 +23,7 @@ def run(capsys, *argv):
 
 
 @pytest.mark.parametrize("command", [[], ["simulate"], ["solve"], ["scenarios"], ["backends"], ["compare"],
-                                     ["problems"]])
+                                     ["problems"], ["sweep"], ["sweep-report"]])
 def test_help(command):
     with pytest.raises(SystemExit) as exc:
         main(command + ["--help"])
@@ -88,6 +89,10 @@ def test_solve_at_a_state_file(capsys, tmp_path):
     (["solve", "--formulation", "qp", "--backend", "ipopt"], "does not solve formulation 'qp'"),
     (["solve", "--time-limit", "nan"], "--time-limit: must be a positive finite number"),
     (["scenarios", "--output", "x.toml"], "--output needs --write"),
+    (["simulate", "--time-budget", "0.05"], "backend hpipm takes no time limit"),
+    (["compare", "--pair", "rti:hpipm", "--time-limit", "0.1"], "backend hpipm takes none"),
+    (["compare", "--seed", "-1"], "--seed: must not be negative"),
+    (["problems", "--build", "x.json", "--seed", "-1"], "--seed: must not be negative"),
 ])
 def test_bad_arguments_are_one_line(capsys, argv, message):
     try:
@@ -166,6 +171,8 @@ def test_solve_defaults_use_the_shipped_state(capsys):
     assert code == 0, err
     report = json.loads(out)
     assert report["status"] == "optimal" and report["scenario"] == "paper-obstacles"
+    shipped = builtin_problem_set("default").default_state("paper-obstacles")
+    assert report["state"] == shipped.to_dict()
     code, out, _ = run(capsys, "solve", "--formulation", "qp", "--backend", "clarabel", "--json")
     # Measured: 3.9e-8; Eq. 14's penalty (w_eq / R_hunt² = 4e3) magnifies the backends' ~1e-11 m differences.
     assert json.loads(out)["objective"] == pytest.approx(report["objective"], rel=1e-6)

@@ -12,6 +12,7 @@ from mpc_hunt import Attacker, Defender, HuntParameters, Scenario, ScenarioError
 from mpc_hunt.activity import ACTIVE_TOLERANCE, ActivityProbe
 from mpc_hunt.cli import main
 from mpc_hunt.closed_loop_states import capture_stage_observations, closed_loop_entries
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.evaluator import VIOLATION_NAMES
 from mpc_hunt.problem_set import (ProblemSet, builtin_problem_set, dumps_problem_set, load_problem_set,
                                   problem_set_from_dict, save_problem_set)
@@ -45,6 +46,16 @@ def test_a_bad_file_names_what_is_wrong(tmp_path):
     data["problems"][0]["colour"] = 1
     with pytest.raises(ScenarioError, match=r"problems\[0\]: colour: unknown key"):
         problem_set_from_dict(data)
+    data = builtin_problem_set("default").to_dict()
+    data["problems"][0]["sequence"] = ["a"]
+    with pytest.raises(ScenarioError, match=r"problems\[0\]: sequence: expected a string or null"):
+        problem_set_from_dict(data)
+    data = builtin_problem_set("default").to_dict()
+    data["problems"][1]["id"] = data["problems"][0]["id"]
+    with pytest.raises(ScenarioError, match="appears more than once"):
+        problem_set_from_dict(data)
+    with pytest.raises(MpcHuntError, match="run_length: must be from 1 to every"):
+        closed_loop_entries(small_scenario(), [], every=2, run_length=3, probe=ActivityProbe())
     path = tmp_path / "bad.json"
     path.write_text("{")
     with pytest.raises(ScenarioError, match="not valid JSON"):

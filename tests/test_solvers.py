@@ -126,6 +126,6 @@ def test_warm_start_cuts_iterations(formulation, backend):
     assert _closed_loop_iterations(formulation, backend, True) < _closed_loop_iterations(formulation, backend, False)
 
 
-@pytest.mark.parametrize("backend", ["osqp", "clarabel", "cvxpy"])
+@pytest.mark.parametrize("backend", registry.compatible_backends("qp"))
 def test_a_persistent_qp_backend_is_set_up_once_in_the_loop(backend):
     _closed_loop_iterations("qp", backend, True)

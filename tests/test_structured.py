@@ -115,7 +115,11 @@ def test_rti_drives_a_capture_stage_without_failing(scenario):
 
 
 def test_ms_nlp_with_no_smoothing_is_the_papers_problem(scenario):
-    """smoothing = 0 poses nlp's problem exactly (the field's kink included)."""
+    """smoothing = 0 poses nlp's problem exactly: the field's kink included, also inside the default band."""
+    for length in (R - 0.5 * stage_model.SMOOTHING, R + 0.5 * stage_model.SMOOTHING):
+        r = np.array([length, 0.0])
+        np.testing.assert_allclose(_smooth(r, 0.0), repulsion(r, R, ETA), rtol=1e-12, atol=1e-15)
+        assert np.abs(_smooth(r, stage_model.SMOOTHING) - repulsion(r, R, ETA)).max() > 1e-6
     problem = problem_at(scenario, 2)
     solver = CaptureSolver("ms-nlp")
     solver.formulation.smoothing = 0.0

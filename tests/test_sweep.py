@@ -24,7 +24,7 @@ from mpc_hunt.cli import main
 from mpc_hunt.encircling import EncirclingController
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.random_scenario import ScenarioRanges
-from mpc_hunt.sweep import Hunt, Strategy, run_dask, run_hunt, run_local, tasks
+from mpc_hunt.sweep import Hunt, Strategy, connect_dask, run_dask, run_hunt, run_local, tasks
 from mpc_hunt.sweep_outcome import FAILURE_STREAK, failure_cause
 from mpc_hunt.sweep_store import COLUMNS, SweepStore
 from mpc_hunt.sweep_summary import summarise, wilson
@@ -189,7 +189,7 @@ def test_the_same_rows_on_a_dask_cluster(small_sweep):
     from distributed import LocalCluster
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         todo = tasks(["apf", "paper:qp:daqp:1"], 3, 1, QUICK, set())
-        remote = list(run_dask(todo, cluster.scheduler_address))
+        remote = list(run_dask(todo, connect_dask(cluster.scheduler_address)))
     assert _outcomes(remote) == _outcomes(small_sweep[1])
 
 

@@ -19,7 +19,7 @@ from typing import Any, Callable, ClassVar
 import numpy as np
 import scipy.sparse as sp
 
-from mpc_hunt.errors import UnknownNameError
+from mpc_hunt.errors import SolverError, UnknownNameError
 from mpc_hunt.solution import Solution, Status, WarmStart
 
 ACCURACIES = ("default", "high", "low")
@@ -90,7 +90,8 @@ class StageQPData:
 class Backend:
     """Base of every backend: set up once per key, then update and solve.
 
-    ``time_limit`` (s) is handed to the solver as its own limit; ``accuracy``
+    ``time_limit`` (s) is handed to the solver as its own limit (a backend whose
+    solver has none says so with ``TIME_LIMIT = False`` and refuses one); ``accuracy``
     (``default``, ``high``, ``low``) picks the tolerances of the class's
     ``ACCURACY`` table; other keyword options go to the solver as they are.
     """
@@ -100,10 +101,14 @@ class Backend:
     package: ClassVar[str]                  # the solver's import name
     install: ClassVar[str]                  # what to pip install
     ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}
+    TIME_LIMIT: ClassVar[bool] = True       # whether the solver takes a wall-clock limit
 
     def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
         if accuracy not in ACCURACIES:
             raise UnknownNameError(f"unknown accuracy {accuracy!r} (available: {', '.join(ACCURACIES)})")
+        if time_limit is not None and not self.TIME_LIMIT:
+            raise SolverError(f"backend {self.name} takes no time limit (its solver has none); drop the time limit "
+                              f"or pick another backend")
         self.time_limit = time_limit
         self.accuracy = accuracy
         self.options = {**self.ACCURACY.get(accuracy, {}), **options}

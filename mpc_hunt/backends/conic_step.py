@@ -33,6 +33,7 @@ class ConicStepBackend(Backend):
     accepts = ("ocp-qp",)
     package = "casadi"
     install = "casadi"
+    TIME_LIMIT = False      # the step is one CasADi call; its conic plugins take no wall-clock limit
     plugin: ClassVar[str]
 
     def conic_options(self, graph: Any) -> dict:

@@ -4,7 +4,8 @@ HPIPM factorises the QP stage by stage, so a step costs O(N) in the horizon.
 It reads the stages from the sizes the formulation declares (``stages``: N,
 nx, nu, ng): variables x_0, u_0, …, x_N, rows gap_0, c_0, …, c_N, each gap
 x_k+1 = A x_k + B u_k with a diagonal on x_k+1 (kind ``ocp-qp``). An interior
-point method takes no useful starting point, so HPIPM starts cold each step.
+point method gains little from a starting point: the previous duals are handed
+over as for any conic plugin, and HPIPM's iterations start from its own point.
 """
 
 from __future__ import annotations

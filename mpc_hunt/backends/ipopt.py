@@ -29,8 +29,8 @@ class IpoptBackend(Backend):
     ACCURACY = {"default": {"tol": 1e-8}, "high": {"tol": 1e-10, "constr_viol_tol": 1e-10, "bound_relax_factor": 1e-12},
                 "low": {"tol": 1e-5}}
     # A stage-structured NLP is re-solved each step from the shifted previous solution: the adaptive
-    # barrier update then takes a handful of iterations where the monotone one takes twenty-five
-    # (studies/step_latency). The paper's one-step NLP keeps IPOPT's defaults.
+    # barrier update then takes fewer iterations than the monotone one (studies/step_latency).
+    # The paper's one-step NLP keeps IPOPT's defaults.
     KIND = {"ocp-nlp": {"mu_strategy": "adaptive"}}
 
     def setup(self, data: NLPData):
