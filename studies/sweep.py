@@ -61,24 +61,39 @@ def wall_times(rows: list[dict]) -> dict:
 
 
 def _solve_lines(summaries: list[dict]) -> list[str]:
-    def ms(x):
-        return "–" if x is None else f"{1e3 * x:.1f} ms"
+    def value(x, scale: float, digits: int, unit: str) -> str:
+        return "–" if x is None else f"{scale * x:.{digits}f} {unit}"
 
-    return [f"- `{s['strategy']}`: the longest capture-stage solve took {ms(s['solve_time_max_s'])}; least "
-            f"obstacle clearance {s['min_obstacle_clearance_m']:.3f} m, least defender separation "
-            f"{s['min_defender_separation_m']:.4f} m." for s in summaries]
+    return [f"- `{s['strategy']}`: the longest capture-stage solve took "
+            f"{value(s['solve_time_max_s'], 1e3, 1, 'ms')}; least obstacle clearance "
+            f"{value(s['min_obstacle_clearance_m'], 1, 3, 'm')}, least defender separation "
+            f"{value(s['min_defender_separation_m'], 1, 6, 'm')}." for s in summaries]
 
 
-def report(summaries: list[dict], walls: dict, machine: dict) -> str:
-    lines = ["# 500 random hunts per strategy", "",
+def _escape_lines(rows: list[dict]) -> list[str]:
+    """Per paper strategy: how many of its escapes came before any defender reached the capture stage."""
+    lines = []
+    for strategy in dict.fromkeys(r["strategy"] for r in rows if r["strategy"].startswith("paper:")):
+        escaped = [r for r in rows if r["strategy"] == strategy and r["cause"] == "attacker_escaped"
+                   and r["outcome"] == "failed"]
+        early = sum(1 for r in escaped if not r["solves"])
+        lines.append(f"- `{strategy}`: {early} of its {len(escaped)} escapes came before any defender was within "
+                     "R_agg (no capture-stage solve): the approach stage, not the capture stage, lost those.")
+    return lines
+
+
+def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict]) -> str:
+    ranges = ranges_to_dict(ScenarioRanges())
+    lines = [f"# {HUNTS} random hunts per strategy", "",
              f"Regenerate with `{COMMAND}` (it runs `mpc-hunt sweep --hunts {HUNTS} --seed {SEED}` with the "
-             "default strategies and scenario ranges into `sweep.db`, then `mpc-hunt sweep-report sweep.db "
-             "--plot .`). Every strategy meets the same hunts: hunt i is the scenario `random-1-i`, drawn by "
-             "`mpc_hunt.random_scenario.sweep_scenario(1, i)` from the ranges in docs/robustness.md (20 × 20 m "
-             "arena, 2–5 defenders, 0–5 obstacles, attacker 0.25–0.75 × the defenders' speed, 300 s). The "
-             "success rate counts the hunts that can be captured by definition; failures are by cause "
-             "(docs/robustness.md). One row per hunt, with its scenario's full parameters, is in `sweep.db` "
-             "(SQLite).", "", "## Results", "", table(summaries), "", *_solve_lines(summaries), "",
+             "default strategies and scenario ranges into `sweep.db`, then writes this report and the figures "
+             f"from that file, as `mpc-hunt sweep-report sweep.db --plot .` does). Every strategy meets the same "
+             f"hunts: hunt i is the scenario `random-{SEED}-i`, drawn by "
+             f"`mpc_hunt.random_scenario.sweep_scenario({SEED}, i)` from the default ranges "
+             f"(docs/robustness.md): `{json.dumps(ranges)}`. The success rate counts the hunts that can be "
+             "captured by definition; failures are by cause (docs/robustness.md). One row per hunt, with its "
+             "scenario's full parameters, is in `sweep.db` (SQLite).", "",
+             "## Results", "", table(summaries), "", *_solve_lines(summaries), *_escape_lines(rows), "",
              "![success by defenders](success_by_n_defenders.png) "
              "![success by obstacles](success_by_n_obstacles.png)",
              "![success by speed ratio](success_by_speed_ratio.png) ![capture times](capture_times.png)", "",
@@ -121,7 +136,7 @@ def write(machine: dict) -> None:
     (OUT / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(),
                                                   "strategies": summaries, "wall_time": walls}, indent=1) + "\n",
                                       encoding="utf-8")
-    (OUT / "README.md").write_text(report(summaries, walls, machine), encoding="utf-8")
+    (OUT / "README.md").write_text(report(summaries, walls, machine, rows), encoding="utf-8")
     write_block("sweep", headline(summaries), DOCS)
 
 
