@@ -9,6 +9,9 @@ absolute times of a shared machine drift:
   *step* is state in → plan out (the capture problem posed, the solve) without
   the shared evaluator; *all-in* adds it (what ``Solution.solve_time`` counts).
   Ratios are to ``nlp``/``ipopt`` on the same states.
+* **Peer.** With do-mpc installed (``pip install -e .[peers]``), one more row:
+  ``nlp``'s problem written in do-mpc (``studies/do_mpc_peer.py``), solved on
+  the same states with the same *step*, its plans scored by the same evaluator.
 * **Growth.** The step of the stage-structured pairs (and ``qp`` for contrast)
   for N = 5…50 on the same states, and for N_d = 3…12 defenders evenly placed
   around the attacker of the first state; the fitted exponent b of step ∝ N^b.
@@ -18,7 +21,7 @@ read back with ``--reuse-states``, so that another checkout of the code can be
 measured on the very same states.
 
     python studies/step_latency.py [--out studies/step_latency] [--states 60] [--pairs qp/osqp …]
-                                   [--reuse-states] [--no-growth]
+                                   [--reuse-states] [--no-growth] [--no-peer]
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ import os
 import platform
 import time
 from dataclasses import replace
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -38,6 +42,11 @@ from mpc_hunt.plan import shift_plan
 from mpc_hunt.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.scenario import Defender
 
+try:
+    from do_mpc_peer import DoMPCPeer
+except ImportError:                 # do-mpc is an optional extra: pip install -e .[peers]
+    DoMPCPeer = None
+
 SCENARIO = "paper-obstacles"
 HORIZON = 10
 HORIZONS = (5, 10, 20, 30, 50)
@@ -45,6 +54,7 @@ TEAM_SIZES = (3, 6, 9, 12)
 GROWTH_PAIRS = (("rti", "hpipm"), ("ms-nlp", "ipopt"), ("qp", "osqp"), ("qp", "clarabel"))
 GROWTH_STATES = 15
 BASELINE = ("nlp", "ipopt")
+PEER = ("do-mpc", "ipopt (peer)")
 
 
 def machine() -> dict:
@@ -93,6 +103,30 @@ def solve_sequence(formulation: str, backend: str, problems: list[CaptureProblem
     return rows
 
 
+def peer_sequence(problems: list) -> list[dict]:
+    """:func:`solve_sequence`'s rows for the do-mpc peer: set up once per structure, warm-started as do-mpc does."""
+    peers, rows = {}, []
+    for make in problems:
+        t0 = time.perf_counter()
+        problem = make()
+        setup = 0.0
+        if problem.structure not in peers:
+            peers[problem.structure] = DoMPCPeer(problem)
+            setup = peers[problem.structure].setup_time
+        peer = peers[problem.structure]
+        plan = peer.solve(problem)
+        step = time.perf_counter() - t0
+        t1 = time.perf_counter()
+        evaluation = evaluate(problem, plan)
+        evaluator = time.perf_counter() - t1
+        stats = peer.mpc.solver_stats
+        rows.append({"step_s": step, "all_in_s": step + evaluator, "solver_s": peer.solver_time, "setup_s": setup,
+                     "iterations": stats["iter_count"], "success": bool(stats["success"]),
+                     "objective": evaluation.objective, "obstacle_violation": evaluation.violation["obstacle_safety"],
+                     "max_violation": evaluation.max_violation})
+    return rows
+
+
 def summarise(rows: list[dict]) -> dict:
     later = rows[1:]                      # the first solve also sets up
     med = lambda key: float(np.median([r[key] for r in later]))  # noqa: E731
@@ -103,13 +137,15 @@ def summarise(rows: list[dict]) -> dict:
             "median_objective": float(np.median([r["objective"] for r in rows if r["objective"] is not None]))}
 
 
-def latency(problem_set: ProblemSet, pairs: list[tuple[str, str]]) -> list[dict]:
+def latency(problem_set: ProblemSet, pairs: list[tuple[str, str]], peer: bool = False) -> list[dict]:
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
     problems = [lambda e=e: problem_set.problem(e, HORIZON) for e in entries]
+    runs = [(f, b, lambda f=f, b=b: solve_sequence(f, b, problems)) for f, b in pairs]
+    if peer:
+        runs.append((*PEER, lambda: peer_sequence(problems)))
     out = []
-    for formulation, backend in pairs:
-        rows = solve_sequence(formulation, backend, problems)
-        row = {"formulation": formulation, "backend": backend, **summarise(rows)}
+    for formulation, backend, run in runs:
+        row = {"formulation": formulation, "backend": backend, **summarise(run())}
         out.append(row)
         print(f"{formulation}/{backend}: step {row['median_step_ms']:.3f} ms, all-in {row['median_all_in_ms']:.3f} ms, "
               f"{row['median_iterations']:.0f} iterations, {row['failed']} failed", flush=True)
@@ -176,15 +212,26 @@ def _team_sequence(scenario, attacker, defenders) -> list:
 
 def latency_table(rows: list[dict]) -> str:
     lines = ["| formulation | backend | step (ms) | × faster than nlp/ipopt | all-in (ms) | × | solver call (ms) "
-             "| iterations | failed / solves | set-up (ms) | max obstacle violation (m) |",
-             "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+             "| iterations | failed / solves | set-up (ms) | max obstacle violation (m) | median objective |",
+             "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
         ratio = lambda v: "–" if v is None else f"{v:.1f}"  # noqa: E731
         lines.append(f"| {r['formulation']} | {r['backend']} | {r['median_step_ms']:.3f} | {ratio(r['step_ratio'])} "
                      f"| {r['median_all_in_ms']:.3f} | {ratio(r['all_in_ratio'])} | {r['median_solver_ms']:.3f} "
                      f"| {r['median_iterations']:.0f} | {r['failed']} / {r['solves']} | {r['setup_ms']:.0f} "
-                     f"| {r['max_obstacle_violation']:.1e} |")
+                     f"| {r['max_obstacle_violation']:.1e} | {r['median_objective']:.4g} |")
     return "\n".join(lines)
+
+
+def peer_note(ran: bool, skipped: bool) -> str:
+    if ran:
+        return (f"`{'/'.join(PEER)}`: `nlp`'s problem written in do-mpc {version('do-mpc')} "
+                "([`studies/do_mpc_peer.py`](../do_mpc_peer.py), which says where it differs), warm-started as do-mpc "
+                "does; its *step* includes setting do-mpc's parameters and reading the plan back, its *solver call* "
+                "is `make_step`, its set-up do-mpc's `setup()`.")
+    if skipped:
+        return "The do-mpc peer was skipped (`--no-peer`)."
+    return "do-mpc is not installed (`pip install -e .[peers]`): the do-mpc peer's row is skipped."
 
 
 def growth_tables(result: dict) -> str:
@@ -211,6 +258,7 @@ def main() -> None:
     parser.add_argument("--pairs", nargs="+", metavar="FORMULATION/BACKEND")
     parser.add_argument("--reuse-states", action="store_true", help="read the states from OUT/states.json")
     parser.add_argument("--no-growth", action="store_true", help="skip the growth with N and N_d")
+    parser.add_argument("--no-peer", action="store_true", help="skip the do-mpc peer")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     states_file = args.out / "states.json"
@@ -221,7 +269,8 @@ def main() -> None:
         save_problem_set(problem_set, states_file)
     pairs = [tuple(p.split("/")) for p in args.pairs] if args.pairs else registry.pairs()
     before = machine()
-    rows = latency(problem_set, pairs)
+    peer = DoMPCPeer is not None and not args.no_peer
+    rows = latency(problem_set, pairs, peer)
     result = {"machine": before, "latency": rows}
     if not args.no_growth:
         result["growth"] = growth(problem_set, [p for p in GROWTH_PAIRS if p in pairs])
@@ -236,8 +285,9 @@ def main() -> None:
             f"## Latency at N_d = 3, N = {HORIZON}", "",
             f"{problem_set.description} Medians over {len(problem_set.problems) - 1} warm-started steps (the first, "
             "which sets up, excluded). *step*: state in → plan out, the shared evaluator excluded; *all-in*: with "
-            "it (`Solution.solve_time` plus posing the problem); *solver call*: the backend's call alone.", "",
-            latency_table(rows), ""]
+            "it (`Solution.solve_time` plus posing the problem); *solver call*: the backend's call alone; *median "
+            "objective*: the evaluator's, over every state.", "", latency_table(rows), "",
+            peer_note(peer, args.no_peer), ""]
     if "growth" in result:
         text += ["## Growth with the horizon N and the team N_d", "",
                  f"Median step over the first {GROWTH_STATES} states (N) or over {GROWTH_STATES} consecutive "
