@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sqlite3
 import sys
 from pathlib import Path
 
@@ -129,6 +130,8 @@ def _rows() -> list[dict]:
 
 
 def write(machine: dict) -> None:
+    with sqlite3.connect(DB) as db:     # one self-contained file to commit, not a write-ahead log
+        db.execute("pragma journal_mode=delete")
     rows = _rows()
     summaries = summarise(rows)
     walls = wall_times(rows)
