@@ -14,7 +14,7 @@ import shlex
 import sys
 from pathlib import Path
 
-from mpc_hunt import cli_sweep, registry
+from mpc_hunt import __version__, cli_sweep, registry
 from mpc_hunt.cli_common import Progress, non_negative_int, positive_float, positive_int
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.recommended import PAPER, RECOMMENDED
@@ -30,14 +30,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):  # noqa: D102 - argparse's hook
         self.exit(EXIT_ERROR, f"{self.prog}: error: {message} (see --help)\n")
-
-
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-    try:
-        return version("mpc-hunt")
-    except PackageNotFoundError:
-        return "unknown (not installed)"
 
 
 def _backend_help() -> str:
@@ -68,7 +60,7 @@ def _solver_choice(args) -> tuple[str, str | None, int]:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
-    parser.add_argument("--version", action="version", version=f"mpc-hunt {_version()}")
+    parser.add_argument("--version", action="version", version=f"mpc-hunt {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     sim = sub.add_parser("simulate", help="run one closed-loop hunt",

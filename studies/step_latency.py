@@ -22,6 +22,8 @@ measured on the very same states.
 
     python studies/step_latency.py [--out studies/step_latency] [--states 60] [--pairs qp/osqp …]
                                    [--reuse-states] [--no-growth] [--no-peer]
+    python studies/step_latency.py --check      # the committed pairs are the registry's; the cheap ones, rerun
+                                                # on the committed states, give the same failures and objectives
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ import argparse
 import json
 import os
 import platform
+import sys
 import time
 from dataclasses import replace
 from importlib.metadata import version
@@ -41,6 +44,8 @@ from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate, 
 from mpc_hunt.plan import shift_plan
 from mpc_hunt.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.scenario import Defender
+
+from study_check import check_result
 
 try:
     from do_mpc_peer import DoMPCPeer
@@ -251,7 +256,35 @@ def growth_tables(result: dict) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
+CHECK_BELOW_MS = 100      # --check reruns the pairs whose committed step is below this (the rest take minutes)
+
+
+def check(out: Path) -> list[str]:
+    """The committed pairs are the registry's, and rerunning the cheap ones on the committed states gives the
+    same failures and median objective (timings are not checked)."""
+    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))["latency"]
+    rows = [r for r in committed if (r["formulation"], r["backend"]) != PEER]
+    pairs = [(r["formulation"], r["backend"]) for r in rows]
+    if pairs != registry.pairs():
+        return [f"results.json: pairs {pairs}, the registry's are {registry.pairs()}"]
+    problem_set = load_problem_set(out / "states.json")
+    entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
+    problems = [lambda e=e: problem_set.problem(e, HORIZON) for e in entries]
+    errors = []
+    for old in rows:
+        if old["median_step_ms"] >= CHECK_BELOW_MS:
+            continue
+        new = summarise(solve_sequence(old["formulation"], old["backend"], problems))
+        key = f"{old['formulation']}/{old['backend']}"
+        if new["failed"] != old["failed"]:
+            errors.append(f"{key}: failed committed {old['failed']}, now {new['failed']}")
+        if abs(new["median_objective"] - old["median_objective"]) > 1e-6 * abs(old["median_objective"]):
+            errors.append(f"{key}: median objective committed {old['median_objective']}, now "
+                          f"{new['median_objective']}")
+    return errors
+
+
+def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "step_latency")
     parser.add_argument("--states", type=int, default=60)
@@ -259,7 +292,12 @@ def main() -> None:
     parser.add_argument("--reuse-states", action="store_true", help="read the states from OUT/states.json")
     parser.add_argument("--no-growth", action="store_true", help="skip the growth with N and N_d")
     parser.add_argument("--no-peer", action="store_true", help="skip the do-mpc peer")
+    parser.add_argument("--check", action="store_true",
+                        help=f"check the committed results against the code (reruns the pairs under "
+                             f"{CHECK_BELOW_MS} ms a step; about a minute)")
     args = parser.parse_args()
+    if args.check:
+        return check_result(check(args.out), "studies/step_latency", "python studies/step_latency.py --reuse-states")
     args.out.mkdir(parents=True, exist_ok=True)
     states_file = args.out / "states.json"
     if args.reuse_states:
@@ -296,7 +334,8 @@ def main() -> None:
                  "log N (log N_d).", "", growth_tables(result["growth"]), ""]
     (args.out / "README.md").write_text("\n".join(text))
     print(f"wrote {args.out / 'README.md'}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
