@@ -79,7 +79,7 @@ def _escape_lines(rows: list[dict]) -> list[str]:
                    and r["outcome"] == "failed"]
         early = sum(1 for r in escaped if not r["solves"])
         lines.append(f"- `{strategy}`: {early} of its {len(escaped)} escapes came before any defender was within "
-                     "R_agg (no capture-stage solve): the approach stage, not the capture stage, lost those.")
+                     "R_agg (no capture-stage solve).")
     return lines
 
 
