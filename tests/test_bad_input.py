@@ -319,17 +319,25 @@ def _unreadable(tmp_path, name: str):
     return path
 
 
-@pytest.mark.parametrize("kind", ["directory", "missing", "fifo", "unreadable"])
-def test_scenario_path_that_is_not_a_readable_file(capsys, tmp_path, kind):
-    path = tmp_path / "scenario.toml"
+NOT_A_FILE = {"directory": "a directory, not a file", "missing": "No such file", "fifo": "not a regular file",
+              "unreadable": "Permission denied"}
+
+
+def _not_a_file(tmp_path, name: str, kind: str):
+    """A path named ``name`` that is ``kind`` (a key of NOT_A_FILE), and the error it should give."""
+    path = tmp_path / name
     if kind == "directory":
         path.mkdir()
     elif kind == "fifo":
         os.mkfifo(path)
     elif kind == "unreadable":
-        path = _unreadable(tmp_path, "scenario.toml")
-    problem = {"directory": "a directory, not a file", "missing": "No such file",
-               "fifo": "not a regular file", "unreadable": "Permission denied"}[kind]
+        path = _unreadable(tmp_path, name)
+    return path, NOT_A_FILE[kind]
+
+
+@pytest.mark.parametrize("kind", list(NOT_A_FILE))
+def test_scenario_path_that_is_not_a_readable_file(capsys, tmp_path, kind):
+    path, problem = _not_a_file(tmp_path, "scenario.toml", kind)
     for argv in scenario_commands(path):
         assert problem in one_line_error(capsys, argv, path)
 
@@ -340,17 +348,9 @@ def test_missing_scenario_without_toml_suffix(capsys, tmp_path):
         assert "unknown scenario" in one_line_error(capsys, argv, path)
 
 
-@pytest.mark.parametrize("kind", ["directory", "missing", "fifo", "unreadable"])
+@pytest.mark.parametrize("kind", list(NOT_A_FILE))
 def test_state_path_that_is_not_a_readable_file(capsys, tmp_path, scenario_file, kind):
-    path = tmp_path / "state.json"
-    if kind == "directory":
-        path.mkdir()
-    elif kind == "fifo":
-        os.mkfifo(path)
-    elif kind == "unreadable":
-        path = _unreadable(tmp_path, "state.json")
-    problem = {"directory": "a directory, not a file", "missing": "No such file",
-               "fifo": "not a regular file", "unreadable": "Permission denied"}[kind]
+    path, problem = _not_a_file(tmp_path, "state.json", kind)
     err = one_line_error(capsys, ["solve", "--scenario", str(scenario_file), "--state", str(path)], path)
     assert problem in err
 
