@@ -196,3 +196,14 @@ def test_solve_runs_the_papers_problem_by_default(capsys):
     code, out, _ = run(capsys, "solve", "--scenario", "paper-open", "--json")
     report = json.loads(out)
     assert (report["formulation"], report["backend"], report["horizon"]) == ("nlp", "ipopt", 1)
+
+
+def test_solve_holds_a_failed_defender_where_it_stands(capsys, tmp_path):
+    """After its fails_at, a defender inside R_agg is not planned to move (failed-defender: defender 2 at 100 s)."""
+    state = tmp_path / "state.json"
+    state.write_text(json.dumps({"time": 150.0, "attacker": [10.0, 10.0],
+                                 "defenders": [[10.0, 9.3], [10.6, 10.35], [9.4, 10.35]]}))
+    code, out, err = run(capsys, "solve", "--scenario", "failed-defender", "--state", str(state), "--json")
+    assert code == 0, err
+    plan = json.loads(out)["plan"]
+    assert plan[0][2] == [9.4, 10.35] and plan[0][0] != [10.0, 9.3]

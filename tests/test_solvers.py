@@ -129,3 +129,10 @@ def test_warm_start_cuts_iterations(formulation, backend):
 @pytest.mark.parametrize("backend", registry.compatible_backends("qp"))
 def test_a_persistent_qp_backend_is_set_up_once_in_the_loop(backend):
     _closed_loop_iterations("qp", backend, True)
+
+
+def test_set_up_time_is_counted_once_per_structure(scenario):
+    solver = CaptureSolver("qp", "daqp")
+    first = solver.solve(problem_at(scenario, 2))
+    again = solver.solve(problem_at(scenario, 2), shift_plan(first.plan))
+    assert first.setup_time > 0 and again.setup_time == 0
