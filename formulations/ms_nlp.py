@@ -46,6 +46,10 @@ class StagedNLP:
         x = x_guess = ca.vertcat(p["attacker"], p["controlled"])   # x_0: the state, a parameter
         # The first move of the attacker follows from the state alone: the paper's field, unsmoothed.
         exact = ca.vertcat(theta[:-1], 0)
+        # Rows in units of one step (Eq. 13 per r_d², distances per r̄_d): IPOPT's tolerances and bound
+        # relaxation (1e-8 in a row's units) then move a robot by ~1e-10 m, not ~1e-7 m, so a plan the
+        # world caps at the robot's speed lands where it was planned (docs/robustness.md).
+        length = ca.sum1(p["step_limits"]) / nc
         w, guess, g, f = [], [], [], 0
         lbg, ubg, relax, kinds = [], [], [], []
 
@@ -69,11 +73,11 @@ class StagedNLP:
                 x_next = ca.SX.sym(f"x{k + 1}", sm.nx)
                 rows(x_next - sm.dynamics(x, du, exact if k == 0 else theta), 0.0, 0.0, False)
                 steps, limits = sm.motion(du, theta)
-                rows(steps - limits, -np.inf, 0.0, False)                            # Eq. 13
+                rows(steps / limits - 1, -np.inf, 0.0, False)                        # Eq. 13, per r_d²
                 f += ca.sumsqr(sm.move(du, theta))
             if k > 0:
                 values, lower = sm.path(x, theta)
-                rows(values - lower, 0.0, np.inf, np.array([fam in RELAXABLE for fam in sm.families]))
+                rows((values - lower) / length, 0.0, np.inf, np.array([fam in RELAXABLE for fam in sm.families]))
                 gap = sm.squared_distance(x) - q                                     # Eq. 14, exact L1
                 rows(gap - s, -np.inf, 0.0, False)
                 rows(gap + s, 0.0, np.inf, False)

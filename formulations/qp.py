@@ -23,7 +23,6 @@ import scipy.sparse as sp
 from formulations.base import Formulation, separation_pairs
 from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
                                         x_from_plan)
-from formulations.nlp import relaxed_lower_bounds
 from mpc_hunt.backends.base import QPData
 from mpc_hunt.capture_problem import CaptureProblem
 from mpc_hunt.solution import Solution, WarmStart
@@ -115,8 +114,14 @@ class LinearisedCapture:
         self.family = np.array(family)  # each row's constraint family (evaluator names, or "trust_region")
         A = ca.jacobian(g, x)
         b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
+        # Never worse than holding (as nlp): a row that the held plan breaks is relaxed to the held plan's
+        # value of the distance it bounds (a tangent row at the held plan is that distance), wherever the
+        # reference lies; its inner approximation then keeps the true distance at least as large.
+        at_held = ca.substitute(b0, Xref, ca.repmat(p["controlled"], N, 1))
+        lower = ca.vertcat(*lo)
+        lower = ca.if_else(ca.DM(self.relax), ca.fmin(lower, at_held), lower) - b0
         self.function = ca.Function("capture_qp", [theta, Xref],
-                                    [ca.triu(P), qvec, A, ca.vertcat(*lo) - b0, ca.vertcat(*hi) - b0, Jx, c, lin])
+                                    [ca.triu(P), qvec, A, lower, ca.vertcat(*hi) - b0, Jx, c, lin])
         self._patterns = [self.function.sparsity_out(i) for i in (0, 2)]
 
     @staticmethod
@@ -125,12 +130,11 @@ class LinearisedCapture:
         return sp.csc_matrix((np.array(values.nonzeros()), np.array(row), np.array(colind)),
                              shape=(pattern.size1(), pattern.size2()))
 
-    def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray, x_ref: np.ndarray) -> QPData:
-        """The QP at reference X̄ in x = (δ, q, s); ``x_ref`` (δ = 0 with consistent q, s) is kept feasible."""
+    def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray) -> QPData:
+        """The QP at reference X̄ in x = (δ, q, s)."""
         P, q, A, l, u, J, c, lin = self.function(theta, Xref)
-        A = self._csc(self._patterns[1], A)
-        l = relaxed_lower_bounds(np.array(l).ravel(), self.relax, A @ x_ref)
-        return QPData(key, self._csc(self._patterns[0], P), np.array(q).ravel(), A, l, np.array(u).ravel(),
+        return QPData(key, self._csc(self._patterns[0], P), np.array(q).ravel(), self._csc(self._patterns[1], A),
+                      np.array(l).ravel(), np.array(u).ravel(),
                       np.array(J), np.array(c).ravel(), np.array(lin).ravel(), tuple(self.cones))
 
 
@@ -159,7 +163,7 @@ class QPFormulation(Formulation):
         Xref = x_from_plan(problem, reference)
         guess = decision_point(problem, Xref, theta)
         guess[:len(Xref)] = 0.0
-        data = lin.data((self.name,) + problem.structure, theta, Xref, guess)
+        data = lin.data((self.name,) + problem.structure, theta, Xref)
         result = backend.solve(data, WarmStart(guess, None if duals is None else duals.y))
         if result.x is None:
             return result

@@ -60,6 +60,7 @@ class LinearisedStages:
         x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []
         constant = 0                                                   # |ε|² at the reference
         x_ref.append(ca.vertcat(p["attacker"], p["controlled"]))
+        held = [x_ref[0]]                                              # the held plan: "never worse than now"
         for k in range(N + 1):
             col = k * (nx + nu)                                        # where ξ_k starts in z
             c_rows, c_lower, c_upper = [], [], []                      # c_k: the stage's rows
@@ -72,14 +73,19 @@ class LinearisedStages:
                 hessian.append(2 * ca.mtimes(J.T, J)); gradient.append(2 * ca.mtimes(J.T, r))
                 region = TRUST_REGION * ca.DM.ones(nd)
                 lbz.append(ca.vertcat(-ca.inf, -ca.inf, -region)); ubz.append(ca.vertcat(ca.inf, ca.inf, region))
-                c_rows.append(_place(C, col, nz))                      # path rows: ≥ 0, never worse than now
-                c_lower.append(ca.if_else(relaxable, ca.fmin(-c, 0), -c)); c_upper.append(ca.DM.inf(c.shape[0]))
+                # Path rows c + C ξ ≥ 0, those the held plan breaks relaxed to its values (as nlp): their inner
+                # approximation then keeps each true distance at least as large as holding would.
+                at_held = st.state(held[k], theta)[2]
+                c_rows.append(_place(C, col, nz))
+                c_lower.append(ca.if_else(relaxable, ca.fmin(at_held, 0), 0) - c)
+                c_upper.append(ca.DM.inf(c.shape[0]))
             if k < N:
                 u_ref = D[nd * k:nd * (k + 1)] - x_ref[k][2:]
                 # The attacker's first move follows from the state alone: the paper's field, unsmoothed.
                 move, M, nxt, G_x, G_u, c, C_x, C_u, penalty = st.control(x_ref[k], u_ref, exact if k == 0 else theta)
                 constant += ca.sumsqr(move)
                 x_ref.append(nxt)
+                held.append(sm.dynamics(held[k], ca.DM.zeros(nd), exact if k == 0 else theta))
                 hessian.append(2 * ca.mtimes(M.T, M)); gradient.append(2 * ca.mtimes(M.T, move) + penalty)
                 lo, hi, lo_rows, hi_rows = st.control_bounds(u_ref, theta)
                 lbz.append(lo); ubz.append(hi)

@@ -61,9 +61,9 @@ VIOLATION_TOL = {
              "separation": 1e-9,          # 0
              "attacker_distance": LINEARISED},  # 3.3e-6
     "sqp": dict.fromkeys(FAMILIES, 5e-8),  # ≤ 4.4e-9 (obstacle safety on OSQP; 2.8e-9 separation)
-    # ms-nlp: the stage-structured NLP, squared rows as nlp: 6.2e-7, 7.7e-14, 1.0e-8, 9.9e-9, 8.1e-9.
-    "ms-nlp": {"motion_limit": 7e-6, "equal_distance": 2e-10, "obstacle_safety": 2e-7, "separation": 1e-7,
-               "attacker_distance": 1e-7},
+    # ms-nlp: the stage-structured NLP, rows per step (Eq. 13 per r_d²): 3.0e-11, 1.1e-13, 7.9e-11, 0, 0.
+    "ms-nlp": {"motion_limit": 1e-9, "equal_distance": 2e-10, "obstacle_safety": 1e-9, "separation": 1e-9,
+               "attacker_distance": 1e-9},
     # rti: one Gauss–Newton QP of the stage-structured problem, the qp's rows: 0, 4.3e-6, 0, 0, 0.
     "rti": {"motion_limit": 1e-9, "equal_distance": LINEARISED, "obstacle_safety": 1e-9, "separation": 1e-9,
             "attacker_distance": LINEARISED},
@@ -82,8 +82,8 @@ BOUNDARY_TOL = {
     "socp": {"motion_limit": 1e-9, "obstacle_safety": 1e-3, "separation": 7e-5,
              "attacker_distance": 4e-5},  # 2.9e-12, 9.3e-5, 6.2e-6, 3.3e-6
     "sqp": dict.fromkeys(FAMILIES, 5e-8),  # ≤ 4.4e-9
-    "ms-nlp": {"motion_limit": 7e-6, "obstacle_safety": 2e-7, "separation": 1e-7,
-               "attacker_distance": 5e-6},  # measured 6.2e-7, 1.0e-8, 9.9e-9, 8.1e-9
+    "ms-nlp": {"motion_limit": 1e-9, "obstacle_safety": 1e-9, "separation": 1e-9,
+               "attacker_distance": 2e-8},  # measured 3.0e-11, 7.9e-11, 3.0e-11, 1.8e-9
     "rti": {"motion_limit": 1e-9, "obstacle_safety": 1e-3, "separation": 6e-5,
             "attacker_distance": 5e-5},     # 3.6e-11, 8.1e-5, 5.7e-6, 4.7e-6
 }
@@ -162,9 +162,7 @@ def _qp_rows(problem: CaptureProblem, reference: np.ndarray, family: str):
     its lower bound, the (step, defender) blocks it involves)."""
     lin = linearised_capture(problem.structure)
     Xref = x_from_plan(problem, reference)
-    x_ref = decision_point(problem, Xref)
-    x_ref[:len(Xref)] = 0.0        # the QP's variable is the step from the reference
-    data = lin.data(("rows",), parameter_vector(problem), Xref, x_ref)
+    data = lin.data(("rows",), parameter_vector(problem), Xref)
     A = data.A.toarray()
     assert len(lin.family) == A.shape[0]
     rows = []
@@ -203,9 +201,11 @@ def test_qp_obstacle_rows_are_inner_approximations(defender, bearing, gap, radiu
     reference = _reference(Case("obstacle_safety", SYMMETRIC, horizon).problem(), seed)
     rho = radius + HuntParameters().safety_distance
     centre = reference[0, defender] + (rho + gap) * np.array([math.cos(bearing), math.sin(bearing)])
-    # Every reference point outside the safety circle: no row is relaxed ("never worse than now").
-    assume(np.linalg.norm(reference - centre, axis=2).min() > rho + 1e-6)
     problem = Case("obstacle_safety", SYMMETRIC, horizon, obstacles=((tuple(centre), radius),)).problem()
+    # Every reference point and every defender now outside the safety circle: no row is relaxed
+    # ("never worse than now").
+    assume(np.linalg.norm(reference - centre, axis=2).min() > rho + 1e-6)
+    assume(np.linalg.norm(problem.defender_positions - centre, axis=1).min() > rho + 1e-6)
     rows, Xref = _qp_rows(problem, reference, "obstacle_safety")
     assert len(rows) == horizon * 3            # one per step and controlled defender
     rng = np.random.default_rng(seed)
@@ -237,7 +237,7 @@ def test_qp_separation_rows_are_inner_approximations(fraction, horizon, seed, sp
     defenders = on_circle(0.58, [260.0, 260.0 + spread, 80.0])
     base = Case("separation", defenders, horizon).problem()
     reference = _reference(base, seed)
-    closest = min(np.linalg.norm(reference[k, i] - reference[k, j])
+    closest = min(np.linalg.norm(plan[k, i] - plan[k, j]) for plan in (reference, base.held_plan())
                   for k in range(horizon) for i in range(3) for j in range(i + 1, 3))
     d_sep = fraction * closest
     problem = Case("separation", defenders, horizon, hunt={"min_separation": d_sep}).problem()

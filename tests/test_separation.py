@@ -72,8 +72,6 @@ HUNT_190_REFERENCE = {  # the shifted previous plan of the controlled defenders 
 }
 
 
-@pytest.mark.xfail(strict=True, reason="the QP family relaxes a safety row to its value at the reference plan, "
-                                       "not at the current state ('never worse than now' is not what it does)")
 @pytest.mark.parametrize("formulation,backend", [("qp", "daqp"), ("rti", "hpipm")])
 def test_a_linearised_plan_keeps_d_sep_from_a_held_defender_its_reference_crossed(formulation, backend):
     from mpc_hunt import CaptureProblem, CaptureSolver

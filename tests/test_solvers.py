@@ -83,8 +83,7 @@ def test_qp_linearisation_matches_finite_differences_of_the_numpy_model(scenario
     problem = problem_at(scenario, 2)
     reference = problem.held_plan() + 0.01 * np.array([[1.0, 0.5], [-0.5, 1.0], [0.3, -0.8]])
     X = x_from_plan(problem, reference)
-    data = linearised_capture(problem.structure).data(("t",), parameter_vector(problem), X,
-                                                      decision_point(problem, X))
+    data = linearised_capture(problem.structure).data(("t",), parameter_vector(problem), X)
     P = data.P.toarray()
     P = P + P.T - np.diag(np.diag(P))
     x = decision_point(problem, X)

@@ -24,8 +24,8 @@ class IpoptBackend(Backend):
     accepts = ("nlp", "ocp-nlp")
     package = "casadi"
     install = "casadi"
-    # IPOPT relaxes every bound by bound_relax_factor (1e-8 by default, in the constraints' squared-metre units:
-    # 6e-7 m on Eq. 13, whose r_d² is 6.4e-5 m²); "high" tightens it with the constraint tolerance.
+    # IPOPT relaxes every bound by bound_relax_factor (1e-8 by default, in a row's units: 6e-7 m on nlp's
+    # Eq. 13 in m², whose r_d² is 6.4e-5 m²; ms-nlp's rows are per step); "high" tightens it.
     ACCURACY = {"default": {"tol": 1e-8}, "high": {"tol": 1e-10, "constr_viol_tol": 1e-10, "bound_relax_factor": 1e-12},
                 "low": {"tol": 1e-5}}
     # A stage-structured NLP is re-solved each step from the shifted previous solution: the adaptive
