@@ -10,6 +10,7 @@ import math
 from dataclasses import asdict
 
 from mpc_hunt.hunting_circle import MIN_MEMBERS
+from mpc_hunt.reachability import reachable
 from mpc_hunt.scenario import Scenario
 from mpc_hunt.scenario_io import dumps_scenario
 
@@ -31,7 +32,8 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
 
     Keys: ``name``, ``seed`` and ``index`` (as given: the sweep's seed and the
     scenario's index in it), ``n_defenders``, ``n_obstacles``,
-    ``capturable_by_definition``, ``defender_speed_min`` and ``_max`` (m/s),
+    ``capturable_by_definition``, ``reachable`` (:func:`mpc_hunt.reachability.reachable`),
+    ``defender_speed_min`` and ``_max`` (m/s),
     ``attacker_speed`` (m/s), ``speed_ratio`` (attacker / slowest defender),
     ``perception_radius`` (R_agg, m), ``attacker_heading`` (rad, of the nominal
     velocity; None if it is zero), ``attacker_start_x`` and ``_y``,
@@ -52,7 +54,7 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
     row: dict[str, object] = {
         "name": scenario.name, "seed": seed, "index": index,
         "n_defenders": len(scenario.defenders), "n_obstacles": len(scenario.obstacles),
-        "capturable_by_definition": capturable_by_definition(scenario),
+        "capturable_by_definition": capturable_by_definition(scenario), "reachable": reachable(scenario),
         "defender_speed_min": min(speeds), "defender_speed_max": max(speeds),
         "attacker_speed": a.max_speed, "speed_ratio": a.max_speed / min(speeds),
         "perception_radius": a.perception_radius,

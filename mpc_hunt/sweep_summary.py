@@ -2,7 +2,10 @@
 
 The success rate counts the hunts that can be captured by definition
 (:func:`mpc_hunt.scenario_row.capturable_by_definition`); the others are
-reported apart. Its 95 % interval is Wilson's score interval.
+reported apart. Among those, the unreachable ones (no defender can come near
+the attacker before it leaves: :mod:`mpc_hunt.reachability`) are lost by
+every controller; ``success_rate_reachable`` leaves them out too. Each 95 %
+interval is Wilson's score interval.
 """
 
 from __future__ import annotations
@@ -46,6 +49,8 @@ def summarise(rows: list[dict]) -> list[dict]:
         mine = [r for r in rows if r["strategy"] == strategy]
         counted = [r for r in mine if r["outcome"] != "uncapturable"]
         won = [r for r in counted if r["outcome"] == "captured"]
+        reachable = [r for r in counted if r["reachable"]]
+        won_reachable = [r for r in reachable if r["outcome"] == "captured"]
         causes = Counter(r["cause"] for r in counted if r["outcome"] == "failed")
         capture_median, capture_iqr = _median_iqr([r["capture_time_s"] for r in won])
         path_median, path_iqr = _median_iqr([r["path_length_m"] for r in won])
@@ -56,6 +61,9 @@ def summarise(rows: list[dict]) -> list[dict]:
             "strategy": strategy, "hunts": len(mine), "uncapturable_by_definition": len(mine) - len(counted),
             "captured": len(won), "success_rate": len(won) / len(counted) if counted else None,
             "success_rate_ci95": list(wilson(len(won), len(counted))),
+            "unreachable": len(counted) - len(reachable),
+            "success_rate_reachable": len(won_reachable) / len(reachable) if reachable else None,
+            "success_rate_reachable_ci95": list(wilson(len(won_reachable), len(reachable))),
             "failures": {c: causes.get(c, 0) for c in CAUSES},
             "collisions": causes.get("obstacle_collision", 0) + causes.get("defender_contact", 0),
             "capture_time_median_s": capture_median, "capture_time_iqr_s": capture_iqr,
@@ -80,15 +88,20 @@ def table(summaries: list[dict]) -> str:
     def num(x, scale=1.0, unit=""):
         return "–" if x is None else f"{x * scale:.3g}{unit}"
 
-    lines = ["| strategy | hunts | success (95 % CI) | failures by cause | capture time median (IQR) | "
-             "min clearance / separation | solve p50 / p95 | failed solves | solves over T |",
-             "| --- | ---: | --- | --- | --- | --- | --- | ---: | ---: |"]
+    def rate(s, key):
+        lo, hi = s[f"{key}_ci95"]
+        return f"{pct(s[key])} ({pct(lo)}–{pct(hi)})"
+
+    lines = ["| strategy | hunts | success (95 % CI) | of reachable hunts | failures by cause | "
+             "capture time median (IQR) | min clearance / separation | solve p50 / p95 | failed solves | "
+             "solves over T |",
+             "| --- | ---: | --- | --- | --- | --- | --- | --- | ---: | ---: |"]
     for s in summaries:
-        lo, hi = s["success_rate_ci95"]
         causes = ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none"
         lines.append(
-            f"| {s['strategy']} | {s['hunts']} ({s['uncapturable_by_definition']} uncapturable) | "
-            f"{pct(s['success_rate'])} ({pct(lo)}–{pct(hi)}) | {causes} | "
+            f"| {s['strategy']} | {s['hunts']} ({s['uncapturable_by_definition']} uncapturable, "
+            f"{s['unreachable']} unreachable) | {rate(s, 'success_rate')} | {rate(s, 'success_rate_reachable')} | "
+            f"{causes} | "
             f"{num(s['capture_time_median_s'], unit=' s')} ({num(s['capture_time_iqr_s'], unit=' s')}) | "
             f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')} | "
             f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')} | "

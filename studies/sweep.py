@@ -77,9 +77,10 @@ def _escape_lines(rows: list[dict]) -> list[str]:
     for strategy in dict.fromkeys(r["strategy"] for r in rows if r["strategy"].startswith("paper:")):
         escaped = [r for r in rows if r["strategy"] == strategy and r["cause"] == "attacker_escaped"
                    and r["outcome"] == "failed"]
-        early = sum(1 for r in escaped if not r["solves"])
-        lines.append(f"- `{strategy}`: {early} of its {len(escaped)} escapes came before any defender was within "
-                     "R_agg (no capture-stage solve).")
+        early = [r for r in escaped if not r["solves"]]
+        lines.append(f"- `{strategy}`: {len(early)} of its {len(escaped)} escapes came before any defender was "
+                     f"within R_agg (no capture-stage solve); {sum(not r['reachable'] for r in early)} of those "
+                     "hunts are unreachable.")
     return lines
 
 
@@ -92,7 +93,9 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict]) 
              f"hunts: hunt i is the scenario `random-{SEED}-i`, drawn by "
              f"`mpc_hunt.random_scenario.sweep_scenario({SEED}, i)` from the default ranges "
              f"(docs/robustness.md): `{json.dumps(ranges)}`. The success rate counts the hunts that can be "
-             "captured by definition; failures are by cause (docs/robustness.md). One row per hunt, with its "
+             "captured by definition; the next column leaves out the unreachable ones too (no defender can come within "
+             "R_agg of the attacker's undisturbed path before it leaves: lost by any controller, "
+             "`mpc_hunt/reachability.py`). Failures are by cause (docs/robustness.md). One row per hunt, with its "
              "scenario's full parameters, is in `sweep.db` (SQLite).", "",
              "## Results", "", table(summaries), "", *_solve_lines(summaries), *_escape_lines(rows), "",
              "![success by defenders](success_by_n_defenders.png) "
@@ -164,6 +167,10 @@ def check() -> list[str]:
         errors.append("summary.json: not the summary of sweep.db")
     if read_block("sweep", DOCS) != headline(summaries):
         errors.append("docs/robustness.md: its results table is not the summary of sweep.db")
+    won = [f"{r['strategy']} hunt {r['index']}" for r in rows if r["outcome"] == "captured" and not r["reachable"]]
+    if won:
+        errors.append(f"sweep.db: unreachable hunts were captured ({', '.join(won[:3])}): "
+                      "mpc_hunt/reachability.py is wrong")
     best = best_paper_strategy(summaries)
     if best != recommended_label():
         errors.append(f"mpc_hunt/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "

@@ -21,7 +21,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from binding_cases import CASES, SYMMETRIC, Case, octagon_slack, on_circle, slack
-from formulations.capture_model import decision_point, parameter_vector, x_from_plan
+from formulations.capture_model import parameter_vector, x_from_plan
 from formulations.qp import POLYGON_SIDES, linearised_capture
 from mpc_hunt import CaptureProblem, HuntParameters, Solution, Status, evaluate, registry, solve
 from mpc_hunt.evaluator import VIOLATION_NAMES

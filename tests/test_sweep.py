@@ -47,14 +47,17 @@ def test_wilson_interval_on_known_values():
 
 
 def test_summary_of_hand_made_rows():
-    base = {"strategy": "s", "capture_time_s": None, "path_length_m": None, "cause": None}
+    base = {"strategy": "s", "capture_time_s": None, "path_length_m": None, "cause": None, "reachable": True}
     rows = [base | {"outcome": "captured", "capture_time_s": 100.0, "path_length_m": 30.0},
             base | {"outcome": "captured", "capture_time_s": 200.0, "path_length_m": 50.0},
             base | {"outcome": "failed", "cause": "time_limit"},
             base | {"outcome": "failed", "cause": "defender_contact"},
-            base | {"outcome": "uncapturable", "cause": "time_limit"}]
+            base | {"outcome": "failed", "cause": "attacker_escaped", "reachable": False},
+            base | {"outcome": "uncapturable", "cause": "time_limit", "reachable": False}]
     (s,) = summarise(rows)
-    assert s["hunts"] == 5 and s["uncapturable_by_definition"] == 1 and s["success_rate"] == 0.5
+    assert s["hunts"] == 6 and s["uncapturable_by_definition"] == 1 and s["success_rate"] == 0.4
+    assert s["unreachable"] == 1 and s["success_rate_reachable"] == 0.5
+    assert s["success_rate_reachable_ci95"] == list(wilson(2, 4))
     assert s["failures"]["time_limit"] == 1 and s["failures"]["defender_contact"] == 1 and s["collisions"] == 1
     assert s["capture_time_median_s"] == 150.0 and s["capture_time_iqr_s"] == 50.0
 
