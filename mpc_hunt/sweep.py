@@ -188,12 +188,20 @@ def _run_pool(waiting: deque, workers: int) -> Generator[dict, None, bool]:
 
 
 def _interruptible_hunt(task: Hunt) -> dict:
-    """``run_hunt`` in a local worker, which ignores Ctrl-C except while it runs a hunt."""
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    """``run_hunt`` in a local worker, which ignores Ctrl-C except while it runs a hunt: then it exits at once.
+
+    Not by KeyboardInterrupt: a solver such as IPOPT catches it as a request to end its solve, and the
+    hunt would run on to its end before the sweep could stop.
+    """
+    signal.signal(signal.SIGINT, _exit_now)
     try:
         return run_hunt(task)
     finally:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _exit_now(signum, frame):
+    os._exit(128 + signum)
 
 
 def connect_dask(address: str):

@@ -212,17 +212,7 @@ def test_an_interrupted_sweep_resumes_to_the_same_rows(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli", *argv, "--output", str(killed)], cwd=ROOT,
                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        time.sleep(0.1)
-        if not killed.exists():      # connecting would create it
-            continue
-        try:
-            with sqlite3.connect(killed) as db:
-                if db.execute("select count(*) from hunts").fetchone()[0] >= 2:
-                    break
-        except sqlite3.OperationalError:      # the table does not exist yet
-            continue
+    _wait_for_rows(killed, 2)
     process.send_signal(signal.SIGKILL)
     process.wait()
     partial = len(SweepStore(killed).rows())
@@ -231,6 +221,38 @@ def test_an_interrupted_sweep_resumes_to_the_same_rows(tmp_path):
     whole = tmp_path / "whole.db"
     assert main([*argv, "--output", str(whole)]) == 0
     assert _outcomes(SweepStore(killed).rows()) == _outcomes(SweepStore(whole).rows())
+
+
+def _wait_for_rows(path: Path, count: int, seconds: float = 120) -> None:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        time.sleep(0.1)
+        if not path.exists():      # connecting would create it
+            continue
+        try:
+            with sqlite3.connect(path) as db:
+                if db.execute("select count(*) from hunts").fetchone()[0] >= count:
+                    return
+        except sqlite3.OperationalError:      # the table does not exist yet
+            continue
+
+
+def test_ctrl_c_stops_a_sweep_at_once_even_inside_ipopt(tmp_path):
+    """IPOPT takes a KeyboardInterrupt as a request to end one solve; the hunt must not run on to its end."""
+    path = tmp_path / "s.db"
+    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli", "sweep", "--hunts", "3", "--seed", "1",
+                                "--strategy", "paper:ms-nlp:ipopt:1", "--workers", "1", "--output", str(path)],
+                               cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, start_new_session=True,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    _wait_for_rows(path, 1)
+    time.sleep(1.0)                          # the second hunt is running (for seconds more)
+    os.killpg(process.pid, signal.SIGINT)    # what Ctrl-C in a terminal does: the whole process group
+    start = time.monotonic()
+    _, err = process.communicate(timeout=120)
+    assert time.monotonic() - start < 5.0
+    assert process.returncode == 2 and "interrupted; finished hunts are in" in err.decode()
+    assert len(SweepStore(path).rows()) == 1
 
 
 def test_resume_with_other_arguments_or_numpy_is_refused(capsys, tmp_path):
