@@ -114,7 +114,7 @@ class LinearisedCapture:
         self.family = np.array(family)  # each row's constraint family (evaluator names, or "trust_region")
         A = ca.jacobian(g, x)
         b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
-        # Never worse than holding (as nlp): a row that the held plan breaks is relaxed to the held plan's
+        # Never worse than now (as nlp): a row that the held plan breaks is relaxed to the held plan's
         # value of the distance it bounds (a tangent row at the held plan is that distance), wherever the
         # reference lies; its inner approximation then keeps the true distance at least as large.
         at_held = ca.substitute(b0, Xref, ca.repmat(p["controlled"], N, 1))

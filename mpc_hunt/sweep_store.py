@@ -26,8 +26,8 @@ KEY = ("strategy", "seed", "index")
 SCENARIO_COLUMNS = {   # mpc_hunt.scenario_row.scenario_row
     "name": "text", "seed": "integer", "index": "integer", "n_defenders": "integer", "n_obstacles": "integer",
     "capturable_by_definition": "integer", "reachable": "integer", "defender_speed_min": "real",
-    "defender_speed_max": "real", "attacker_speed": "real", "speed_ratio": "real", "perception_radius": "real", "attacker_heading": "real",
-    "attacker_start_x": "real", "attacker_start_y": "real", "obstacle_radius_min": "real",
+    "defender_speed_max": "real", "attacker_speed": "real", "speed_ratio": "real", "perception_radius": "real",
+    "attacker_heading": "real", "attacker_start_x": "real", "attacker_start_y": "real", "obstacle_radius_min": "real",
     "obstacle_radius_max": "real", "arena_x_min": "real", "arena_y_min": "real", "arena_x_max": "real",
     "arena_y_max": "real", "failed_defender": "integer", "fails_at": "real",
     **{f"hunt_{f.name}": "real" for f in fields(HuntParameters)},
