@@ -263,6 +263,24 @@ def test_qp_separation_rows_are_inner_approximations(fraction, horizon, seed, sp
         assert np.any(~admitted)                            # not vacuous
 
 
+@settings(deadline=None, max_examples=50)
+@given(excess=st.floats(1.01, 1.5), horizon=st.integers(1, 3), seed=st.integers(0, 2**32 - 1))
+def test_qp_separation_rows_a_held_pair_breaks_are_relaxed_to_its_distance_now(excess, horizon, seed):
+    """Never worse than now: with d_sep beyond a pair's distance now, each of its rows asks for
+    n·(p_i − p_j) ≥ that distance, wherever the reference lies; the other pairs keep d_sep."""
+    defenders = on_circle(0.58, [260.0, 280.0, 80.0])        # pair (0, 1) 0.20 m apart, the others farther
+    now = np.linalg.norm(defenders[0] - defenders[1])
+    d_sep = excess * now
+    problem = Case("separation", defenders, horizon, hunt={"min_separation": d_sep}).problem()
+    assert np.linalg.norm(defenders[[0, 1]] - defenders[2], axis=1).min() > 1.5 * d_sep
+    rows, Xref = _qp_rows(problem, _reference(problem, seed), "separation")
+    for a, lower, (i, j) in rows:
+        pair = (i % 3, j % 3)
+        n = a[2 * i:2 * i + 2]
+        threshold = lower + n @ (Xref[2 * i:2 * i + 2] - Xref[2 * j:2 * j + 2])   # on n·(p_i − p_j)
+        assert threshold == pytest.approx(now if pair == (0, 1) else d_sep, abs=1e-12), pair
+
+
 # --- The QP backends agree --------------------------------------------------------------------
 
 def _multi_backend() -> list[str]:
