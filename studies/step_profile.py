@@ -1,0 +1,62 @@
+"""Where the recommended step's time goes: ``rti``/``hpipm``'s one CasADi call taken apart.
+
+The step (state in → plan out) is one call of a CasADi Function that
+linearises the stage-structured problem, solves the QP with HPIPM and reads
+the plan back (mpc_hunt/backends/conic_step.py), plus the Python that poses
+the problem and hands the call its arguments. On the same states, warm-started
+as the controller does, this times the linearisation alone and HPIPM alone on
+the same numeric QP (same options); the rest of the call is the read-back and
+CasADi's own overhead.
+"""
+
+from __future__ import annotations
+
+import time
+
+import casadi as ca
+import numpy as np
+
+from formulations.capture_model import parameter_vector, x_from_plan
+from formulations.rti import linearised_stages
+from formulations.stage_model import SMOOTHING
+from mpc_hunt import CaptureProblem, CaptureSolver
+from mpc_hunt.backends.conic_step import QP_KEYS
+from mpc_hunt.backends.hpipm import HpipmBackend
+from mpc_hunt.plan import shift_plan
+
+REPEATS = 5     # each piece is timed this many times per state; the fastest counts (the least disturbed)
+
+
+def _fastest(call) -> tuple[float, object]:
+    best, out = np.inf, None
+    for _ in range(REPEATS):
+        start = time.perf_counter()
+        out = call()
+        best = min(best, time.perf_counter() - start)
+    return best, out
+
+
+def rti_profile(problems: list) -> dict:
+    """Median ms of the linearisation and of HPIPM alone over the warm-started states ``problems``
+    (callables that pose each state), the first (set-up) excluded."""
+    solver = CaptureSolver("rti", "hpipm")
+    graph, pieces, plan = None, {"linearise_ms": [], "hpipm_ms": []}, None
+    for make in problems:
+        problem: CaptureProblem = make()
+        warm = None if plan is None else shift_plan(plan)
+        if graph is not None:
+            theta = np.append(parameter_vector(problem), SMOOTHING)
+            reference = x_from_plan(problem, problem.held_plan() if warm is None else warm)
+            seconds, qp = _fastest(lambda: linearise(theta, reference))
+            pieces["linearise_ms"].append(1e3 * seconds)
+            data = dict(zip(QP_KEYS, qp))
+            seconds, _ = _fastest(lambda: hpipm(**data))
+            pieces["hpipm_ms"].append(1e3 * seconds)
+        else:
+            graph = linearised_stages(problem.structure)
+            qp = [graph.qp[key] for key in QP_KEYS]
+            linearise = ca.Function("linearise", graph.inputs, qp)
+            hpipm = ca.conic("capture", "hpipm", {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
+                             {"error_on_fail": False, **HpipmBackend().conic_options(graph)})
+        plan = solver.solve(problem, warm).plan
+    return {"repeats": REPEATS, **{k: float(np.median(v)) for k, v in pieces.items()}}
