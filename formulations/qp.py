@@ -167,10 +167,11 @@ class QPFormulation(Formulation):
         result = backend.solve(data, WarmStart(guess, None if duals is None else duals.y))
         if result.x is None:
             return result
-        residual = data.J @ result.x + data.c
+        # Row sums, not BLAS: the reported objective's bits do not depend on the CPU (docs/robustness.md).
+        residual = np.sum(data.J * result.x, axis=1) + data.c
         x = np.concatenate([Xref + result.x[:len(Xref)], result.x[len(Xref):]])
         return replace(result, x=x, plan=plan_from_x(problem, x),
-                       formulation_objective=float(residual @ residual + data.lin @ result.x))
+                       formulation_objective=float(np.sum(residual**2) + np.sum(data.lin * result.x)))
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         reference = problem.held_plan() if warm_plan is None else warm_plan

@@ -21,6 +21,21 @@ def cpu_model() -> str:
     return platform.processor() or platform.machine()
 
 
+# OpenBLAS's kernel families (the names OPENBLAS_CORETYPE takes), each with the CPU flag it needs, widest first.
+KERNEL_FAMILIES = (("avx512f", "SkylakeX"), ("avx2", "Haswell"), ("avx", "Sandybridge"), ("pni", "Prescott"))
+
+
+def blas_kernel_families() -> list[str]:
+    """The OpenBLAS kernel families this CPU can run (none where /proc/cpuinfo cannot be read)."""
+    try:
+        text = Path("/proc/cpuinfo").read_text(encoding="utf-8")
+    except OSError:
+        return []
+    flags = next((set(line.split(":", 1)[1].split()) for line in text.splitlines() if line.startswith("flags")),
+                 set())
+    return [family for flag, family in KERNEL_FAMILIES if flag in flags]
+
+
 def _version(package: str) -> str | None:
     try:
         return version(package)

@@ -17,14 +17,16 @@ import math
 
 import numpy as np
 
+from mpc_hunt.geometry import dot2
+
 
 def intercept_time(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: float) -> float | None:
     """Earliest meeting time of Eq. 8, or ``None`` when the defender cannot meet the attacker."""
     w = np.asarray(p_a, dtype=float) - np.asarray(p_d, dtype=float)
     v = np.asarray(v_a, dtype=float)
-    a = float(v @ v) - speed**2
-    b = 2.0 * float(w @ v)
-    c = float(w @ w)
+    a = dot2(v, v) - speed**2
+    b = 2.0 * dot2(w, v)
+    c = dot2(w, w)
     if c == 0.0:
         return 0.0
     if abs(a) < 1e-12 * max(speed**2, 1e-300):  # equal speeds: linear equation b t + c = 0

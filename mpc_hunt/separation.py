@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.geometry import saturate
+from mpc_hunt.geometry import dot2, saturate
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -48,16 +48,18 @@ def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np
         rows = []     # (a, b): a · v ≥ b
         for j in planned:
             n = _unit(p - planned_next[j])
-            rows.append((time_step * n, min(min_separation, n @ (p - planned_next[j])) - n @ (p - planned_next[j])))
+            gap = dot2(n, p - planned_next[j])
+            rows.append((time_step * n, min(min_separation, gap) - gap))
         for j in movers:
             if j != i:
                 m, n = 0.5 * (p + positions[j]), _unit(p - positions[j])
-                rows.append((time_step * n, min(0.5 * min_separation, n @ (p - m)) - n @ (p - m)))
+                gap = dot2(n, p - m)
+                rows.append((time_step * n, min(0.5 * min_separation, gap) - gap))
         v = out[i]
         for a, b in rows:
-            if a @ v < b:
-                v = v + (b - a @ v) / (a @ a) * a
+            if dot2(a, v) < b:
+                v = v + (b - dot2(a, v)) / dot2(a, a) * a
         v = saturate(v, speeds[i])
-        scale = min([1.0] + [b / (a @ v) for a, b in rows if a @ v < b])
+        scale = min([1.0] + [b / dot2(a, v) for a, b in rows if dot2(a, v) < b])
         out[i] = scale * v
     return out

@@ -28,6 +28,7 @@ from typing import Generator, Iterator
 import numpy as np
 
 from mpc_hunt import registry
+from mpc_hunt.ensemble import perturbed
 from mpc_hunt.errors import MpcHuntError, SweepStopped
 from mpc_hunt.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
 from mpc_hunt.scenario_row import capturable_by_definition, scenario_row
@@ -89,12 +90,17 @@ class Strategy:
 
 @dataclass(frozen=True)
 class Hunt:
-    """One task of a sweep: a strategy on the scenario (seed, index) drawn from ``ranges``."""
+    """One task of a sweep: a strategy on the scenario (seed, index) drawn from ``ranges``.
+
+    ``member`` 0 is the scenario as drawn; member k > 0 moves each start by at most a nanometre
+    (:func:`mpc_hunt.ensemble.perturbed`, its RNG seeded by seed, index and k), to measure a row's spread.
+    """
 
     strategy: str
     seed: int
     index: int
     ranges: dict
+    member: int = 0
 
 
 def run_hunt(task: Hunt) -> dict:
@@ -130,6 +136,8 @@ def run_hunt(task: Hunt) -> dict:
 def _drawn(task: Hunt) -> tuple:
     """The task's scenario, and the start of its row: the strategy and the scenario's parameters."""
     scenario = sweep_scenario(task.seed, task.index, ranges_from_dict(task.ranges))
+    if task.member:
+        scenario = perturbed(scenario, np.random.default_rng([task.seed, task.index, task.member]))
     return scenario, {"strategy": task.strategy, **scenario_row(scenario, seed=task.seed, index=task.index)}
 
 
