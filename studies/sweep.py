@@ -2,21 +2,24 @@
 
 Runs ``mpc-hunt sweep --hunts 500 --seed 1`` with the default strategies
 (``mpc_hunt.sweep.DEFAULT_STRATEGIES``) and the default scenario ranges into
-``studies/sweep/sweep.db``, resuming it if it exists, then writes
-``studies/sweep/`` (README.md, summary.json with the machine's description,
-the figures) and the results table of docs/robustness.md. About 1.5 hours on 2
-cores; an interrupted run continues where it stopped.
+``studies/sweep/sweep.db``, resuming it if it exists; then reruns the first
+``SAMPLE`` hunts of each strategy ``MEMBERS`` times with every start moved by a
+nanometre (``ensemble.json``: which outcomes a last-bit difference flips, and
+each figure's band); then writes ``studies/sweep/`` (README.md, summary.json
+with the machine's description, the figures) and the results table of
+docs/robustness.md. About 1.5 hours on 2 cores; an interrupted sweep continues
+where it stopped.
 
-    python studies/sweep.py             # run (or resume) the sweep, then write the report
+    python studies/sweep.py             # run (or resume) the sweep and its ensemble, then write the report
     python studies/sweep.py --check     # the committed report is the committed file's, for the code's strategies
-                                        # and ranges; a few of its hunts, rerun, give their committed rows
+                                        # and ranges; a few hunts whose outcome the ensemble shows robust, rerun,
+                                        # keep that outcome and land inside their bands
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import math
 import sqlite3
 import sys
 from pathlib import Path
@@ -24,10 +27,11 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt.cli import main as mpc_hunt
+from mpc_hunt.ensemble import SCALE, band, outside, widened
 from mpc_hunt.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.recommended import RECOMMENDED
-from mpc_hunt.sweep import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt
+from mpc_hunt.sweep import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
 from mpc_hunt.sweep_plots import write_plots
 from mpc_hunt.sweep_store import SweepStore
 from mpc_hunt.sweep_summary import summarise, table
@@ -40,9 +44,14 @@ DB = OUT / "sweep.db"
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "robustness.md"
 HUNTS, SEED = 500, 1
 COMMAND = "python studies/sweep.py"
-RERUN = 2          # --check reruns this many hunts per strategy: its captured hunts with the fewest steps
-EXACT = ("outcome", "cause", "termination", "steps", "solves", "failed_solves", "fallbacks")
-CLOSE = ("capture_time_s", "path_length_m", "min_obstacle_clearance_m", "min_defender_separation_m")
+ENSEMBLE = OUT / "ensemble.json"
+SAMPLE, MEMBERS = 30, 4   # the ensemble: hunts 0..SAMPLE-1 of each strategy, each rerun MEMBERS times
+# --check reruns, per strategy, the quickest hunt of the sample that every member captured, and the quickest that
+# every member lost in the same way after a capture-stage solve (any loss, for a strategy without one)
+ROBUST = ("outcome", "cause", "termination")       # exact where every member agrees
+BANDED = ("steps", "solves", "failed_solves", "fallbacks", "capture_time_s", "path_length_m",
+          "min_obstacle_clearance_m", "min_defender_separation_m")
+WIDEN, FLOOR_RTOL, FLOOR_ATOL = 0.5, 1e-6, 1e-9    # as studies/reproduce_paper.py
 
 
 def arguments() -> dict:
@@ -84,7 +93,7 @@ def _escape_lines(rows: list[dict]) -> list[str]:
     return lines
 
 
-def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict]) -> str:
+def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], ensemble: dict) -> str:
     ranges = ranges_to_dict(ScenarioRanges())
     lines = [f"# {HUNTS} random hunts per strategy", "",
              f"Regenerate with `{COMMAND}` (it runs `mpc-hunt sweep --hunts {HUNTS} --seed {SEED}` with the "
@@ -101,6 +110,7 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict]) 
              "![success by defenders](success_by_n_defenders.png) "
              "![success by obstacles](success_by_n_obstacles.png)",
              "![success by speed ratio](success_by_speed_ratio.png) ![capture times](capture_times.png)", "",
+             "## What a nanometre changes", "", *ensemble_lines(ensemble), "",
              "## Cost", "", "| strategy | wall time, all hunts | per hunt, median | longest hunt |",
              "| --- | ---: | ---: | ---: |"]
     lines += [f"| {s} | {w['total_s'] / 3600:.2f} h | {w['median_s']:.1f} s | {w['max_s']:.0f} s |"
@@ -136,20 +146,87 @@ def write(machine: dict) -> None:
     with sqlite3.connect(DB) as db:     # one self-contained file to commit, not a write-ahead log
         db.execute("pragma journal_mode=delete")
     rows = _rows()
+    if not ENSEMBLE.exists():
+        ENSEMBLE.write_text(json.dumps(run_ensemble(rows), indent=1) + "\n", encoding="utf-8")
+    ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8"))
     summaries = summarise(rows)
     walls = wall_times(rows)
     write_plots(rows, OUT)
     (OUT / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(),
                                                   "strategies": summaries, "wall_time": walls}, indent=1) + "\n",
                                       encoding="utf-8")
-    (OUT / "README.md").write_text(report(summaries, walls, machine, rows), encoding="utf-8")
+    (OUT / "README.md").write_text(report(summaries, walls, machine, rows, ensemble), encoding="utf-8")
     write_block("sweep", headline(summaries), DOCS)
 
 
-def _differs(old, new) -> bool:
-    if isinstance(old, float) and isinstance(new, float):
-        return not math.isclose(old, new, rel_tol=1e-6, abs_tol=1e-9)
-    return old != new
+def run_ensemble(rows: list[dict]) -> dict:
+    """The sample's hunts rerun with their starts moved by a nanometre: per strategy and hunt, what every member
+    (the committed row and the reruns) shares, and each figure's band."""
+    nominal = {(r["strategy"], r["index"]): r for r in rows if r["index"] < SAMPLE}
+    todo = [Hunt(s, SEED, i, arguments()["ranges"], member=m) for i in range(SAMPLE)
+            for s in arguments()["strategies"] for m in range(1, MEMBERS + 1)]
+    members: dict[tuple, list[dict]] = {key: [row] for key, row in nominal.items()}
+    for row in run_local(todo):
+        members[(row["strategy"], row["index"])].append(row)
+    hunts: dict[str, dict] = {}
+    for (strategy, index), group in sorted(members.items(), key=lambda kv: kv[0][1]):
+        bands = {}
+        for k in BANDED:
+            values = [r[k] for r in group]
+            bands[k] = band(values) if None not in values else None
+        hunts.setdefault(strategy, {})[str(index)] = {
+            "robust": all(r[k] == group[0][k] for r in group for k in ROBUST),
+            **{k: group[0][k] for k in ROBUST}, "outcomes": sorted({r["outcome"] for r in group}), "band": bands,
+            "wall_time_s": group[0]["wall_time_s"]}
+    return {"sample": SAMPLE, "members": MEMBERS, "scale_m": SCALE, "hunts": hunts}
+
+
+def _flipped(hunts: dict) -> list[str]:
+    return [i for i, h in hunts.items() if len(h["outcomes"]) > 1]
+
+
+def ensemble_lines(ensemble: dict) -> list[str]:
+    """What a nanometre does to the sample's hunts, per strategy."""
+    lines = [f"Hunts 0–{ensemble['sample'] - 1} of each strategy were rerun {ensemble['members']} times with every "
+             f"robot's start moved by at most {ensemble['scale_m']:g} m (`ensemble.json`): a difference no robot "
+             "could tell, of the size a last-bit difference in arithmetic grows into within a few steps."]
+    for strategy, hunts in ensemble["hunts"].items():
+        flipped, moved = _flipped(hunts), [i for i, h in hunts.items() if not h["robust"]]
+        spread = {i: h["band"]["steps"]["max"] - h["band"]["steps"]["min"] for i, h in hunts.items()}
+        changed = [i for i, s in spread.items() if s > 0]
+        widest = max(spread, key=lambda i: (spread[i], -int(i)))
+        lines.append(f"- `{strategy}`: {len(flipped)} of {len(hunts)} hunts changed outcome in some member"
+                     + (f" (hunts {', '.join(flipped)})" if flipped else "")
+                     + f", {len(moved)} changed outcome, cause or termination; {len(changed)} took another number "
+                     f"of steps" + (f", hunt {widest} from {hunts[widest]['band']['steps']['min']:.0f} to "
+                                    f"{hunts[widest]['band']['steps']['max']:.0f}." if changed else "."))
+    flips = any(not h["robust"] for hunts in ensemble["hunts"].values() for h in hunts.values())
+    lines.append(("Some outcomes turn on a nanometre" if flips else "No sampled outcome turned on a nanometre, but "
+                  "the figures of a hunt can") + ", so another machine's arithmetic can move this report's figures "
+                 "(and, for hunts near the edge of an outcome, its counts) within their confidence intervals, not to "
+                 "the bit. `--check` reruns only hunts every member agrees on, and holds their figures to the "
+                 "ensemble's bands.")
+    return lines
+
+
+def rerun_choice(hunts: dict) -> list[str]:
+    """The hunts --check reruns for one strategy (see above): at most one captured, one lost."""
+    robust = sorted((i for i, h in hunts.items() if h["robust"]), key=lambda i: (hunts[i]["wall_time_s"], int(i)))
+    captured = [i for i in robust if hunts[i]["outcome"] == "captured"]
+    lost = [i for i in robust if hunts[i]["outcome"] != "captured"]
+    solved = [i for i in lost if hunts[i]["band"]["solves"]["min"] > 0]
+    return captured[:1] + (solved or lost)[:1]
+
+
+def _off_band(label: str, old: dict, new: dict) -> list[str]:
+    errors = [f"{label}: {k} was {old[k]!r} in every member, now {new[k]!r}" for k in ROBUST if new[k] != old[k]]
+    for k in BANDED:
+        b = old["band"][k]
+        floor = FLOOR_RTOL * abs(b["median"]) + FLOOR_ATOL if b is not None else 0.0
+        if outside(new[k], b, WIDEN, floor):
+            shown = "none" if b is None else "{:.9g} to {:.9g}".format(*widened(b, WIDEN, floor))
+            errors.append(f"{label}: {k} {new[k]!r} is outside its band ({shown})")
+    return errors
 
 
 def check() -> list[str]:
@@ -175,15 +252,17 @@ def check() -> list[str]:
     if best != recommended_label():
         errors.append(f"mpc_hunt/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "
                       "most often")
+    ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8"))
+    if (ensemble["sample"], ensemble["members"], ensemble["scale_m"]) != (SAMPLE, MEMBERS, SCALE):
+        errors.append(f"ensemble.json: {ensemble['sample']} hunts × {ensemble['members']} members, the study runs "
+                      f"{SAMPLE} × {MEMBERS}: delete it and rerun {COMMAND}")
     if errors:
         return errors
     for strategy in stored["strategies"]:
-        captured = sorted((r for r in rows if r["strategy"] == strategy and r["outcome"] == "captured"),
-                          key=lambda r: (r["steps"], r["index"]))
-        for old in captured[:RERUN]:
-            new = run_hunt(Hunt(strategy, old["seed"], old["index"], stored["ranges"]))
-            errors += [f"{strategy} hunt {old['index']}: {k} committed {old[k]!r}, now {new[k]!r}"
-                       for k in EXACT + CLOSE if _differs(old[k], new[k])]
+        hunts = ensemble["hunts"][strategy]
+        for index in rerun_choice(hunts):
+            new = run_hunt(Hunt(strategy, SEED, int(index), stored["ranges"]))
+            errors += _off_band(f"{strategy} hunt {index}", hunts[index], new)
     return errors
 
 

@@ -80,3 +80,18 @@ def test_the_reproduction_check_fails_for_a_one_percent_change_of_the_field_gain
     errors = reproduce.differing(committed, {"paper-open-no-prediction": reproduce.report(
         simulate(changed, prediction=False))})
     assert any("path_lengths_m" in e for e in errors), errors
+
+
+def test_the_sweep_check_reruns_robust_hunts_and_holds_them_to_their_bands():
+    sweep = _study("sweep")
+    steps = {"median": 100.0, "min": 98.0, "max": 104.0}
+    entry = {"robust": True, "outcome": "captured", "cause": None, "termination": "captured", "wall_time_s": 1.0,
+             "band": {k: steps if k in ("steps", "solves") else None for k in sweep.BANDED}}
+    hunts = {"0": {**entry, "robust": False}, "1": entry, "2": {**entry, "wall_time_s": 0.5},
+             "3": {**entry, "outcome": "failed", "cause": "attacker_escaped", "termination": "escaped"}}
+    assert sweep.rerun_choice(hunts) == ["2", "3"]
+    row = {k: None for k in sweep.BANDED} | {"outcome": "captured", "cause": None, "termination": "captured",
+                                              "steps": 101, "solves": 101}
+    assert sweep._off_band("h", entry, row) == []
+    assert [e.split(":")[1].split()[0] for e in sweep._off_band("h", entry, row | {"steps": 108})] == ["steps"]
+    assert sweep._off_band("h", entry, row | {"outcome": "failed"})
