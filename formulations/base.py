@@ -6,9 +6,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from mpc_hunt.backends.base import Backend
-from mpc_hunt.capture_problem import CaptureProblem
-from mpc_hunt.solution import Solution, WarmStart
+from mpc_hunt.capture.backends.base import Backend
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Solution, WarmStart
 
 
 class Formulation:

@@ -3,7 +3,7 @@
 Built once per structure (controlled defenders, held defenders, obstacles,
 horizon) with the state and the scenario's numbers as parameters θ, so a solve
 at a new state only changes numbers. The NumPy evaluator
-(:mod:`mpc_hunt.evaluator`) is an independent implementation of the same maths.
+(:mod:`mpc_hunt.capture.evaluator`) is an independent implementation of the same maths.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from functools import cached_property, lru_cache
 import casadi as ca
 import numpy as np
 
-from mpc_hunt.capture_problem import CaptureProblem
-from mpc_hunt.field import FIELD_FLOOR
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.world.field import FIELD_FLOOR
 
 _TINY = 1e-18
 SCALARS = ("perception_radius", "eta", "k_d", "k_o", "attacker_max_speed", "protective_distance",
@@ -65,7 +65,7 @@ def _norm(v):
 
 
 def repulsion(r, radius, eta):
-    """H(r) of Eq. 2 (repulsive sign, NOTES E1), as in mpc_hunt.field.repulsion."""
+    """H(r) of Eq. 2 (repulsive sign, NOTES E1), as in mpc_hunt.world.field.repulsion."""
     length = _norm(r)
     d = ca.fmax(length, FIELD_FLOOR)
     return ca.if_else(d < radius, eta * (radius**3 / d**3 - 1), 0) * d / length * r

@@ -30,8 +30,8 @@ from formulations.base import Formulation
 from formulations.capture_model import parameter_vector, unpack, x_from_plan
 from formulations.nlp import RELAXABLE
 from formulations.stage_model import SMOOTHING, stage_model
-from mpc_hunt.backends.base import NLPData
-from mpc_hunt.solution import Solution, WarmStart
+from mpc_hunt.capture.backends.base import NLPData
+from mpc_hunt.capture.solution import Solution, WarmStart
 
 
 class StagedNLP:

@@ -19,10 +19,10 @@ import numpy as np
 from formulations.base import Formulation, separation_pairs
 from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
                                         x_from_plan)
-from mpc_hunt.backends.base import NLPData
-from mpc_hunt.capture_problem import CaptureProblem
-from mpc_hunt.evaluator import VIOLATION_NAMES
-from mpc_hunt.solution import Solution, WarmStart
+from mpc_hunt.capture.backends.base import NLPData
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.evaluator import VIOLATION_NAMES
+from mpc_hunt.capture.solution import Solution, WarmStart
 
 
 def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[str]]:

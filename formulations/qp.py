@@ -23,9 +23,9 @@ import scipy.sparse as sp
 from formulations.base import Formulation, separation_pairs
 from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
                                         x_from_plan)
-from mpc_hunt.backends.base import QPData
-from mpc_hunt.capture_problem import CaptureProblem
-from mpc_hunt.solution import Solution, WarmStart
+from mpc_hunt.capture.backends.base import QPData
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Solution, WarmStart
 
 POLYGON_SIDES = 8
 TRUST_REGION = 2.0  # in units of r_d

@@ -34,8 +34,8 @@ from formulations.nlp import RELAXABLE
 from formulations.qp import TRUST_REGION
 from formulations.stage_linearisation import stage_linearisation
 from formulations.stage_model import SMOOTHING, stage_model
-from mpc_hunt.backends.base import StageQPData
-from mpc_hunt.solution import Solution
+from mpc_hunt.capture.backends.base import StageQPData
+from mpc_hunt.capture.solution import Solution
 
 def _place(block, left: int, total: int):
     """``block`` between ``left`` zero columns and enough zero columns to make ``total``."""

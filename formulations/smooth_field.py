@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import casadi as ca
 
-from mpc_hunt.field import FIELD_FLOOR
+from mpc_hunt.world.field import FIELD_FLOOR
 
 _TINY = 1e-18
 

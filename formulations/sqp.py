@@ -14,7 +14,7 @@ import numpy as np
 
 from formulations.capture_model import parameter_vector
 from formulations.qp import QPFormulation
-from mpc_hunt.solution import Solution, Status
+from mpc_hunt.capture.solution import Solution, Status
 
 
 class SQPFormulation(QPFormulation):

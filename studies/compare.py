@@ -22,12 +22,12 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from mpc_hunt import registry
-from mpc_hunt.compare import MODES, planned_solves, run_compare
-from mpc_hunt.compare_report import write_report
-from mpc_hunt.compare_rows import best_known, gap
-from mpc_hunt.machine import describe_machine, load_average
-from mpc_hunt.problem_set import builtin_problem_set
+from mpc_hunt.capture import registry
+from mpc_hunt.bench.compare import MODES, planned_solves, run_compare
+from mpc_hunt.bench.compare_report import write_report
+from mpc_hunt.bench.compare_rows import best_known, gap
+from mpc_hunt.bench.machine import describe_machine, load_average
+from mpc_hunt.bench.problem_set import builtin_problem_set
 
 from docs_block import read_block, write_block
 from study_check import check_result

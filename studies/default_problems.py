@@ -1,14 +1,14 @@
-"""Build the problem set shipped with the package (``mpc_hunt/problems/default.json``).
+"""Build the problem set shipped with the package (``mpc_hunt/bench/problems/default.json``).
 
 It holds, for each built-in scenario, tagged ``default``, the state
 ``mpc-hunt solve`` starts from: the first state of the scenario's closed-loop
 run (the paper's strategy, prediction on) at which the hunting circle has
-formed (:func:`mpc_hunt.capture_state.first_formed_circle`); then, for the
+formed (:func:`mpc_hunt.bench.capture_state.first_formed_circle`); then, for the
 paper's two scenarios, runs of 4 consecutive capture-stage states starting
 every 560th capture-stage state of that run (two runs per scenario, for
 warm-started solving); then two random
 states per constraint family, drawn with seed 0 around paper-obstacles'
-robots, each making its family active (:mod:`mpc_hunt.random_states`). It is
+robots, each making its family active (:mod:`mpc_hunt.bench.random_states`). It is
 small enough for ``studies/compare.py`` (every pair, N = 1, 5, 10, both modes)
 to run in about ten minutes on two cores.
 
@@ -33,20 +33,20 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import builtin_names, builtin_scenario
-from mpc_hunt.activity import ActivityProbe
-from mpc_hunt.attacker import perceives
-from mpc_hunt.build_problems import build_problem_set
-from mpc_hunt.capture_state import first_formed_circle
+from mpc_hunt.bench.activity import ActivityProbe
+from mpc_hunt.world.attacker import perceives
+from mpc_hunt.bench.build_problems import build_problem_set
+from mpc_hunt.bench.capture_state import first_formed_circle
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.ensemble import perturbed
-from mpc_hunt.evaluator import VIOLATION_NAMES
-from mpc_hunt.problem_set import ProblemSet, dumps_problem_set, load_problem_set
-from mpc_hunt.random_states import random_entries
-from mpc_hunt.scenario_io import scenario_to_dict
+from mpc_hunt.world.ensemble import perturbed
+from mpc_hunt.capture.evaluator import VIOLATION_NAMES
+from mpc_hunt.bench.problem_set import ProblemSet, dumps_problem_set, load_problem_set
+from mpc_hunt.bench.random_states import random_entries
+from mpc_hunt.world.scenario_io import scenario_to_dict
 
 from study_check import check_result
 
-TARGET = Path(__file__).resolve().parents[1] / "mpc_hunt" / "problems" / "default.json"
+TARGET = Path(__file__).resolve().parents[1] / "mpc_hunt" / "bench" / "problems" / "default.json"
 EVERY, RUN_LENGTH, RANDOM_PER_CASE, SEED = 560, 4, 2, 0
 SAMPLED = ("paper-open", "paper-obstacles")     # whose closed-loop runs are sampled
 # A default state, rebuilt, within this of the shipped one: (time in s, every position in m). Set from what a

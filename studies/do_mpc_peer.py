@@ -48,8 +48,8 @@ from formulations.base import separation_pairs
 from formulations.capture_model import (obstacle_repulsion, parameter_size, parameter_vector, plan_from_x,
                                         repulsion, saturate, unpack)
 from formulations.smooth_field import norm
-from mpc_hunt.backends.ipopt import IpoptBackend
-from mpc_hunt.capture_problem import CaptureProblem
+from mpc_hunt.capture.backends.ipopt import IpoptBackend
+from mpc_hunt.capture.problem import CaptureProblem
 
 
 class DoMPCPeer:

@@ -22,8 +22,10 @@ import sys
 import time
 from pathlib import Path
 
-from mpc_hunt import HuntingStrategy, builtin_scenario, registry, simulate
-from mpc_hunt.machine import describe_machine, load_average, machine_lines
+from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
+
+from mpc_hunt.capture import registry
+from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
 from docs_block import read_block, write_block
 from study_check import check_result

@@ -2,7 +2,7 @@
 
 Runs the built-in scenarios ``paper-open`` and ``paper-obstacles`` as shipped
 (no parameter is tuned here), each also as an ensemble: the same run with every
-robot's start moved by at most 1e-9 m (:mod:`mpc_hunt.ensemble`), and the
+robot's start moved by at most 1e-9 m (:mod:`mpc_hunt.world.ensemble`), and the
 nominal runs once more under every OpenBLAS kernel family the CPU can run. It
 writes into the output folder the four trajectory figures (nominal runs),
 ``results.json`` (each run's report, its ensemble's band per figure, and what
@@ -32,9 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import builtin_scenario, simulate
-from mpc_hunt.ensemble import SCALE, band, outside, perturbed, widened
-from mpc_hunt.machine import blas_kernel_families
-from mpc_hunt.plotting import plot_hunt
+from mpc_hunt.world.ensemble import SCALE, band, outside, perturbed, widened
+from mpc_hunt.bench.machine import blas_kernel_families
+from mpc_hunt.plots.hunt import plot_hunt
 
 from study_check import check_result
 
@@ -151,7 +151,7 @@ def sensitivity(runs: dict, ensemble: dict) -> list[str]:
     """How much a nanometre moves each run: the finding the ensemble makes."""
     lines = ["## How much a nanometre moves a hunt", "",
              f"Each run was repeated {ensemble['members']} times with every robot's start moved by at most "
-             f"{ensemble['scale_m']:g} m along each axis (`mpc_hunt.ensemble.perturbed`, member k drawn with seed k), "
+             f"{ensemble['scale_m']:g} m along each axis (`mpc_hunt.world.ensemble.perturbed`, member k drawn with seed k), "
              "far below anything a robot could tell apart; the tables above give the median and the range over "
              "those members and the nominal run. Over the members:"]
     for key in KEYS:

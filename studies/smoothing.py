@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, simulate
-from mpc_hunt.attacker import perceives
+from mpc_hunt.world.attacker import perceives
 
 SCENARIOS = ("paper-open", "paper-obstacles")
 WIDTHS = (0.0, 0.001, 0.003, 0.01)

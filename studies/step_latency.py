@@ -42,10 +42,12 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate, registry
-from mpc_hunt.plan import shift_plan
-from mpc_hunt.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
-from mpc_hunt.scenario import Defender
+from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
+
+from mpc_hunt.capture import registry
+from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
+from mpc_hunt.world.scenario import Defender
 
 from step_profile import rti_profile
 from study_check import check_result
@@ -77,7 +79,7 @@ def machine() -> dict:
 
 
 def closed_loop_states(count: int) -> ProblemSet:
-    from mpc_hunt.capture_state import formed_circle_states
+    from mpc_hunt.bench.capture_state import formed_circle_states
     scenario = builtin_scenario(SCENARIO)
     states = formed_circle_states(scenario, count)
     entries = tuple(ProblemEntry(f"{SCENARIO}/{i}", SCENARIO, s, f"{SCENARIO}/closed-loop")

@@ -2,7 +2,7 @@
 
 The step (state in → plan out) is one call of a CasADi Function that
 linearises the stage-structured problem, solves the QP with HPIPM and reads
-the plan back (mpc_hunt/backends/conic_step.py), plus the Python that poses
+the plan back (mpc_hunt/capture/backends/conic_step.py), plus the Python that poses
 the problem and hands the call its arguments. On the same states, warm-started
 as the controller does, this times the linearisation alone and HPIPM alone on
 the same numeric QP (same options); the rest of the call is the read-back and
@@ -20,9 +20,9 @@ from formulations.capture_model import parameter_vector, x_from_plan
 from formulations.rti import linearised_stages
 from formulations.stage_model import SMOOTHING
 from mpc_hunt import CaptureProblem, CaptureSolver
-from mpc_hunt.backends.conic_step import QP_KEYS
-from mpc_hunt.backends.hpipm import HpipmBackend
-from mpc_hunt.plan import shift_plan
+from mpc_hunt.capture.backends.conic_step import QP_KEYS
+from mpc_hunt.capture.backends.hpipm import HpipmBackend
+from mpc_hunt.capture.plan import shift_plan
 
 REPEATS = 5     # each piece is timed this many times per state; the fastest counts (the least disturbed)
 

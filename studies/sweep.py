@@ -1,7 +1,7 @@
 """Random hunts at scale: the default sweep strategies on 500 random hunts (docs/robustness.md).
 
 Runs ``mpc-hunt sweep --hunts 500 --seed 1`` with the default strategies
-(``mpc_hunt.sweep.DEFAULT_STRATEGIES``) and the default scenario ranges into
+(``mpc_hunt.sweep.runner.DEFAULT_STRATEGIES``) and the default scenario ranges into
 ``studies/sweep/sweep.db``, resuming it if it exists; then reruns the first
 ``SAMPLE`` hunts of each strategy ``MEMBERS`` times with every start moved by a
 nanometre (``ensemble.json``: which outcomes a last-bit difference flips, and
@@ -26,15 +26,15 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.cli import main as mpc_hunt
-from mpc_hunt.ensemble import SCALE, band, outside, widened
-from mpc_hunt.machine import describe_machine, load_average, machine_lines
-from mpc_hunt.random_scenario import ScenarioRanges, ranges_to_dict
-from mpc_hunt.recommended import RECOMMENDED
-from mpc_hunt.sweep import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
-from mpc_hunt.sweep_plots import write_plots
-from mpc_hunt.sweep_store import SweepStore
-from mpc_hunt.sweep_summary import summarise, table
+from mpc_hunt.cli.commands import main as mpc_hunt
+from mpc_hunt.world.ensemble import SCALE, band, outside, widened
+from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
+from mpc_hunt.control.recommended import RECOMMENDED
+from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
+from mpc_hunt.sweep.plots import write_plots
+from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.summary import summarise, table
 
 from docs_block import read_block, write_block
 from study_check import check_result
@@ -100,11 +100,11 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], 
              "default strategies and scenario ranges into `sweep.db`, then writes this report and the figures "
              f"from that file, as `mpc-hunt sweep-report sweep.db --plot .` does). Every strategy meets the same "
              f"hunts: hunt i is the scenario `random-{SEED}-i`, drawn by "
-             f"`mpc_hunt.random_scenario.sweep_scenario({SEED}, i)` from the default ranges "
+             f"`mpc_hunt.sweep.random_scenario.sweep_scenario({SEED}, i)` from the default ranges "
              f"(docs/robustness.md): `{json.dumps(ranges)}`. The success rate counts the hunts that can be "
              "captured by definition; the next column leaves out the unreachable ones too (no defender can come within "
              "R_agg of the attacker's undisturbed path before it leaves: lost by any controller, "
-             "`mpc_hunt/reachability.py`). Failures are by cause (docs/robustness.md). One row per hunt, with its "
+             "`mpc_hunt/sweep/reachability.py`). Failures are by cause (docs/robustness.md). One row per hunt, with its "
              "scenario's full parameters, is in `sweep.db` (SQLite).", "",
              "## Results", "", table(summaries), "", *_solve_lines(summaries), *_escape_lines(rows), "",
              "![success by defenders](success_by_n_defenders.png) "
@@ -247,10 +247,10 @@ def check() -> list[str]:
     won = [f"{r['strategy']} hunt {r['index']}" for r in rows if r["outcome"] == "captured" and not r["reachable"]]
     if won:
         errors.append(f"sweep.db: unreachable hunts were captured ({', '.join(won[:3])}): "
-                      "mpc_hunt/reachability.py is wrong")
+                      "mpc_hunt/sweep/reachability.py is wrong")
     best = best_paper_strategy(summaries)
     if best != recommended_label():
-        errors.append(f"mpc_hunt/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "
+        errors.append(f"mpc_hunt/control/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "
                       "most often")
     ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8"))
     if (ensemble["sample"], ensemble["members"], ensemble["scale_m"]) != (SAMPLE, MEMBERS, SCALE):

@@ -11,8 +11,9 @@ import pytest
 
 import formulations
 import mpc_hunt
-from mpc_hunt import CaptureSolver, SolverNotFoundError, registry, solve
-from mpc_hunt.backends.daqp import DaqpBackend
+from mpc_hunt import CaptureSolver, SolverNotFoundError, solve
+from mpc_hunt.capture import registry
+from mpc_hunt.capture.backends.daqp import DaqpBackend
 from conftest import problem_at
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -28,11 +29,19 @@ def _modules() -> list[str]:
 
 def test_every_module_imports_alone_in_a_fresh_interpreter():
     modules = _modules()
-    assert "formulations.nlp" in modules and "mpc_hunt.backends.daqp" in modules and "mpc_hunt.cli" in modules
+    assert "formulations.nlp" in modules and "mpc_hunt.capture.backends.daqp" in modules and "mpc_hunt.cli.commands" in modules
     running = {m: subprocess.Popen([sys.executable, "-c", f"import {m}"], cwd=ROOT, stderr=subprocess.PIPE,
                                    text=True) for m in modules}
     failed = {m: p.communicate()[1].strip().splitlines()[-1:] for m, p in running.items()}
     assert {m: err for m, err in failed.items() if running[m].returncode} == {}
+
+
+def test_the_import_contracts_hold():
+    """The layer order, the formulations' place, solver packages and acyclicity: pyproject.toml's contracts."""
+    run = subprocess.run([str(Path(sys.executable).with_name("lint-imports")), "--no-cache"], cwd=ROOT,
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-1000:]
+    assert "4 kept, 0 broken" in run.stdout
 
 
 def test_import_mpc_hunt_loads_no_solver():

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from conftest import small_scenario
 from mpc_hunt import CaptureProblem, EncirclingController, HuntingStrategy, Observation, evaluate, solve
-from mpc_hunt.attacker import perceives
+from mpc_hunt.world.attacker import perceives
 from strategies import floats
 
 EXAMPLES = settings(deadline=None, max_examples=40)

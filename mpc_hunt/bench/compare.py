@@ -1,0 +1,167 @@
+"""``mpc-hunt compare``: every (formulation, backend) pair over a problem set, scored like a solver benchmark.
+
+Two modes. ``cold``: each problem alone, with a fresh solver. ``closed-loop``:
+each sequence of consecutive states in order, with one solver, warm-started as
+the controller does (the plan it applied, shifted one step, while the same
+defenders are controlled: :func:`mpc_hunt.control.strategy.warm_plan` and
+:func:`~mpc_hunt.control.strategy.applied_plan`). Pairs take turns on each problem (or
+sequence), so that load on the machine falls on all of them alike. A solve's
+all-in time runs from the state handed over to the plan returned, as the
+controller waits for it (posing the problem, the solver, our overhead, the
+evaluator), with any set-up it did taken out and reported apart. Every plan is
+scored by the evaluator (:data:`mpc_hunt.capture.evaluator.OBJECTIVE`). Ctrl-C stops the
+run between two solves and keeps every solve finished so far.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from mpc_hunt.capture import registry
+from mpc_hunt.capture.accuracy import VIOLATION_TOLERANCE
+from mpc_hunt.bench.best_known import MultiStartNLP
+from mpc_hunt.errors import BenchmarkError
+from mpc_hunt.bench.metrics import is_success
+from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
+from mpc_hunt.capture.solver import CaptureSolver
+from mpc_hunt.control.strategy import applied_plan, warm_plan
+
+MODES = ("cold", "closed-loop")
+
+
+@dataclass(frozen=True)
+class SolveRecord:
+    """One solve of one problem by one pair: its status, score and times (seconds)."""
+
+    formulation: str
+    backend: str
+    mode: str
+    horizon: int
+    problem: str
+    status: str
+    success: bool
+    objective: float | None
+    violation: dict[str, float] | None
+    solve_time: float        # all-in, set-up excluded
+    solver_time: float       # inside the solver
+    overhead_time: float     # ours: posing the problem, building data, evaluating
+    setup_time: float
+    iterations: int
+    warm_started: bool
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class CompareRun:
+    """What a run did: its settings, every finished solve and the multi-start references."""
+
+    problem_set: ProblemSet
+    pairs: list[tuple[str, str]]
+    horizons: list[int]
+    modes: list[str]
+    accuracy: str
+    time_limit: float | None
+    starts: int
+    records: list[SolveRecord] = field(default_factory=list)
+    references: dict[tuple[str, int], float | None] = field(default_factory=dict)
+    interrupted: bool = False
+
+    @property
+    def tolerance(self) -> float:
+        return VIOLATION_TOLERANCE[self.accuracy]
+
+
+def planned_solves(problem_set: ProblemSet, pairs: int, horizons: list[int], modes: list[str], starts: int) -> int:
+    """How many solves a full run makes, the reference's starts included: a progress bar's total."""
+    cold = len(problem_set.problems) if "cold" in modes else 0
+    loop = sum(map(len, problem_set.sequences().values())) if "closed-loop" in modes else 0
+    return (starts * len(problem_set.problems) + pairs * (cold + loop)) * len(horizons)
+
+
+def check_pairs(asked: list[str] | None) -> list[tuple[str, str]]:
+    """``formulation:backend`` or ``formulation`` (all its installed backends); None: every installed pair."""
+    if not asked:
+        return registry.pairs()
+    out: list[tuple[str, str]] = []
+    for text in asked:
+        formulation, _, backend = text.partition(":")
+        if backend:
+            chosen = [(formulation, registry.check_pair(formulation, backend))]
+        else:
+            registry.formulation_class(formulation)
+            chosen = [p for p in registry.pairs() if p[0] == formulation]
+        out += [p for p in chosen if p not in out]
+    return out
+
+
+def _solve(run: CompareRun, solver: CaptureSolver, mode: str, entry: ProblemEntry, horizon: int,
+           applied: tuple | None) -> tuple[SolveRecord, tuple]:
+    t0 = time.perf_counter()
+    problem = run.problem_set.problem(entry, horizon)
+    warm = warm_plan(applied, problem) if mode == "closed-loop" else None
+    solution = solver.solve(problem, warm)
+    elapsed = time.perf_counter() - t0
+    plan, _ = applied_plan(problem, solution, warm)
+    all_in = max(elapsed - solution.setup_time, 0.0)
+    record = SolveRecord(solver.formulation.name, solver.backend.name, mode, horizon, entry.id,
+                         solution.status.value, is_success(solution.success, solution.violation, run.tolerance),
+                         solution.objective, solution.violation, all_in, solution.solver_time,
+                         max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.iterations,
+                         solution.warm_started)
+    return record, (problem.signature, plan)
+
+
+def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver:
+    return CaptureSolver(*pair, time_limit=run.time_limit, accuracy=run.accuracy)
+
+
+def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:
+    reference = MultiStartNLP(run.starts, run.tolerance)
+    for entry in run.problem_set.problems:
+        run.references[(entry.id, horizon)] = reference.best(run.problem_set.problem(entry, horizon), rng, tick)
+    if "cold" in run.modes:
+        for entry in run.problem_set.problems:
+            for pair in run.pairs:
+                run.records.append(_solve(run, _new_solver(run, pair), "cold", entry, horizon, None)[0])
+                tick()
+    if "closed-loop" in run.modes:
+        for sequence in run.problem_set.sequences().values():
+            for pair in run.pairs:
+                solver, applied = _new_solver(run, pair), None
+                for entry in sequence:
+                    record, applied = _solve(run, solver, "closed-loop", entry, horizon, applied)
+                    run.records.append(record)
+                    tick()
+
+
+def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons: list[int], modes: list[str],
+                rng: np.random.Generator, *, accuracy: str = "default", time_limit: float | None = None,
+                starts: int = 4, progress: Callable[[], None] | None = None) -> CompareRun:
+    """Run every pair over ``problem_set`` at each horizon in each mode; ``progress()`` is called per solve."""
+    if not problem_set.problems:
+        raise BenchmarkError("problems: the selection is empty")
+    unknown = [m for m in modes if m not in MODES]
+    if unknown:
+        raise BenchmarkError(f"modes: unknown {unknown[0]!r} (known: {', '.join(MODES)})")
+    if accuracy not in VIOLATION_TOLERANCE:
+        raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
+    if starts < 1:
+        raise BenchmarkError(f"starts: must be at least 1, got {starts}")
+    untimed = [b for _, b in pairs if time_limit is not None and not registry.backend_class(b).TIME_LIMIT]
+    if untimed:
+        raise BenchmarkError(f"time_limit: backend {untimed[0]} takes none; leave it out of the pairs or drop the "
+                             f"time limit")
+    run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts)
+    tick = progress or (lambda: None)
+    try:
+        for horizon in run.horizons:
+            _horizon(run, horizon, rng, tick)
+    except KeyboardInterrupt:
+        run.interrupted = True
+    return run

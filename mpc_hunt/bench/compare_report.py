@@ -1,0 +1,150 @@
+"""A compare run written out: a terminal table, JSON, CSV and a Markdown report with its figures."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+from mpc_hunt.capture.accuracy import accuracy_table
+from mpc_hunt.bench.compare import CompareRun
+from mpc_hunt.bench.compare_plots import FIGURES, plot_compare
+from mpc_hunt.bench.compare_rows import best_known, gap, rows as score_rows
+from mpc_hunt.capture.evaluator import OBJECTIVE, VIOLATION_NAMES
+from mpc_hunt.bench.machine import machine_lines
+
+
+def settings(run: CompareRun, **extra) -> dict:
+    """What was run: the problems (ids, in order), pairs, horizons, modes, accuracy and the caller's extras."""
+    return {"problems": [p.id for p in run.problem_set.problems],
+            "pairs": [f"{f}:{b}" for f, b in run.pairs], "horizons": run.horizons, "modes": run.modes,
+            "accuracy": run.accuracy, "violation_tolerance_m": run.tolerance, "time_limit_s": run.time_limit,
+            "reference_starts": run.starts, **extra}
+
+
+def document(run: CompareRun, machine: dict, rows: list[dict], extra: dict, solves: bool = False) -> dict:
+    """The JSON object: ``machine``, ``settings``, ``interrupted``, ``rows`` (and, if asked, the best known
+    objectives and every solve with its gap)."""
+    out = {"machine": machine, "settings": settings(run, **extra), "interrupted": run.interrupted, "rows": rows}
+    if solves:
+        best = best_known(run)
+        out["best_known"] = [{"problem": p, "horizon": n, "objective": v} for (p, n), v in best.items()]
+        out["solves"] = [{**r.to_dict(), "gap": gap(r, best)} for r in run.records]
+    return out
+
+
+def _clean(value):
+    """JSON has no inf or NaN: None instead."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _clean(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_clean(v) for v in value]
+    return value
+
+
+def dumps(doc: dict) -> str:
+    return json.dumps(_clean(doc))
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    with open(path, "w", newline="", encoding="utf-8") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]) if rows else ["formulation"])
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _ms(x: float | None) -> str:
+    return "–" if x is None else f"{x * 1e3:.2f}"
+
+
+def _g(x: float | None, fmt: str = ".2g") -> str:
+    return "–" if x is None else format(x, fmt)
+
+
+COLUMNS = ("pair", "mode", "N", "success", "median ms", "p95 ms", "sgm ms", "solver ms", "ours ms", "iters",
+           "gap med", "gap p95", "max viol m")
+
+
+def _cells(r: dict) -> list[str]:
+    return [f"{r['formulation']}/{r['backend']}", r["mode"], str(r["horizon"]), f"{r['success_rate']:.0%}",
+            _ms(r["solve_time_median_s"]), _ms(r["solve_time_p95_s"]), _ms(r["solve_time_shifted_geomean_s"]),
+            _ms(r["solver_time_median_s"]), _ms(r["overhead_time_median_s"]), _g(r["iterations_median"], "g"),
+            _g(r["optimality_gap_median"]), _g(r["optimality_gap_p95"]), _g(r["max_violation"], ".1e")]
+
+
+def table(rows: list[dict]) -> str:
+    """The rows as a plain-text table for the terminal."""
+    body = [list(COLUMNS)] + [_cells(r) for r in rows]
+    widths = [max(len(line[i]) for line in body) for i in range(len(COLUMNS))]
+    return "\n".join("  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths)))
+                     for line in body)
+
+
+def markdown_table(rows: list[dict]) -> list[str]:
+    lines = ["| " + " | ".join(COLUMNS) + " |", "| --- | --- | " + " | ".join("---:" for _ in COLUMNS[2:]) + " |"]
+    return lines + ["| " + " | ".join(_cells(r)) + " |" for r in rows]
+
+
+def violation_table(rows: list[dict]) -> list[str]:
+    lines = ["| pair | mode | N | statuses | " + " | ".join(VIOLATION_NAMES) + " |",
+             "| --- | --- | ---: | --- | " + " | ".join("---:" for _ in VIOLATION_NAMES) + " |"]
+    for r in rows:
+        lines.append(f"| {r['formulation']}/{r['backend']} | {r['mode']} | {r['horizon']} | {r['statuses']} | "
+                     + " | ".join(_g(r[f"max_violation_{n}"], ".1e") for n in VIOLATION_NAMES) + " |")
+    return lines
+
+
+def unsolved(run: CompareRun) -> list[str]:
+    """Problems no pair solved (by the success rule), per horizon and mode."""
+    lines = []
+    for horizon in run.horizons:
+        for mode in run.modes:
+            seen: dict[str, bool] = {}
+            for r in run.records:
+                if r.horizon == horizon and r.mode == mode:
+                    seen[r.problem] = seen.get(r.problem, False) or r.success
+            none = [p for p, ok in seen.items() if not ok]
+            if none:
+                lines.append(f"- N = {horizon}, {mode}: {', '.join(none)}")
+    return lines
+
+
+def write_report(run: CompareRun, machine: dict, folder: Path, command: str, extra: dict) -> list[Path]:
+    """``README.md``, ``results.json`` (every solve included) and the figures, in ``folder``."""
+    folder.mkdir(parents=True, exist_ok=True)
+    rows = score_rows(run)
+    (folder / "results.json").write_text(dumps(document(run, machine, rows, extra, solves=True)) + "\n",
+                                         encoding="utf-8")
+    figures = plot_compare(run, rows, folder)
+    sequences = run.problem_set.sequences()
+    text = [
+        "# Capture-stage formulations × backends, scored on the true problem", "",
+        f"Regenerate with `{command}`. Every figure below comes from that one run"
+        + (" (**interrupted**: only the solves finished are scored)." if run.interrupted else "."), "",
+        "## Machine", "", *machine_lines(machine), "",
+        "## What was run", "",
+        f"- Problems: {len(run.problem_set.problems)} ({len(sequences)} sequences of consecutive states, "
+        f"{sum(map(len, sequences.values()))} states, for the closed-loop mode); "
+        f"{run.problem_set.description}",
+        f"- Pairs: {', '.join(f'{f}/{b}' for f, b in run.pairs)}",
+        f"- Horizons: {', '.join(map(str, run.horizons))}; modes: {', '.join(run.modes)}",
+        f"- Accuracy `{run.accuracy}`: a solve succeeds with a success status and every true violation "
+        f"≤ {run.tolerance:g} m; time limit: {'none' if run.time_limit is None else f'{run.time_limit:g} s'}; "
+        f"reference: multi-start NLP, {run.starts} starts", "",
+        "## The score", "", "Every plan is scored by the evaluator (`mpc_hunt/capture/evaluator.py`):", "", "```",
+        OBJECTIVE, "```", "", "Accuracy levels:", "", accuracy_table(), "",
+        "Metrics: see docs/benchmarks.md in the repository. Times are all-in, per solve "
+        "(the state handed over to the plan returned), set-up apart; `sgm` is the shifted geometric mean "
+        "(shift 10 ms); `solver`: inside the solver; `ours`: our overhead.", "",
+        "## Results", "", *markdown_table(rows), "",
+        "Largest true violation of each family (m), and the solvers' statuses:", "", *violation_table(rows), "",
+    ]
+    missing = unsolved(run)
+    if missing:
+        text += ["Problems that no pair solved by the success rule:", "", *missing, ""]
+    text += ["## Figures", ""] + [f"![{name}]({name})" for name in FIGURES] + [""]
+    (folder / "README.md").write_text("\n".join(text), encoding="utf-8")
+    return [folder / "README.md", folder / "results.json", *figures]

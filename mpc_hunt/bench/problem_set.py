@@ -1,0 +1,284 @@
+"""Capture-stage problems as files: states of a hunt, with the scenarios they belong to.
+
+A problem set is one JSON document that any tool can read::
+
+    {"format": "mpc-hunt problem set", "version": 1, "description": "...",
+     "scenarios": {"<name>": {<the scenario, as in its TOML file>}},
+     "problems": [{"id": "...", "scenario": "<name>", "time": t,
+                   "attacker": [x, y], "defenders": [[x, y], ...],
+                   "sequence": "<id of a run of consecutive states>" or null,
+                   "tags": ["default", ...]}]}
+
+A problem is a state; the horizon is chosen when it is solved
+(:meth:`ProblemSet.problem`). Problems of one ``sequence`` are consecutive
+closed-loop states (one time step apart), in order, for warm-started solving.
+Tags are free strings; the builders use ``default``, ``closed-loop``,
+``random``, ``case:<family>`` and ``active:<family>`` (docs/benchmarks.md). The
+package ships the set ``default`` (``mpc_hunt/bench/problems/default.json``), which
+holds, tagged ``default``, the state ``mpc-hunt solve`` starts from for each
+built-in scenario. Files are written one problem per line
+(:func:`dumps_problem_set`), so they stay small and diff well.
+"""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+from dataclasses import dataclass, replace
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.errors import ScenarioError, UnknownNameError
+from mpc_hunt.world.scenario import Scenario, check_positions, checked_number, checked_vector, key_shown, shown
+from mpc_hunt.world.scenario_io import read_input_file, scenario_from_dict, scenario_to_dict
+
+FORMAT, VERSION = "mpc-hunt problem set", 1
+_ENTRY_KEYS = frozenset({"id", "scenario", "sequence", "tags"})     # beside a state's own keys
+STATE_FORM = '{"time": t, "attacker": [x, y], "defenders": [[x, y], ...]}'
+
+
+@dataclass(frozen=True)
+class HuntState:
+    """Where everybody is at one time of a hunt."""
+
+    time: float
+    attacker: np.ndarray
+    defenders: np.ndarray
+
+    def to_dict(self) -> dict:
+        return {"time": self.time, "attacker": self.attacker.tolist(), "defenders": self.defenders.tolist()}
+
+
+@dataclass(frozen=True)
+class ProblemEntry:
+    """One state of a problem set, named by ``id``, in scenario ``scenario``."""
+
+    id: str
+    scenario: str
+    state: HuntState
+    sequence: str | None = None
+    tags: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class ProblemSet:
+    """Problems and the scenarios they refer to."""
+
+    scenarios: dict[str, Scenario]
+    problems: tuple[ProblemEntry, ...]
+    description: str = ""
+
+    def problem(self, entry: ProblemEntry, horizon: int = 1) -> CaptureProblem:
+        """The capture problem the strategy poses at ``entry``'s state, over ``horizon`` steps."""
+        scenario = self.scenarios[entry.scenario]
+        return CaptureProblem.at_state(scenario, entry.state.attacker, entry.state.defenders, horizon,
+                                       active=~scenario.failed(entry.state.time))
+
+    def tagged(self, tag: str) -> list[ProblemEntry]:
+        return [p for p in self.problems if tag in p.tags]
+
+    def sequences(self) -> dict[str, list[ProblemEntry]]:
+        """The consecutive runs, each in order, by sequence id."""
+        runs: dict[str, list[ProblemEntry]] = {}
+        for entry in self.problems:
+            if entry.sequence is not None:
+                runs.setdefault(entry.sequence, []).append(entry)
+        return runs
+
+    def default_state(self, scenario: str) -> HuntState | None:
+        """The state tagged ``default`` of ``scenario``, if the set holds one."""
+        found = [p.state for p in self.tagged("default") if p.scenario == scenario]
+        return found[0] if found else None
+
+    def units(self) -> list[tuple[ProblemEntry, ...]]:
+        """The set in order as units that are solved together: each sequence whole, each other problem alone."""
+        out: list[tuple[ProblemEntry, ...]] = []
+        runs = self.sequences()
+        for entry in self.problems:
+            if entry.sequence is None:
+                out.append((entry,))
+            elif runs[entry.sequence][0] is entry:
+                out.append(tuple(runs[entry.sequence]))
+        return out
+
+    def select(self, tags: tuple[str, ...] = (), limit: int | None = None,
+               rng: np.random.Generator | None = None) -> "ProblemSet":
+        """The problems carrying every tag in ``tags``; then, if ``limit`` is given, at most that many, drawn
+        with ``rng`` (sequences taken whole or not at all), in the set's order."""
+        kept = [p for p in self.problems if all(t in p.tags for t in tags)]
+        chosen = replace(self, problems=tuple(kept))
+        if limit is None:
+            return chosen
+        if rng is None:
+            raise ValueError("rng: a numpy.random.Generator is needed to draw a limited selection")
+        units = chosen.units()
+        picked, count = set(), 0
+        for i in rng.permutation(len(units)):
+            if count + len(units[i]) <= limit:
+                picked.add(int(i))
+                count += len(units[i])
+        return replace(self, problems=tuple(p for i, unit in enumerate(units) if i in picked for p in unit))
+
+    def describe(self) -> list[str]:
+        """A summary: description, scenarios, counts by tag and the sequences."""
+        tags = Counter(t for p in self.problems for t in p.tags)
+        runs = self.sequences()
+        lines = [self.description, f"{len(self.problems)} problems in {len(self.scenarios)} scenarios; "
+                                   f"{len(runs)} sequences ({sum(map(len, runs.values()))} problems)"]
+        lines += [f"tag {tag}: {count}" for tag, count in sorted(tags.items())]
+        return lines
+
+    def to_dict(self) -> dict:
+        return {"format": FORMAT, "version": VERSION, "description": self.description,
+                "scenarios": {name: scenario_to_dict(s) for name, s in self.scenarios.items()},
+                "problems": [{"id": p.id, "scenario": p.scenario, **p.state.to_dict(), "sequence": p.sequence,
+                              "tags": list(p.tags)} for p in self.problems]}
+
+
+def dumps_problem_set(problem_set: ProblemSet) -> str:
+    """The JSON text of a set: scenarios indented, each problem on one line."""
+    data = problem_set.to_dict()
+    problems = data.pop("problems")
+    head = json.dumps(data, indent=1, ensure_ascii=False)[:-2]
+    body = ",\n  ".join(json.dumps(p, ensure_ascii=False) for p in problems)
+    return f"{head},\n \"problems\": [\n  {body}\n ]\n}}\n" if problems else f"{head},\n \"problems\": []\n}}\n"
+
+
+def read_json(path: Path) -> object:
+    """A JSON file's data; every way it can fail to be JSON is a one-line ScenarioError naming the file."""
+    text = read_input_file(path)
+    if not text.strip():
+        raise ScenarioError(f"{path}: empty (expected a JSON object {STATE_FORM})")
+
+    def unique_keys(pairs: list[tuple[str, object]]) -> dict:
+        keys = [k for k, _ in pairs]
+        repeated = sorted({k for k in keys if keys.count(k) > 1})
+        if repeated:
+            raise ScenarioError(f"{key_shown(repeated[0])}: given more than once (in {path})")
+        return dict(pairs)
+
+    try:
+        return json.loads(text, object_pairs_hook=unique_keys)
+    except json.JSONDecodeError as exc:
+        raise ScenarioError(f"{path}: not valid JSON ({exc})") from None
+    except ScenarioError:
+        raise
+    except ValueError:  # Python converts whole numbers of at most sys.get_int_max_str_digits() digits
+        raise ScenarioError(f"{path}: not valid JSON (a whole number with too many digits)") from None
+    except RecursionError:
+        raise ScenarioError(f"{path}: not valid JSON (arrays or objects nested too deeply)") from None
+
+
+def state_from_dict(data: object, scenario: Scenario, other_keys: frozenset[str] = frozenset()) -> HuntState:
+    """A state checked against ``scenario`` as its starts are; a ScenarioError names the field.
+
+    Rejected: unknown keys (beyond ``other_keys``), a position that is not
+    [x, y] of finite numbers within the input limits, a negative time, the
+    wrong number of defenders, a robot inside an obstacle or on another
+    robot's spot, the attacker outside the scenario's arena.
+    """
+    if not isinstance(data, dict):
+        raise ScenarioError(f"expected a JSON object {STATE_FORM}, got {type(data).__name__}")
+    known = {"time", "attacker", "defenders"} | other_keys
+    unknown = sorted(set(data) - known)
+    if unknown:
+        raise ScenarioError(f"{key_shown(unknown[0])}: unknown key (known: {', '.join(sorted(known))})")
+    for key in ("attacker", "defenders"):
+        if key not in data:
+            raise ScenarioError(f"{key}: missing")
+    time = checked_number(data.get("time", 0.0), "time", non_negative=True, unit=" s")
+    p_a = checked_vector(data["attacker"], "attacker")
+    n = len(scenario.defenders)
+    raw = data["defenders"]
+    if not isinstance(raw, list) or len(raw) != n:
+        got = f"{len(raw)}" if isinstance(raw, list) else shown(raw)
+        raise ScenarioError(f"defenders: expected {n} positions [x, y] for scenario {shown(scenario.name)}, "
+                            f"got {got}")
+    p_d = [checked_vector(p, f"defenders[{i}]") for i, p in enumerate(raw)]
+    check_positions(scenario, ("attacker", p_a), [(f"defenders[{i}]", p) for i, p in enumerate(p_d)])
+    return HuntState(time, np.array(p_a), np.array(p_d, dtype=float).reshape(n, 2))
+
+
+def problem_set_from_dict(data: object, source: str = "<data>") -> ProblemSet:
+    """Build a problem set from plain data (as read from JSON); every key is checked."""
+    if not isinstance(data, dict) or data.get("format") != FORMAT:
+        raise ScenarioError(f"{source}: not a problem set (expected \"format\": \"{FORMAT}\")")
+    if data.get("version") != VERSION:
+        raise ScenarioError(f"{source}: version: expected {VERSION}, got {data.get('version')!r}")
+    raw_scenarios = data.get("scenarios")
+    if not isinstance(raw_scenarios, dict):
+        raise ScenarioError(f"{source}: scenarios: expected an object of scenarios by name")
+    scenarios = {}
+    for name, raw in raw_scenarios.items():
+        try:
+            scenarios[name] = scenario_from_dict(raw)
+        except ScenarioError as exc:
+            raise ScenarioError(f"{source}: scenarios.{name}: {exc}") from None
+    raw_problems = data.get("problems")
+    if not isinstance(raw_problems, list):
+        raise ScenarioError(f"{source}: problems: expected a list")
+    problems = []
+    for i, raw in enumerate(raw_problems):
+        where = f"{source}: problems[{i}]"
+        if not isinstance(raw, dict):
+            raise ScenarioError(f"{where}: expected an object")
+        name = raw.get("scenario")
+        if name not in scenarios:
+            raise ScenarioError(f"{where}: scenario: {name!r} is not among the set's scenarios")
+        tags = raw.get("tags", [])
+        if not (isinstance(tags, list) and all(isinstance(t, str) for t in tags)):
+            raise ScenarioError(f"{where}: tags: expected a list of strings")
+        try:
+            state = state_from_dict(raw, scenarios[name], _ENTRY_KEYS)
+        except ScenarioError as exc:
+            raise ScenarioError(f"{where}: {exc}") from None
+        sequence = raw.get("sequence")
+        if sequence is not None and not isinstance(sequence, str):
+            raise ScenarioError(f"{where}: sequence: expected a string or null")
+        problems.append(ProblemEntry(str(raw.get("id", i)), name, state, sequence, tuple(tags)))
+    ids = [p.id for p in problems]
+    if len(set(ids)) < len(ids):
+        repeated = next(i for i in ids if ids.count(i) > 1)
+        raise ScenarioError(f"{source}: problems: id {repeated!r} appears more than once")
+    return ProblemSet(scenarios, tuple(problems), str(data.get("description", "")))
+
+
+def load_problem_set(path: str | Path) -> ProblemSet:
+    """Read a problem set file (JSON, see the module's docstring)."""
+    path = Path(path)
+    return problem_set_from_dict(read_json(path), str(path))
+
+
+def save_problem_set(problem_set: ProblemSet, path: str | Path) -> None:
+    """Write a set as JSON (:func:`dumps_problem_set`); :func:`load_problem_set` reads it back unchanged."""
+    Path(path).write_text(dumps_problem_set(problem_set), encoding="utf-8")
+
+
+def builtin_problem_sets() -> list[str]:
+    """Names of the problem sets shipped with the package."""
+    files = resources.files("mpc_hunt.bench.problems")
+    return sorted(p.name.removesuffix(".json") for p in files.iterdir() if p.name.endswith(".json"))
+
+
+def builtin_problem_set(name: str = "default") -> ProblemSet:
+    """A problem set shipped with the package."""
+    files = resources.files("mpc_hunt.bench.problems")
+    available = builtin_problem_sets()
+    if name not in available:
+        raise UnknownNameError(f"unknown problem set {name!r} (available: {', '.join(available)})")
+    return problem_set_from_dict(json.loads(files.joinpath(f"{name}.json").read_text(encoding="utf-8")),
+                                 f"problem set {name!r}")
+
+
+def resolve_problem_set(name_or_file: str | Path) -> ProblemSet:
+    """A shipped set by name, or a problem set file."""
+    text = str(name_or_file)
+    if text in builtin_problem_sets():
+        return builtin_problem_set(text)
+    if text.endswith(".json") or Path(text).exists():
+        return load_problem_set(text)
+    raise UnknownNameError(f"unknown problem set {text!r}: neither shipped ({', '.join(builtin_problem_sets())}) "
+                           f"nor an existing .json file")

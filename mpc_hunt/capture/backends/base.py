@@ -1,0 +1,158 @@
+"""The backend contract: what every backend takes, what it gives back, and the lifecycle they share.
+
+A backend is a persistent solver object (osqp-style). The first ``solve`` of a
+new ``key`` sets a solver up; later solves of that key only update numbers in
+place and warm-start. :class:`Backend` owns that lifecycle (the cache by key,
+the set-up counter, the timing, non-finite answers); a concrete backend
+supplies ``setup``, ``update`` and ``run``, and declares which problem kinds it
+``accepts`` and which Python package it needs. It imports that package on first
+use, so listing or importing backends never loads a solver.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, replace
+from typing import Any, Callable, ClassVar
+
+import numpy as np
+import scipy.sparse as sp
+
+from mpc_hunt.errors import SolverError, UnknownNameError
+from mpc_hunt.capture.solution import Solution, Status, WarmStart
+
+ACCURACIES = ("default", "high", "low")
+CACHE_SIZE = 16   # structures kept set up per backend (the controlled set changes during a hunt)
+
+
+@dataclass(frozen=True)
+class NLPData:
+    """A parametric NLP: ``build()`` returns CasADi's {'x','p','f','g'} once per ``key``.
+
+    ``kind`` is ``"nlp"``, or ``"ocp-nlp"`` when x and g come stage by stage
+    (x_0, u_0, …; gap_0, c_0, …) and the NLP is re-solved each control step from
+    the shifted previous solution, which a backend may use to pick its settings.
+    """
+
+    key: tuple
+    build: Callable[[], dict]
+    p: np.ndarray
+    lbx: np.ndarray
+    ubx: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+    kind: str = "nlp"
+
+
+@dataclass(frozen=True)
+class QPData:
+    """min ½xᵀPx + qᵀx  s.t.  l ≤ Ax ≤ u, with the same sparsity for every ``key`` (``kind = "qp"``).
+
+    ``P`` holds the upper triangle. The objective is also given in its
+    least-squares form |J x + c|² + lin·x (P = 2JᵀJ, q = 2Jᵀc + lin), which the
+    CVXPY backend uses as an independent check of the assembled matrices.
+    ``cones`` lists (start, size) of rows that form second-order cones
+    (t ≥ |v|, with row ``start`` holding t): such data is of kind ``"socp"``.
+    """
+
+    key: tuple
+    P: sp.csc_matrix
+    q: np.ndarray
+    A: sp.csc_matrix
+    l: np.ndarray
+    u: np.ndarray
+    J: np.ndarray
+    c: np.ndarray
+    lin: np.ndarray
+    cones: tuple[tuple[int, int], ...] = ()
+
+
+@dataclass(frozen=True)
+class StageQPData:
+    """A stage-structured QP as a CasADi graph (kind ``ocp-qp``), which the backend closes into one Function.
+
+    ``build()`` (once per ``key``) returns the graph: ``inputs`` (CasADi
+    symbols), ``z`` (the QP's variable, stage by stage: x_0, u_0, …, x_N),
+    ``qp`` (``h``, ``g``, ``a``, ``lba``, ``uba``, ``lbx``, ``ubx`` of
+    min ½zᵀHz + gᵀz s.t. lba ≤ Az ≤ uba, lbx ≤ z ≤ ubx, as expressions of the
+    inputs; the rows stage by stage: gap_0, c_0, …, c_N), ``plan`` and
+    ``cost`` (expressions of the inputs and z: what a solve returns as ``x``,
+    and the model's objective) and ``stages`` = (N, nx, nu, ng), the sizes of
+    each stage. ``args`` are the inputs' numbers at this solve.
+    """
+
+    key: tuple
+    build: Callable[[], Any]
+    args: tuple[np.ndarray, ...]
+
+
+class Backend:
+    """Base of every backend: set up once per key, then update and solve.
+
+    ``time_limit`` (s) is handed to the solver as its own limit (a backend whose
+    solver has none says so with ``TIME_LIMIT = False`` and refuses one); ``accuracy``
+    (``default``, ``high``, ``low``) picks the tolerances of the class's
+    ``ACCURACY`` table; other keyword options go to the solver as they are.
+    """
+
+    name: ClassVar[str]
+    accepts: ClassVar[tuple[str, ...]]      # problem kinds: "nlp", "qp", "socp", "ocp-nlp", "ocp-qp"
+    package: ClassVar[str]                  # the solver's import name
+    install: ClassVar[str]                  # what to pip install
+    ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}
+    TIME_LIMIT: ClassVar[bool] = True       # whether the solver takes a wall-clock limit
+
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
+        if accuracy not in ACCURACIES:
+            raise UnknownNameError(f"unknown accuracy {accuracy!r} (available: {', '.join(ACCURACIES)})")
+        if time_limit is not None and not self.TIME_LIMIT:
+            raise SolverError(f"backend {self.name} takes no time limit (its solver has none); drop the time limit "
+                              f"or pick another backend")
+        self.time_limit = time_limit
+        self.accuracy = accuracy
+        self.options = {**self.ACCURACY.get(accuracy, {}), **options}
+        self.setups = 0
+        self._cache: OrderedDict[tuple, Any] = OrderedDict()
+
+    # What a concrete backend supplies.
+    def setup(self, data) -> Any:
+        """Build the solver for ``data``'s structure; returns the state kept for that key."""
+        raise NotImplementedError
+
+    def update(self, state: Any, data) -> None:
+        """Hand the solver kept in ``state`` the new numbers of ``data`` (same structure)."""
+
+    def run(self, state: Any, data, warm: WarmStart) -> Solution:
+        """Solve; a :class:`Solution` with status, message, x, formulation_objective, iterations, duals."""
+        raise NotImplementedError
+
+    # The shared lifecycle.
+    def solve(self, data, warm: WarmStart | None = None) -> Solution:
+        setup_time = 0.0
+        state = self._cache.get(data.key)
+        t0 = time.perf_counter()
+        try:
+            if state is None:
+                state = self.setup(data)
+                setup_time = time.perf_counter() - t0
+                self.setups += 1
+                self._cache[data.key] = state
+                if len(self._cache) > CACHE_SIZE:
+                    self._cache.popitem(last=False)
+                t0 = time.perf_counter()
+            else:
+                self._cache.move_to_end(data.key)
+                self.update(state, data)
+            result = self.run(state, data, warm or WarmStart())
+        except (RuntimeError, ValueError, ArithmeticError) as exc:  # the solver library gave up
+            self._cache.pop(data.key, None)
+            message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            return Solution(status=Status.ERROR, message=message, backend=self.name,
+                            solver_time=time.perf_counter() - t0, setup_time=setup_time)
+        solver_time = time.perf_counter() - t0
+        if result.x is not None and not np.all(np.isfinite(result.x)):
+            result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
+        if result.x is None and result.status.usable:
+            result = replace(result, status=Status.ERROR, message=f"{result.message} (no solution returned)")
+        return replace(result, backend=self.name, solver_time=solver_time, setup_time=setup_time)

@@ -1,0 +1,116 @@
+"""Clarabel (interior point), persistent: set up once per structure, then its update API.
+
+``l ≤ Ax ≤ u`` becomes ``b − A'x ∈ K``: each finite upper bound a row of the
+non-negative cone (u − Ax ≥ 0), each finite lower bound one more (Ax − l ≥ 0),
+and the rows named in ``QPData.cones`` second-order cones (b = u). Presolve is
+off so that the data can be updated in place. An interior-point method does not
+take a starting point: Clarabel is never warm-started (reported as such).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from mpc_hunt.capture.backends.base import Backend, QPData
+from mpc_hunt.capture.solution import Solution, Status, WarmStart
+
+_STATUS = {
+    "Solved": Status.OPTIMAL,
+    "AlmostSolved": Status.OPTIMAL_INACCURATE,
+    "PrimalInfeasible": Status.INFEASIBLE,
+    "AlmostPrimalInfeasible": Status.INFEASIBLE,
+    "DualInfeasible": Status.INFEASIBLE,
+    "AlmostDualInfeasible": Status.INFEASIBLE,
+    "MaxIterations": Status.ITERATION_LIMIT,
+    "MaxTime": Status.TIME_LIMIT,
+}
+
+
+class ConicLayout:
+    """How the rows of ``A`` map onto stacked, signed rows ``b − A'x ∈ K`` (fixed per structure)."""
+
+    def __init__(self, data: QPData):
+        m, n = data.A.shape
+        cone_rows = np.zeros(m, dtype=bool)
+        for start, size in data.cones:
+            cone_rows[start:start + size] = True
+        upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
+        lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
+        self.nonnegative = len(upper) + len(lower)
+        # Each stacked row: the source row of A and its sign (+1: u − Ax ≥ 0 or a cone row, −1: Ax − l ≥ 0).
+        rows = [(r, 1.0) for r in upper] + [(r, -1.0) for r in lower] \
+            + [(r, 1.0) for start, k in data.cones for r in range(start, start + k)]
+        self.rows = len(rows)
+        self.b_index = np.array([r for r, _ in rows], dtype=int)
+        self.b_sign = np.array([sign for _, sign in rows])
+        coo = data.A.tocoo()
+        by_row: dict[int, list[tuple[int, float]]] = {}
+        for dest, (r, sign) in enumerate(rows):
+            by_row.setdefault(int(r), []).append((dest, sign))
+        dst, col, src, sgn = [], [], [], []
+        for k, (r, c) in enumerate(zip(coo.row, coo.col)):
+            for dest, sign in by_row.get(int(r), []):
+                dst.append(dest); col.append(c); src.append(k); sgn.append(sign)
+        # The order of A.data in COO equals its CSC order (tocoo keeps stored entries in place).
+        ids = sp.csc_matrix((np.arange(1, len(dst) + 1, dtype=float), (dst, col)), shape=(self.rows, n))
+        order = ids.data.astype(int) - 1
+        self.pattern = ids
+        self.src = np.array(src, dtype=int)[order]
+        self.sign = np.array(sgn)[order]
+        self.cone_sizes = tuple(k for _, k in data.cones)
+
+    def values(self, data: QPData) -> np.ndarray:
+        """The stacked matrix's non-zeros, in its CSC order (what ``update`` takes)."""
+        return self.sign * data.A.data[self.src]
+
+    def matrix(self, data: QPData) -> sp.csc_matrix:
+        A = self.pattern.copy()
+        A.data = self.values(data)
+        return A
+
+    def vector(self, data: QPData) -> np.ndarray:
+        return self.b_sign * np.where(self.b_sign > 0, data.u[self.b_index], data.l[self.b_index])
+
+
+class ClarabelBackend(Backend):
+    """Persistent Clarabel: ``update(P, q, A, b)`` between solves of one structure."""
+
+    name = "clarabel"
+    accepts = ("qp", "socp")
+    package = "clarabel"
+    install = "clarabel"
+    ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+                "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
+
+    def setup(self, data: QPData):
+        import clarabel
+
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.presolve_enable = False
+        settings.input_sparse_dropzeros = False
+        settings.max_iter = 200
+        for key, value in self.options.items():
+            setattr(settings, key, value)
+        if self.time_limit is not None:
+            settings.time_limit = float(self.time_limit)
+        layout = ConicLayout(data)
+        cones = ([clarabel.NonnegativeConeT(layout.nonnegative)] if layout.nonnegative else []) \
+            + [clarabel.SecondOrderConeT(k) for k in layout.cone_sizes]
+        solver = clarabel.DefaultSolver(data.P, data.q, layout.matrix(data), layout.vector(data), cones, settings)
+        return solver, layout
+
+    def update(self, state, data: QPData) -> None:
+        solver, layout = state
+        solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
+
+    def run(self, state, data: QPData, warm: WarmStart) -> Solution:
+        solver, _ = state
+        sol = solver.solve()
+        raw = str(sol.status).split(".")[-1]
+        x = np.array(sol.x)
+        return Solution(status=_STATUS.get(raw, Status.ERROR), message=raw, x=x,
+                        formulation_objective=float(sol.obj_val), iterations=int(sol.iterations),
+                        duals=WarmStart(x, np.array(sol.z)),
+                        extras={"reported_solve_time_s": float(sol.solve_time)})

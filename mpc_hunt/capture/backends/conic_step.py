@@ -1,0 +1,73 @@
+"""What the backends of stage-structured QPs share: the formulation's graph closed by a CasADi ``conic``.
+
+A formulation of kind ``ocp-qp`` hands over a CasADi graph (``StageQPData``):
+the QP's data as expressions of its inputs, and the plan as an expression of
+the inputs and the QP's solution. ``setup`` closes it, once per structure,
+into one Function
+
+    step(inputs…, λ_x0, λ_a0) → (plan, model objective, λ_x, λ_a)
+
+with the backend's ``conic`` plugin in the middle, so a control step is one
+call from Python: linearisation, QP and read-back run inside CasADi, with no
+Python loop and no matrix built in Python. A subclass names its ``plugin``
+and its options (the stage sizes, for a structure-exploiting solver). The
+duals of the previous step are the next step's starting guess, for solvers
+that take one.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import numpy as np
+
+from mpc_hunt.capture.backends.base import Backend, StageQPData
+from mpc_hunt.capture.solution import Solution, Status, WarmStart
+
+QP_KEYS = ("h", "g", "a", "lba", "uba", "lbx", "ubx")
+
+
+class ConicStepBackend(Backend):
+    """Base class: closes an ``ocp-qp`` graph with ``ca.conic(plugin)`` into one step Function."""
+
+    accepts = ("ocp-qp",)
+    package = "casadi"
+    install = "casadi"
+    TIME_LIMIT = False      # the step is one CasADi call; its conic plugins take no wall-clock limit
+    plugin: ClassVar[str]
+
+    def conic_options(self, graph: Any) -> dict:
+        """The plugin's options for this graph (tolerances come from ``self.options``)."""
+        return {}
+
+    def setup(self, data: StageQPData):
+        import casadi as ca
+
+        graph = data.build()
+        qp = [graph.qp[key] for key in QP_KEYS]
+        linearise = ca.Function("linearise", graph.inputs, qp)
+        read = ca.Function("read", graph.inputs + [graph.z], [graph.plan, graph.cost])
+        solver = ca.conic("capture", self.plugin, {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
+                          {"error_on_fail": False, **self.conic_options(graph)})
+        inputs = [ca.MX.sym(f"input{i}", s.sparsity()) for i, s in enumerate(graph.inputs)]
+        lam_x0, lam_a0 = ca.MX.sym("lam_x0", qp[0].shape[0]), ca.MX.sym("lam_a0", qp[2].shape[0])
+        # Every output requested: some plugins write their duals unconditionally.
+        solution = solver(**dict(zip(QP_KEYS, linearise(*inputs))), lam_x0=lam_x0, lam_a0=lam_a0)
+        plan, cost = read(*inputs, solution["x"])
+        return ca.Function("step", inputs + [lam_x0, lam_a0],
+                           [plan, cost, solution["lam_x"], solution["lam_a"], solution["cost"]])
+
+    def run(self, step, data: StageQPData, warm: WarmStart) -> Solution:
+        nz, na = step.size1_in(len(data.args)), step.size1_in(len(data.args) + 1)
+        lam_x0 = warm.z if warm.z is not None and len(warm.z) == nz else np.zeros(nz)
+        lam_a0 = warm.y if warm.y is not None and len(warm.y) == na else np.zeros(na)
+        plan, cost, lam_x, lam_a, _ = step(*data.args, lam_x0, lam_a0)
+        stats = step.stats()
+        status = Status.OPTIMAL if stats.get("success") else self.failure(stats)
+        return Solution(status=status, message=str(stats.get("return_status", "")), x=np.array(plan).ravel(),
+                        formulation_objective=float(cost), iterations=int(stats.get("iter_count", 0)),
+                        duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()))
+
+    def failure(self, stats: dict) -> Status:
+        """The status of a solve the plugin did not report as a success."""
+        return Status.ERROR

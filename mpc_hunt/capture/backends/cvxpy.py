@@ -1,0 +1,102 @@
+"""The QP written in CVXPY with parameters: a reference for the hand-assembled matrices.
+
+It takes the least-squares form of the objective (|J x + c|² + lin·x) and the
+constraint rows, never ``P`` or ``q``, so an assembly mistake in those shows up
+as a disagreement. The problem is built once per structure (DPP), then only
+parameter values change. ``solver`` reaches any solver CVXPY has installed; the
+default, Clarabel, is an accurate interior-point method, which a reference needs.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from mpc_hunt.capture.backends.base import Backend, QPData
+from mpc_hunt.capture.solution import Solution, Status, WarmStart
+
+
+@dataclass
+class _Problem:
+    """The parametric CVXPY problem and its parameters."""
+
+    problem: object
+    x: object
+    J: object
+    c: object
+    lin: object
+    A: object
+    b: object    # u on upper and cone rows
+    bl: object   # l on lower rows
+
+
+class CvxpyBackend(Backend):
+    """Persistent CVXPY problem with parameters J, c, lin, A, l, u."""
+
+    name = "cvxpy"
+    accepts = ("qp", "socp")
+    package = "cvxpy"
+    install = "cvxpy"
+    ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+                "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
+
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", solver: str = "CLARABEL",
+                 **options):
+        super().__init__(time_limit, accuracy if solver == "CLARABEL" else "default", **options)
+        self.solver = solver
+
+    def setup(self, data: QPData) -> _Problem:
+        import cvxpy as cp
+
+        m, n = data.A.shape
+        cone_rows = np.zeros(m, dtype=bool)
+        for start, size in data.cones:
+            cone_rows[start:start + size] = True
+        upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
+        lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
+        x, J, c, lin = cp.Variable(n), cp.Parameter(data.J.shape), cp.Parameter(data.c.shape), cp.Parameter(n)
+        A, b, bl = cp.Parameter((m, n)), cp.Parameter(m), cp.Parameter(m)
+        constraints = []
+        if len(upper):
+            constraints.append(A[upper] @ x <= b[upper])
+        if len(lower):
+            constraints.append(A[lower] @ x >= bl[lower])
+        for start, size in data.cones:
+            constraints.append(cp.SOC(b[start] - A[start] @ x, b[start + 1:start + size] - A[start + 1:start + size] @ x))
+        objective = cp.Minimize(cp.sum_squares(J @ x + c) + lin @ x)
+        state = _Problem(cp.Problem(objective, constraints), x, J, c, lin, A, b, bl)
+        self.update(state, data)
+        return state
+
+    def update(self, state: _Problem, data: QPData) -> None:
+        state.J.value, state.c.value, state.lin.value = data.J, data.c, data.lin
+        state.A.value = data.A.toarray()
+        state.b.value = np.where(np.isfinite(data.u), data.u, 0.0)
+        state.bl.value = np.where(np.isfinite(data.l), data.l, 0.0)
+
+    def run(self, state: _Problem, data: QPData, warm: WarmStart) -> Solution:
+        import cvxpy as cp
+
+        if warm.x is not None:
+            state.x.value = warm.x
+        kwargs = {"warm_start": True, "solver": self.solver, **self.options}
+        if self.time_limit is not None and self.solver in ("CLARABEL", "OSQP"):
+            kwargs["time_limit"] = self.time_limit
+        try:
+            with warnings.catch_warnings():  # "may be inaccurate" is reported through the status
+                warnings.simplefilter("ignore", UserWarning)
+                state.problem.solve(**kwargs)
+        except (cp.error.SolverError, cp.error.DCPError) as exc:
+            raise RuntimeError(str(exc)) from None
+        status = {cp.OPTIMAL: Status.OPTIMAL, cp.OPTIMAL_INACCURATE: Status.OPTIMAL_INACCURATE,
+                  cp.INFEASIBLE: Status.INFEASIBLE, cp.INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+                  cp.UNBOUNDED: Status.INFEASIBLE, cp.UNBOUNDED_INACCURATE: Status.INFEASIBLE,
+                  cp.USER_LIMIT: Status.ITERATION_LIMIT}.get(state.problem.status, Status.ERROR)
+        stats = state.problem.solver_stats
+        x = None if state.x.value is None else np.array(state.x.value)
+        objective = None if x is None else float(state.problem.value - data.c @ data.c)
+        return Solution(status=status, message=f"{state.problem.status} ({stats.solver_name})", x=x,
+                        formulation_objective=objective, iterations=int(stats.num_iters or 0),
+                        duals=WarmStart(x), extras={"reported_solve_time_s": float(stats.solve_time or 0.0)})

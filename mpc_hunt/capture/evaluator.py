@@ -1,0 +1,107 @@
+"""The referee: scores any plan on the true nonlinear capture problem.
+
+Every formulation and backend is scored here, in plain NumPy, independently of
+the CasADi expressions the formulations are built from, by one objective
+(:data:`OBJECTIVE`) and one violation per constraint family, in metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.world.geometry import norm, saturate
+
+VIOLATION_NAMES = ("motion_limit", "equal_distance", "obstacle_safety", "separation", "attacker_distance")
+TERM_NAMES = ("force", "ring", "move", "equal_distance")
+
+OBJECTIVE = """\
+J(X) = sum over steps k = 1..N of
+         w_f |u'_a - u_a,k|^2 / v_a^2                           (force, Eq. 12)
+       + w_r sum_i (|r_ai,k| - R_hunt/2)^2 / R_hunt^2           (ring: closes the circle)
+       + w_m sum_i |p_di,k - p_di,k-1|^2 / r_d,i^2              (move: smoothness)
+       + w_eq sum_i | |r_ai,k|^2 - q_k | / R_hunt^2             (equal_distance: Eq. 14's L1 penalty)
+over the controlled defenders i, with q_k the median of |r_ai,k|^2 over i (the q_k that
+minimises the last term, as the NLP's elastic Eq. 14 does), the attacker p_a,k propagated
+through its APF dynamics (Eq. 2) under the plan, and w_f = 1, w_r = 0.1, w_m = 1e-3,
+w_eq = 1e3. Reported beside it, never inside it: each constraint family's largest
+violation in metres: motion_limit (Eq. 13, |p_di,k - p_di,k-1| - r_d), equal_distance
+(Eq. 14, max_i |r_ai,k| - min_i |r_ai,k|), obstacle_safety (Eq. 15, r_o + R_safe -
+|p_di,k - c_o|), separation (d_sep - |p_di,k - p_dj,k|) and attacker_distance
+(d_min - |r_ai,k|)."""
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """The true objective of a plan, its terms, the attacker's predicted path and each constraint's violation."""
+
+    objective: float
+    violation: dict[str, float]
+    attacker_path: np.ndarray  # (N, 2): the attacker at steps 1..N
+    terms: dict[str, float]    # the objective's terms (TERM_NAMES), summed over the horizon
+    margin: dict[str, float]   # each family's smallest distance to its bound, in metres (< 0: violated;
+                               # inf: no such constraint; Eq. 14's is −(max − min) distance, ≤ 0)
+
+    @property
+    def max_violation(self) -> float:
+        return max(self.violation.values())
+
+
+def equal_distance_penalty(squared_distances: np.ndarray) -> float:
+    """Σ_i | |r_ai|² − q | at its minimiser q, the median of the squared distances (Eq. 14's L1 form).
+
+    For an array of steps (one row per step), the sum over every step, each with its own median.
+    """
+    sq = np.asarray(squared_distances, dtype=float)
+    return float(np.sum(np.abs(sq - np.median(sq, axis=-1, keepdims=True))))
+
+
+def _largest(values: np.ndarray) -> float:
+    return float(np.max(values)) if values.size else -np.inf
+
+
+def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:
+    """Score ``plan`` (shape (N, n, 2): every defender at steps 1..N) on ``problem`` (see :data:`OBJECTIVE`).
+
+    The attacker is propagated step by step (Eq. 2 depends on the step before);
+    everything else is computed for the whole horizon at once.
+    """
+    plan = np.asarray(plan, dtype=float)
+    N, n = problem.horizon, len(problem.controlled)
+    if plan.shape != (N, n, 2):
+        raise ValueError(f"plan: expected shape {(N, n, 2)}, got {plan.shape}")
+    w, hunt, a = problem.weights, problem.scenario.hunt, problem.scenario.attacker
+    c = problem.controlled
+    r_d = np.where(c, problem.step_limits, 0.0)
+    centres, radii = problem.scenario.obstacle_centres, problem.scenario.obstacle_radii
+
+    path, forces = np.empty((N, 2)), np.empty((N, 2))
+    p_a = problem.attacker_step(problem.attacker_position, problem.defender_positions)
+    for k in range(N):
+        path[k] = p_a
+        forces[k] = problem.resultant(p_a, plan[k])
+        p_a = p_a + problem.time_step * saturate(forces[k], a.max_speed)     # Eq. 2, as attacker_step
+    dist = norm(path[:, None, :] - plan)                                      # (N, n)
+    steps = plan - np.concatenate([problem.defender_positions[None], plan[:-1]])
+    mine = dist[:, c]
+    force_error = problem.desired_velocity - forces
+    terms = {
+        "force": w.force * float(np.sum(force_error**2)) / a.max_speed**2,
+        "ring": w.ring * float(np.sum(((mine - problem.ring_radius) / hunt.hunt_radius) ** 2)),
+        "move": w.move * float(np.sum(np.sum(steps[:, c] ** 2, axis=2) / r_d[c] ** 2)),
+        "equal_distance": w.equal_distance * equal_distance_penalty(mine**2) / hunt.hunt_radius**2,
+    }
+    apart = norm(plan[:, c][:, :, None, :] - plan[:, None, :, :])            # (N, controlled, n)
+    others = np.arange(n)[None, :] != np.flatnonzero(c)[:, None]
+    worst = {
+        "motion_limit": _largest(norm(steps) - r_d),
+        "equal_distance": _largest(mine.max(axis=1) - mine.min(axis=1)),
+        "obstacle_safety": _largest(radii + hunt.safety_distance
+                                    - norm(plan[:, c][:, :, None, :] - centres[None, None])),
+        "separation": _largest(hunt.min_separation - apart[:, others]),
+        "attacker_distance": _largest(hunt.min_attacker_distance - mine),
+    }
+    violation = {k: max(v, 0.0) for k, v in worst.items()}
+    return Evaluation(sum(terms.values()), violation, path, terms, {k: -v for k, v in worst.items()})

@@ -1,0 +1,94 @@
+"""Formulations and backends by name, imported on first use.
+
+A registry line names the class as ``"module:Class"``; nothing is imported
+until a name is used, so ``import mpc_hunt`` pulls in no solver. What a
+formulation emits (``kind``: ``"nlp"``, ``"qp"``, ``"socp"``) and what a
+backend accepts (``accepts``) decide which pairs work: compatibility is derived,
+never listed. A backend whose solver package is missing is listed as
+unavailable with its install hint.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+from functools import cache
+
+from mpc_hunt.errors import SolverNotFoundError, UnknownNameError
+
+FORMULATIONS = {
+    "nlp": "formulations.nlp:NLPFormulation",
+    "qp": "formulations.qp:QPFormulation",
+    "sqp": "formulations.sqp:SQPFormulation",
+    "socp": "formulations.socp:SOCPFormulation",
+    "ms-nlp": "formulations.ms_nlp:MSNLPFormulation",
+    "rti": "formulations.rti:RTIFormulation",
+}
+
+BACKENDS = {
+    "ipopt": "mpc_hunt.capture.backends.ipopt:IpoptBackend",
+    "osqp": "mpc_hunt.capture.backends.osqp:OsqpBackend",
+    "clarabel": "mpc_hunt.capture.backends.clarabel:ClarabelBackend",
+    "cvxpy": "mpc_hunt.capture.backends.cvxpy:CvxpyBackend",
+    "daqp": "mpc_hunt.capture.backends.daqp:DaqpBackend",
+    "hpipm": "mpc_hunt.capture.backends.hpipm:HpipmBackend",
+}
+
+
+def load_class(table: dict[str, str], what: str, name: str) -> type:
+    """The class a table line names as ``"module:Class"``, imported now; an unknown name lists the table's."""
+    if name not in table:
+        raise UnknownNameError(f"unknown {what} {name!r} (available: {', '.join(table)})")
+    module, cls = table[name].split(":")
+    return getattr(importlib.import_module(module), cls)
+
+
+@cache
+def formulation_class(name: str) -> type:
+    """The formulation registered as ``name``; an unknown name lists the registered ones."""
+    return load_class(FORMULATIONS, "formulation", name)
+
+
+@cache
+def backend_class(name: str) -> type:
+    """The backend registered as ``name`` (its module imports no solver until used)."""
+    return load_class(BACKENDS, "backend", name)
+
+
+def installed(backend: str) -> bool:
+    """Whether the solver package behind ``backend`` can be imported here."""
+    return importlib.util.find_spec(backend_class(backend).package) is not None
+
+
+def install_hint(backend: str) -> str:
+    cls = backend_class(backend)
+    return f"backend {backend!r} needs the Python package {cls.package!r}: pip install {cls.install}"
+
+
+def compatible_backends(formulation: str) -> list[str]:
+    """Every registered backend that accepts what ``formulation`` emits, installed or not."""
+    kind = formulation_class(formulation).kind
+    return [b for b in BACKENDS if kind in backend_class(b).accepts]
+
+
+def pairs(installed_only: bool = True) -> list[tuple[str, str]]:
+    """Every (formulation, backend) that works together (by default, only installed backends)."""
+    return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)]
+
+
+def check_pair(formulation: str, backend: str | None) -> str:
+    """The backend to use with ``formulation`` (its default if ``backend`` is None), checked.
+
+    Raises :class:`UnknownNameError` for an unknown or incompatible name and
+    :class:`SolverNotFoundError` when the backend's package is missing.
+    """
+    cls = formulation_class(formulation)
+    backend = backend or cls.default_backend
+    backend_class(backend)
+    usable = compatible_backends(formulation)
+    if backend not in usable:
+        raise UnknownNameError(f"backend {backend!r} does not solve formulation {formulation!r} "
+                               f"(use one of: {', '.join(usable)})")
+    if not installed(backend):
+        raise SolverNotFoundError(install_hint(backend))
+    return backend

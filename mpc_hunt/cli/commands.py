@@ -1,0 +1,449 @@
+"""The ``mpc-hunt`` command line: simulate, solve, compare, problems, scenarios, backends.
+
+Every name and output path is checked before any work, and every error is one
+line on stderr with exit status 2, never a traceback. Formulations, backends
+and controllers are listed from the registry without importing them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import shlex
+import sys
+from pathlib import Path
+
+from mpc_hunt import __version__
+
+from mpc_hunt.cli import sweep as cli_sweep
+
+from mpc_hunt.capture import registry
+from mpc_hunt.control import controllers
+from mpc_hunt.cli.common import Progress, non_negative_int, positive_float, positive_int
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.control.recommended import PAPER, RECOMMENDED
+from mpc_hunt.world.scenario_io import DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario, resolve_scenario
+
+EXIT_ERROR = 2
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
+ANIMATION_SUFFIXES = (".gif",)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line."""
+
+    def error(self, message: str):  # noqa: D102 - argparse's hook
+        self.exit(EXIT_ERROR, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def _backend_help() -> str:
+    defaults = ", ".join(f"{f}→{registry.formulation_class(f).default_backend}" for f in registry.FORMULATIONS)
+    return f"solver backend (default: the formulation's own: {defaults})"
+
+
+def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> None:
+    p.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
+                   help=f"built-in name ({', '.join(builtin_names())}) or a TOML file (default: {DEFAULT_SCENARIO})")
+    p.add_argument("--formulation", choices=sorted(registry.FORMULATIONS),
+                   help=f"capture-stage formulation (default: {default['formulation']}, {which})")
+    p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
+    p.add_argument("--horizon", type=positive_int, metavar="N",
+                   help="receding horizon in steps (default: 1" + ("" if default["horizon"] == 1 else
+                        f"; {default['horizon']} with the default formulation") + ")")
+    p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
+    p.set_defaults(solver_default=default)
+
+
+def _solver_choice(args) -> tuple[str, str | None, int]:
+    """(formulation, backend, horizon): the command's default capture stage where the flags name none."""
+    default = args.solver_default
+    formulation = args.formulation or default["formulation"]
+    backend = args.backend or (default["backend"] if args.formulation is None else None)
+    return formulation, backend, args.horizon or (default["horizon"] if formulation == default["formulation"] else 1)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
+    parser.add_argument("--version", action="version", version=f"mpc-hunt {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    sim = sub.add_parser("simulate", help="run one closed-loop hunt",
+                         description="Run one closed-loop hunt and report capture, path lengths and clearances. "
+                                     "Progress goes to stderr (not with --json).")
+    _solver_arguments(sim, RECOMMENDED, "the recommended capture stage; the paper's is --formulation nlp "
+                                        "--horizon 1 (docs/robustness.md)")
+    sim.add_argument("--controller", default="paper", choices=sorted(controllers.CONTROLLERS),
+                     help="paper: the paper's strategy with its capture-stage optimisation (default); "
+                          "apf: the traditional potential-field encirclement, no optimisation "
+                          "(--formulation, --backend, --horizon and --time-budget do not apply)")
+    sim.add_argument("--no-prediction", action="store_true",
+                     help="approach the attacker's current position instead of the predicted intercept")
+    sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",
+                     help="per-step limit handed to the capture-stage solver")
+    sim.add_argument("--plot", type=Path, metavar="FILE",
+                     help=f"write the trajectory figure ({', '.join(FIGURE_SUFFIXES)})")
+    sim.add_argument("--animate", type=Path, metavar="FILE.gif", help="write an animation of the hunt")
+
+    solve = sub.add_parser(
+        "solve", help="solve one capture-stage problem",
+        description="Solve one capture-stage problem (Eqs. 12-15) and score it with the shared evaluator. "
+                    "The state is --state FILE, or the scenario's default state: for a built-in scenario the one "
+                    "shipped in the problem set 'default'; for a scenario file the first state of its closed-loop "
+                    "run (paper strategy, prediction on) at which every defender is within R_agg and their "
+                    "distances to the attacker differ by at most 2 r_d (the hunting circle has formed).")
+    _solver_arguments(solve, PAPER, "the paper's one-step problem")
+    solve.add_argument("--state", type=Path, metavar="FILE",
+                       help='JSON state {"attacker": [x, y], "defenders": [[x, y], ...]} to solve at')
+    solve.add_argument("--save-state", type=Path, metavar="FILE", help="write the state solved at as JSON")
+    solve.add_argument("--time-limit", type=positive_float, metavar="SECONDS", help="solver time limit")
+
+    scen = sub.add_parser("scenarios", help="list built-in scenarios, or write one out as TOML",
+                          description="List the built-in scenarios, or write one out as TOML to start from.")
+    scen.add_argument("--write", metavar="NAME", help="print (or with --output, save) this built-in as TOML")
+    scen.add_argument("--output", type=Path, metavar="FILE", help="where --write saves the TOML")
+
+    sub.add_parser("backends", help="list formulations, backends and which pairs work here",
+                   description="List every registered formulation and backend, what each accepts, and whether "
+                               "its solver package is installed (with the install command if not).")
+    _compare_parser(sub)
+    _problems_parser(sub)
+    cli_sweep.add_parsers(sub)
+    return parser
+
+
+def _compare_parser(sub) -> None:
+    from mpc_hunt.capture.accuracy import accuracy_table
+    from mpc_hunt.capture.backends.base import ACCURACIES
+    from mpc_hunt.bench.compare import MODES
+    from mpc_hunt.capture.evaluator import OBJECTIVE
+
+    cmp = sub.add_parser(
+        "compare", help="score formulations x backends over a problem set, like a solver benchmark",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Run every (formulation, backend) pair asked for over a problem set, at each horizon, in two "
+                    "modes: cold (each problem alone, fresh solver) and closed-loop (the set's sequences, "
+                    "warm-started as the controller does). Per pair, mode and horizon: success rate, all-in solve "
+                    "time (median, p95, shifted geometric mean), solver time and our overhead, set-up apart, "
+                    "iterations, optimality gap against the best known, and the largest true violations. "
+                    "A progress bar goes to stderr (not with --json); Ctrl-C stops and keeps the finished solves.",
+        epilog=f"The score of every plan, for every pair:\n\n{OBJECTIVE}\n\nAccuracy levels (the success rule's "
+               f"violation tolerance and what each backend is handed):\n\n{accuracy_table()}\n\n"
+               "Metrics are defined in docs/benchmarks.md.")
+    cmp.add_argument("--problems", default="default", metavar="NAME_OR_FILE",
+                     help="a shipped problem set or a problem set file (default: default; see mpc-hunt problems)")
+    cmp.add_argument("--tag", action="append", default=[], metavar="TAG", help="only problems with this tag "
+                     "(repeat for several, all required)")
+    cmp.add_argument("--limit", type=positive_int, metavar="K",
+                     help="at most K problems, drawn with --seed (sequences kept whole)")
+    cmp.add_argument("--seed", type=non_negative_int, default=0,
+                     help="seed of the draw and of the reference's random starts (default: 0)")
+    cmp.add_argument("--pair", action="append", metavar="FORMULATION[:BACKEND]",
+                     help="a pair to run (a formulation alone: all its installed backends); repeat for several "
+                          "(default: every registered pair whose solver is installed)")
+    cmp.add_argument("--horizon", type=positive_int, nargs="+", default=[1], metavar="N",
+                     help="one or more horizons (default: 1)")
+    cmp.add_argument("--mode", nargs="+", choices=MODES, default=list(MODES), help="default: both")
+    cmp.add_argument("--accuracy", choices=ACCURACIES, default="default", help="default: default")
+    cmp.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
+                     help="handed to each solver call; a failed solve then counts at it in the shifted mean")
+    cmp.add_argument("--starts", type=positive_int, default=4,
+                     help="starts of the reference multi-start NLP (default: 4)")
+    cmp.add_argument("--json", action="store_true", help="print one JSON object (machine, settings, rows)")
+    cmp.add_argument("--csv", type=Path, metavar="FILE.csv", help="also write the rows as CSV")
+    cmp.add_argument("--report", type=Path, metavar="DIR",
+                     help="also write a Markdown report with its figures and every solve (results.json) into DIR")
+    cmp.add_argument("--plot", type=Path, metavar="DIR", help="also write the figures into DIR")
+
+
+def _problems_parser(sub) -> None:
+    prob = sub.add_parser(
+        "problems", help="list, describe or build problem sets",
+        description="Without arguments, list the problem sets shipped with mpc-hunt. With a set (a shipped name or "
+                    "a .json file), describe it, one line per problem. With --build, build a set: each scenario's "
+                    "default state and runs of consecutive capture-stage states from its closed-loop hunt, then "
+                    "random states around random obstacle layouts, each making one constraint family active; the "
+                    "format is documented in docs/benchmarks.md.")
+    prob.add_argument("set", nargs="?", metavar="NAME_OR_FILE", help="the set to describe")
+    prob.add_argument("--build", type=Path, metavar="FILE.json", help="build a set and write it here")
+    prob.add_argument("--scenario", action="append", metavar="NAME_OR_FILE",
+                      help="a scenario whose hunt is sampled; repeat for several (default: every built-in); "
+                           "the first one's robots are the random states' template")
+    prob.add_argument("--every", type=positive_int, default=560, metavar="K",
+                      help="a run starts at every K-th capture-stage state (default: 560)")
+    prob.add_argument("--run-length", type=positive_int, default=4, metavar="L",
+                      help="consecutive states per run (default: 4)")
+    prob.add_argument("--random", type=non_negative_int, default=2, metavar="M",
+                      help="random states per constraint family (default: 2)")
+    prob.add_argument("--seed", type=non_negative_int, default=0, help="seed of the random states (default: 0)")
+
+
+def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
+    """Refuse, before any work, an output path that cannot be written in a supported format."""
+    if path is None:
+        return
+    if path.suffix.lower() not in suffixes:
+        got = f"extension {path.suffix!r}" if path.suffix else "no extension"
+        raise MpcHuntError(f"{option} {path}: {got} (use {', '.join(suffixes)})")
+    if path.is_dir():
+        raise MpcHuntError(f"{option} {path}: is a directory")
+    if not path.parent.is_dir():
+        raise MpcHuntError(f"{option} {path}: folder {path.parent} does not exist")
+
+
+def _controller(args, scenario):
+    prediction = not args.no_prediction
+    if args.controller != "paper":
+        given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
+                                          ("--horizon", args.horizon), ("--time-budget", args.time_budget))
+                 if value is not None]
+        if given:
+            raise MpcHuntError(f"{', '.join(given)}: only with --controller paper "
+                               f"(controller {args.controller!r} solves no capture problem)")
+        return controllers.make_controller(args.controller, scenario, prediction=prediction)
+    formulation, backend, horizon = _solver_choice(args)
+    return controllers.make_controller("paper", scenario, prediction=prediction, formulation=formulation,
+                                    backend=backend, horizon=horizon, time_limit=args.time_budget)
+
+
+def _simulate(args) -> int:
+    from mpc_hunt.sim.simulator import simulate
+
+    if args.controller == "paper":
+        registry.check_pair(*_solver_choice(args)[:2])
+    check_output(args.plot, FIGURE_SUFFIXES, "--plot")
+    check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
+    scenario = resolve_scenario(args.scenario)
+    controller = _controller(args, scenario)
+    with Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
+        result = simulate(scenario, controller, progress=update)
+    report = result.to_dict()
+    # The report goes out before any figure is written, so a failed write loses nothing computed.
+    print(json.dumps(report) if args.json else _summary(result, report, scenario))
+    if args.plot:
+        from mpc_hunt.plots.hunt import plot_hunt
+        plot_hunt(result, scenario, args.plot)
+    if args.animate:
+        from mpc_hunt.plots.animation import animate_hunt
+        animate_hunt(result, scenario, args.animate)
+    if not args.json:
+        for path in (args.plot, args.animate):
+            if path:
+                print(f"wrote {path}")
+    return 0
+
+
+def _summary(result, report: dict, scenario) -> str:
+    stats = report["solve_time"]
+    c = result.controller
+    if c["controller"] == "paper":
+        how = f"capture stage: {c['formulation']} on {c['backend']}, horizon {c['horizon']}"
+    else:
+        how = f"controller: {c['controller']} (no capture-stage optimisation)"
+    lines = [
+        f"scenario {scenario.name}: "
+        + (f"captured at t = {result.capture_time:.1f} s" if result.captured
+           else f"NOT captured ({result.termination.replace('_', ' ')})"),
+        f"{how}; trajectory prediction {'on' if c['prediction'] else 'off'}",
+        "path lengths: " + ", ".join(f"{x:.2f} m" for x in result.path_lengths),
+        f"final hunting radius: {result.final_hunting_radius:.3f} m (R_hunt {scenario.hunt.hunt_radius} m)",
+        "min clearance to an obstacle surface: "
+        + ("no obstacles" if result.min_obstacle_clearance is None else f"{result.min_obstacle_clearance:.3f} m"),
+        "min defender separation: " + ("one defender" if report["min_defender_separation_m"] is None
+                                       else f"{report['min_defender_separation_m']:.3f} m") + "; "
+        f"min attacker distance: {result.min_attacker_distance:.3f} m; steps: {result.steps}",
+    ]
+    if stats["count"]:
+        lines.append(f"capture-stage solves: {stats['count']}, median {stats['median_s'] * 1e3:.2f} ms, "
+                     f"p95 {stats['p95_s'] * 1e3:.2f} ms, max {stats['max_s'] * 1e3:.2f} ms; "
+                     f"failed {result.failed_solves}, fallbacks {result.fallbacks}")
+    return "\n".join(lines)
+
+
+def _state(args, scenario):
+    from mpc_hunt.bench.capture_state import first_formed_circle, load_state
+    from mpc_hunt.bench.problem_set import builtin_problem_set
+
+    if args.state:
+        return load_state(args.state, scenario)
+    if args.scenario in builtin_names():
+        state = builtin_problem_set("default").default_state(scenario.name)
+        if state is not None:
+            return state
+    with Progress(scenario.hunt.time_limit, "finding the default state", quiet=args.json) as update:
+        return first_formed_circle(scenario, progress=update)
+
+
+def _solve(args) -> int:
+    from mpc_hunt.capture.problem import CaptureProblem
+    from mpc_hunt.bench.capture_state import save_state
+    from mpc_hunt.capture.solver import CaptureSolver
+
+    formulation, backend, horizon = _solver_choice(args)
+    solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)
+    scenario = resolve_scenario(args.scenario)
+    state = _state(args, scenario)
+    if args.save_state:
+        save_state(state, args.save_state)
+    problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon,
+                                      active=~scenario.failed(state.time))
+    solution = solver.solve(problem)
+    report = solution.to_dict()
+    report.update(scenario=scenario.name, state=state.to_dict(), horizon=horizon)
+    if args.json:
+        print(json.dumps(report))
+        return 0 if solution.success else 1
+    lines = [f"{solution.formulation} on {solution.backend}, horizon {horizon}, scenario {scenario.name} "
+             f"at t = {state.time:.1f} s: {solution.status.value} ({solution.message})"]
+    if solution.objective is not None:
+        own = "–" if solution.formulation_objective is None else f"{solution.formulation_objective:.6g}"
+        lines.append(f"objective (evaluator): {solution.objective:.6g}; formulation's own: {own}")
+        lines.append("violations (m): " + ", ".join(f"{k} {v:.2e}" for k, v in solution.violation.items()))
+        lines.append("first step: " + "; ".join(f"defender {i}: [{x:.4f}, {y:.4f}]"
+                                                  for i, (x, y) in enumerate(solution.plan[0])))
+    lines.append(f"time: solver {solution.solver_time * 1e3:.2f} ms + overhead {solution.overhead_time * 1e3:.2f} ms "
+                 f"(set-up {solution.setup_time * 1e3:.2f} ms); iterations {solution.iterations}")
+    print("\n".join(lines))
+    return 0 if solution.success else 1
+
+
+def _scenarios(args) -> int:
+    if args.write is None:
+        if args.output:
+            raise MpcHuntError("--output needs --write NAME")
+        for name in builtin_names():
+            scenario = builtin_scenario(name)
+            default = " (default)" if name == DEFAULT_SCENARIO else ""
+            print(f"{name}{default}: {scenario.description}")
+        return 0
+    text = dumps_scenario(resolve_scenario(args.write))
+    if args.output:
+        args.output.write_text(text, encoding="utf-8")
+        print(f"wrote {args.output}")
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+def _backends(args) -> int:
+    for f in registry.FORMULATIONS:
+        cls = registry.formulation_class(f)
+        print(f"formulation {f} (emits {cls.kind}; default backend {cls.default_backend}): "
+              f"{', '.join(registry.compatible_backends(f))}")
+    for b in registry.BACKENDS:
+        cls = registry.backend_class(b)
+        where = "installed" if registry.installed(b) else f"NOT installed: pip install {cls.install}"
+        print(f"backend {b} (accepts {', '.join(cls.accepts)}): {where}")
+    return 0
+
+
+def check_folder(path: Path | None, option: str) -> None:
+    """Refuse, before any work, an output folder that is a file or whose parent does not exist."""
+    if path is not None and (path.exists() and not path.is_dir() or not path.parent.is_dir()):
+        raise MpcHuntError(f"{option} {path}: " + ("is not a folder" if path.exists()
+                                                   else f"folder {path.parent} does not exist"))
+
+
+def _compare(args) -> int:
+    import numpy as np
+
+    from mpc_hunt.bench.compare import check_pairs, planned_solves, run_compare
+    from mpc_hunt.bench.compare_plots import plot_compare
+    from mpc_hunt.bench.compare_report import document, dumps, table, write_csv, write_report
+    from mpc_hunt.bench.compare_rows import rows as score_rows
+    from mpc_hunt.bench.machine import describe_machine, load_average
+    from mpc_hunt.bench.problem_set import resolve_problem_set
+
+    pairs = check_pairs(args.pair)
+    check_output(args.csv, (".csv",), "--csv")
+    check_folder(args.report, "--report")
+    check_folder(args.plot, "--plot")
+    rng = np.random.default_rng(args.seed)
+    problem_set = resolve_problem_set(args.problems).select(tuple(args.tag), args.limit, rng)
+    if not problem_set.problems:
+        raise MpcHuntError(f"--tag {' '.join(args.tag)}: no problem of {args.problems!r} carries every tag")
+    machine = describe_machine()
+    total = planned_solves(problem_set, len(pairs), args.horizon, args.mode, args.starts)
+    with Progress(total, "compare", quiet=args.json, unit="solves") as update:
+        done = itertools.count(1)
+        run = run_compare(problem_set, pairs, args.horizon, args.mode, rng, accuracy=args.accuracy,
+                          time_limit=args.time_limit, starts=args.starts,
+                          progress=(lambda: update(next(done))) if update else None)
+    machine["load_average_end"] = load_average()
+    rows = score_rows(run)
+    extra = {"problem_set": args.problems, "tags": args.tag, "limit": args.limit, "seed": args.seed}
+    print(dumps(document(run, machine, rows, extra)) if args.json else table(rows))
+    if args.csv:
+        write_csv(rows, args.csv)
+    if args.plot:
+        args.plot.mkdir(exist_ok=True)
+        plot_compare(run, rows, args.plot)
+    if args.report:
+        write_report(run, machine, args.report, "mpc-hunt " + shlex.join(args.argv), extra)
+    if run.interrupted:
+        print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.records)} finished solves",
+              file=sys.stderr)
+        return EXIT_ERROR
+    return 0
+
+
+def _problems(args) -> int:
+    from mpc_hunt.bench.problem_set import builtin_problem_set, builtin_problem_sets, resolve_problem_set
+
+    if args.build:
+        if args.set:
+            raise MpcHuntError("--build: give either a set to describe or --build FILE, not both")
+        return _build_problems(args)
+    if args.set is None:
+        for name in builtin_problem_sets():
+            ps = builtin_problem_set(name)
+            print(f"{name}: {len(ps.problems)} problems; {ps.description}")
+        return 0
+    ps = resolve_problem_set(args.set)
+    print("\n".join(ps.describe()))
+    for p in ps.problems:
+        controlled = int(ps.problem(p).controlled.sum())
+        print(f"{p.id}: scenario {p.scenario}, t = {p.state.time:.1f} s, {controlled} controlled"
+              + (f", sequence {p.sequence}" if p.sequence else "") + f"; tags: {', '.join(p.tags) or '-'}")
+    return 0
+
+
+def _build_problems(args) -> int:
+    import numpy as np
+
+    from mpc_hunt.bench.build_problems import build_problem_set
+    from mpc_hunt.bench.problem_set import save_problem_set
+
+    check_output(args.build, (".json",), "--build")
+    scenarios = [resolve_scenario(s) for s in (args.scenario or builtin_names())]
+    ps = build_problem_set(scenarios, np.random.default_rng(args.seed), every=args.every, run_length=args.run_length,
+                           random_per_case=args.random,
+                           description=f"Built by mpc-hunt problems --build (every {args.every}, runs of "
+                                       f"{args.run_length}, {args.random} random states per family, seed "
+                                       f"{args.seed}).")
+    save_problem_set(ps, args.build)
+    print("\n".join(ps.describe()))
+    print(f"wrote {args.build}")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    args.argv = sys.argv[1:] if argv is None else list(argv)
+    command = {"simulate": _simulate, "solve": _solve, "scenarios": _scenarios, "backends": _backends,
+               "compare": _compare, "problems": _problems, **cli_sweep.HANDLERS}[args.command]
+    try:
+        return command(args)
+    except MpcHuntError as exc:
+        print(f"mpc-hunt {args.command}: error: {exc}", file=sys.stderr)
+    except BrokenPipeError:  # the reader went away (e.g. `| head`): nothing left to report
+        return EXIT_ERROR
+    except OSError as exc:
+        print(f"mpc-hunt {args.command}: error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"mpc-hunt {args.command}: interrupted", file=sys.stderr)
+    return EXIT_ERROR
+
+
+if __name__ == "__main__":
+    sys.exit(main())

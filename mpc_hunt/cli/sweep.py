@@ -1,0 +1,121 @@
+"""``mpc-hunt sweep`` and ``mpc-hunt sweep-report``: Monte Carlo hunts, stored and summarised."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from mpc_hunt.cli.common import Progress, non_negative_int, positive_int
+from mpc_hunt.errors import MpcHuntError
+
+
+def add_parsers(sub) -> None:
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES
+
+    sw = sub.add_parser(
+        "sweep", help="run many random hunts for one or more strategies",
+        description="Run --hunts random hunts (mpc_hunt.sweep.random_scenario; ranges from --ranges FILE and --set) for "
+                    "each strategy, on local worker processes or a Dask cluster, streaming one row per hunt into "
+                    "an SQLite file; then print the summary per strategy. A strategy is "
+                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
+                    "paper:qp:daqp:5, apf. "
+                    "Failure causes and the file's columns: docs/robustness.md.")
+    sw.add_argument("--strategy", action="append", metavar="SPEC",
+                    help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
+    sw.add_argument("--hunts", type=positive_int, default=100, help="hunts per strategy (default: 100)")
+    sw.add_argument("--seed", type=non_negative_int, default=0,
+                    help="the sweep's seed (≥ 0); hunt i uses scenario (seed, i)")
+    sw.add_argument("--ranges", type=Path, metavar="FILE", help="TOML file of scenario ranges ([ranges] table)")
+    sw.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
+                    help="override one range, e.g. --set n_defenders=3 --set defender_failure=0.5 (TOML values)")
+    sw.add_argument("--output", type=Path, default=Path("sweep.db"), help="the results file (default: sweep.db)")
+    sw.add_argument("--resume", action="store_true", help="continue the sweep in --output, skipping finished hunts")
+    sw.add_argument("--workers", type=positive_int, help="local worker processes (default: the number of cores)")
+    sw.add_argument("--dask-scheduler", metavar="ADDRESS", help="run on this Dask distributed scheduler instead")
+    sw.add_argument("--json", action="store_true", help="print the summary as JSON")
+    rep = sub.add_parser("sweep-report", help="summarise a sweep's results file",
+                         description="Recompute a sweep's summary, table and plots from its results file alone.")
+    rep.add_argument("file", type=Path)
+    rep.add_argument("--plot", type=Path, metavar="DIR", help="write the figures (PNG) into this folder")
+    rep.add_argument("--json", action="store_true", help="print the summary as JSON")
+
+
+def _ranges(args):
+    import tomllib
+
+    from mpc_hunt.sweep.random_scenario import ScenarioRanges, load_ranges, ranges_with
+
+    ranges = load_ranges(args.ranges) if args.ranges else ScenarioRanges()
+    overrides = {}
+    for item in args.set:
+        field, sep, value = item.partition("=")
+        if not sep:
+            raise MpcHuntError(f"--set {item!r}: expected FIELD=VALUE")
+        try:
+            overrides[field.strip()] = tomllib.loads(f"v = {value}")["v"]
+        except tomllib.TOMLDecodeError:
+            raise MpcHuntError(f"--set {item!r}: the value is not a TOML number or array") from None
+    return ranges_with(ranges, overrides)
+
+
+def sweep(args) -> int:
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Strategy, connect_dask, run_dask, run_local, tasks
+    from mpc_hunt.sweep.store import SweepStore
+    from mpc_hunt.sweep.random_scenario import ranges_to_dict
+
+    strategies = [Strategy.parse(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
+    ranges = _ranges(args)
+    if args.output.is_dir() or not args.output.parent.is_dir():
+        raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
+    arguments = {"strategies": strategies, "hunts": args.hunts, "seed": args.seed, "ranges": ranges_to_dict(ranges)}
+    client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None    # before any file is written
+    store = SweepStore(args.output, arguments, resume=args.resume)
+    todo = tasks(strategies, args.hunts, args.seed, ranges, store.done())
+    rows = run_dask(todo, client) if client else run_local(todo, args.workers)
+    stopped = None
+    with Progress(len(todo), "sweep", quiet=args.json, unit="hunts") as update:
+        try:
+            for count, row in enumerate(rows, 1):
+                store.add(row)
+                if update:
+                    update(count)
+        except KeyboardInterrupt:
+            stopped = "interrupted"
+            rows.close()
+        except MpcHuntError as exc:     # workers or the cluster lost, a scenario that cannot be drawn
+            stopped = f"error: {exc}"
+    code = _report(store.rows(), args.json, None)    # the summary so far, if stopped
+    store.close()
+    if stopped:
+        print(f"mpc-hunt sweep: {stopped}; finished hunts are in {args.output} (continue with --resume)",
+              file=sys.stderr)
+        return 2
+    return code
+
+
+def sweep_report(args) -> int:
+    from mpc_hunt.sweep.store import SweepStore
+
+    store = SweepStore(args.file)
+    rows = store.rows()
+    store.close()
+    if args.plot and not args.plot.is_dir():
+        raise MpcHuntError(f"--plot {args.plot}: not an existing folder")
+    return _report(rows, args.json, args.plot)
+
+
+def _report(rows: list[dict], as_json: bool, plot: Path | None) -> int:
+    from mpc_hunt.sweep.summary import summarise, table
+
+    summaries = summarise(rows)
+    print(json.dumps({"strategies": summaries}) if as_json else table(summaries))
+    if plot:
+        from mpc_hunt.sweep.plots import write_plots
+        for path in write_plots(rows, plot):
+            if not as_json:
+                print(f"wrote {path}")
+    return 0
+
+
+HANDLERS = {"sweep": sweep, "sweep-report": sweep_report}

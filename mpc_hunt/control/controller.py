@@ -1,0 +1,60 @@
+"""What the simulator drives: a controller sees an observation and returns a command.
+
+A controller never sees the world: only the defenders' shared knowledge at
+time t (the UAV's broadcast in the paper's Fig. 2). It may keep memory between
+steps (the plan it applied); a new hunt gets a new controller.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from mpc_hunt.capture.solution import Solution
+
+
+@dataclass(frozen=True)
+class Observation:
+    """What the defenders know at time t."""
+
+    time: float
+    attacker: np.ndarray
+    previous_attacker: np.ndarray | None
+    defenders: np.ndarray
+    failed: np.ndarray | None = None   # (n,) bool: robots that have stopped for good (None: none)
+
+    @property
+    def active(self) -> np.ndarray:
+        """The defenders that can still move."""
+        return np.ones(len(self.defenders), dtype=bool) if self.failed is None else ~self.failed
+
+
+@dataclass(frozen=True)
+class Command:
+    """The defenders' velocities for the next step, and why."""
+
+    velocities: np.ndarray             # (n, 2)
+    capture_stage: np.ndarray          # (n,) bool
+    intercepts: np.ndarray             # (n, 2): approach targets p'_di (NaN where none)
+    solution: Solution | None = None   # the capture-stage solve of this step, if any
+    fallback: bool = False             # the command did not come from a successful solve
+
+
+@runtime_checkable
+class Controller(Protocol):
+    """The defenders' controller: ``command`` each step; ``describe`` for reports."""
+
+    def command(self, obs: Observation) -> Command: ...
+
+    def describe(self) -> dict:
+        """Plain data naming the controller and its settings (``controller`` key first)."""
+        ...
+
+
+def attacker_velocity_estimate(obs: Observation, time_step: float) -> np.ndarray:
+    """Eq. 7's line of motion: the finite difference of the last two observed positions."""
+    if obs.previous_attacker is None:
+        return np.zeros(2)
+    return (obs.attacker - obs.previous_attacker) / time_step

@@ -1,0 +1,15 @@
+"""Controllers by name, imported on first use (the registry's pattern, for the control layer)."""
+
+from __future__ import annotations
+
+from mpc_hunt.capture.registry import load_class
+
+CONTROLLERS = {
+    "paper": "mpc_hunt.control.strategy:HuntingStrategy",
+    "apf": "mpc_hunt.control.encircling:EncirclingController",
+}
+
+
+def make_controller(name: str, scenario, **options):
+    """A fresh controller for ``scenario`` by name (``paper``: the strategy with its capture stage; ``apf``)."""
+    return load_class(CONTROLLERS, "controller", name)(scenario, **options)

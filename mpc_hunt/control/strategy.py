@@ -1,0 +1,104 @@
+"""The paper's hunting strategy as a controller (it never sees how the world is simulated).
+
+Each defender is in the approaching stage (|r_ai| ≥ R_agg: Eq. 6 towards the
+predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions
+come from the capture-stage problem, Eqs. 12–15, solved over a receding
+horizon). The strategy keeps the one memory of the previous plan: the plan it
+applied, handed to the solver, shifted one step, as the next warm start while
+the same defenders are controlled. When a solve fails, the fallback (counted)
+is, in order: the solver's last iterate if the shared evaluator finds it
+feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
+stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not
+differentiable); else the applied plan shifted one step; else holding position,
+which the problem's constraints always allow. The approaching defenders'
+commands pass the separation filter (:mod:`mpc_hunt.world.separation`) against the
+capture-stage defenders' next positions and each other.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mpc_hunt.world import attacker
+from mpc_hunt.world.approach import approach_target, approach_velocity
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
+from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.world.scenario import Scenario
+from mpc_hunt.world.separation import keep_separation
+from mpc_hunt.capture.solution import Solution
+from mpc_hunt.capture.solver import CaptureSolver
+
+FEASIBLE_TOLERANCE = 1e-6
+
+
+def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndarray,
+                      prediction: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Velocities (Eq. 6) and intercepts (Eqs. 7–8) of the ``approaching`` defenders; zero elsewhere."""
+    speeds = scenario.defender_max_speeds
+    velocities = np.zeros_like(obs.defenders)
+    intercepts = np.full_like(obs.defenders, np.nan)
+    v_a = attacker_velocity_estimate(obs, scenario.hunt.time_step)
+    for i in np.flatnonzero(approaching):
+        target = approach_target(obs.attacker, v_a, obs.defenders[i], speeds[i], prediction)
+        intercepts[i] = target
+        others = np.delete(obs.defenders, i, axis=0)
+        velocities[i] = approach_velocity(scenario, obs.defenders[i], target, speeds[i], others)
+    return velocities, intercepts
+
+
+def warm_plan(applied: tuple[tuple, np.ndarray] | None, problem: CaptureProblem) -> np.ndarray | None:
+    """The warm start: the plan applied last step, shifted one step, while the same defenders are controlled."""
+    if applied is not None and applied[0] == problem.signature:
+        return shift_plan(applied[1])
+    return None
+
+
+def applied_plan(problem: CaptureProblem, solution: Solution, warm: np.ndarray | None) -> tuple[np.ndarray, bool]:
+    """The plan applied after a solve, and whether it is a fallback (the order in the module's docstring)."""
+    if solution.success:
+        return solution.plan, False
+    if solution.plan is not None and solution.max_violation <= FEASIBLE_TOLERANCE:
+        return solution.plan, True
+    return (warm if warm is not None else problem.held_plan()), True
+
+
+class HuntingStrategy:
+    """The paper's strategy; the capture stage solved by any formulation and backend."""
+
+    def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",
+                 backend: str | None = None, horizon: int = 1, time_limit: float | None = None,
+                 **solver_options):
+        self.scenario = scenario
+        self.prediction = prediction
+        self.horizon = horizon
+        self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, **solver_options)
+        self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
+
+    def describe(self) -> dict:
+        return {"controller": "paper", "prediction": self.prediction, "formulation": self.solver.formulation.name,
+                "backend": self.solver.backend.name, "horizon": self.horizon}
+
+    def command(self, obs: Observation) -> Command:
+        s = self.scenario
+        capture = attacker.perceives(s, obs.attacker, obs.defenders) & obs.active
+        velocities, intercepts = approach_commands(s, obs, ~capture & obs.active, self.prediction)
+        solution, fallback, planned_next = None, False, obs.defenders
+        if capture.any():
+            problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active)
+            solution, plan, fallback = self._capture(problem)
+            velocities[capture] = (plan[0][capture] - obs.defenders[capture]) / s.hunt.time_step
+            planned_next = plan[0]
+        else:
+            self._applied = None
+        velocities = keep_separation(obs.defenders, velocities, ~capture & obs.active, planned_next, s.hunt.time_step,
+                                     s.defender_max_speeds, s.hunt.min_separation)
+        return Command(velocities, capture, intercepts, solution, fallback)
+
+    def _capture(self, problem: CaptureProblem):
+        """Solve the capture problem; returns (solution, the plan applied, whether it is a fallback)."""
+        warm = warm_plan(self._applied, problem)
+        solution = self.solver.solve(problem, warm)
+        plan, fallback = applied_plan(problem, solution, warm)
+        self._applied = (problem.signature, plan)
+        return solution, plan, fallback

@@ -1,0 +1,125 @@
+"""The closed loop: the world integrates Eqs. 1–2; the controller only observes and commands.
+
+Each step of length T: the controller sees the state at t; every defender moves
+at its commanded velocity capped at its max speed (Eq. 1); the attacker moves
+at its resultant (Eq. 9 plus its nominal intent) capped at its max speed
+(Eq. 2), both evaluated at the state at t (explicit Euler). A hunt ends when
+the success test (Eqs. 4–5) has held for ``hold_time``, at ``time_limit``, or
+if the state stops being finite, when the attacker leaves the scenario's arena
+(if it has one), or when ``until`` (if given) says so of an observation. The
+same scenario always gives the same result.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from mpc_hunt.world import attacker
+from mpc_hunt.world.geometry import norm, saturate
+from mpc_hunt.sim.hunt_result import HuntResult
+from mpc_hunt.world.hunting_circle import success_test
+from mpc_hunt.world.scenario import Scenario
+from mpc_hunt.world.arena import attacker_escaped
+from mpc_hunt.control.controller import Controller, Observation
+from mpc_hunt.control.strategy import HuntingStrategy
+
+
+def simulate(scenario: Scenario, controller: Controller | None = None, *, prediction: bool = True,
+             until: Callable[[Observation], bool] | None = None,
+             progress: Callable[[float], None] | None = None) -> HuntResult:
+    """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT).
+
+    ``until`` stops the run (termination ``"stopped"``) before the first
+    observation it returns true for; that observation is the last recorded state.
+    ``progress``, if given, is called with the simulated time after each step.
+    """
+    controller = controller or HuntingStrategy(scenario, prediction=prediction)
+    hunt = scenario.hunt
+    T = hunt.time_step
+    max_steps = int(math.ceil(hunt.time_limit / T - 1e-9))
+    hold_steps = int(math.ceil(hunt.hold_time / T - 1e-9))
+    speeds = scenario.defender_max_speeds
+    centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
+
+    p_a = np.array(scenario.attacker.start, dtype=float)
+    p_d = scenario.defender_starts.copy()
+    attacker_path, defender_paths, stages, intercepts = [p_a.copy()], [p_d.copy()], [], []
+    solve_times, iterations = [], []
+    failed = fallbacks = held = streak = longest_streak = 0
+    previous = None
+    termination = "time_limit"
+    for step in range(max_steps):
+        stopped = scenario.failed(step * T)        # robots that failed stand still for good
+        observation = Observation(step * T, p_a.copy(), previous, p_d.copy(), stopped if stopped.any() else None)
+        if until is not None and until(observation):
+            termination = "stopped"
+            break
+        cmd = controller.command(observation)
+        if cmd.solution is not None:
+            solve_times.append(cmd.solution.solve_time)
+            iterations.append(cmd.solution.iterations)
+            failed += not cmd.solution.success
+            streak = 0 if cmd.solution.success else streak + 1
+            longest_streak = max(longest_streak, streak)
+        fallbacks += cmd.fallback
+        velocity = attacker.velocity(scenario, p_a, p_d)
+        previous = p_a.copy()
+        p_d = p_d + T * saturate(np.where(stopped[:, None], 0.0, cmd.velocities), speeds)
+        p_a = p_a + T * velocity
+        attacker_path.append(p_a.copy()); defender_paths.append(p_d.copy())
+        stages.append(cmd.capture_stage); intercepts.append(cmd.intercepts)
+        if not (np.all(np.isfinite(p_a)) and np.all(np.isfinite(p_d))):
+            termination = "non_finite_state"
+            break
+        if attacker_escaped(scenario, p_a):
+            termination = "attacker_escaped"
+            break
+        held = held + 1 if success_test(p_a, p_d, centres, radii, hunt.hunt_radius,
+                                        hunt.centre_tolerance).holds else 0
+        if progress is not None:
+            progress((step + 1) * T)
+        if held >= hold_steps:
+            termination = "captured"
+            break
+    return _result(scenario, controller, np.array(attacker_path), np.array(defender_paths), np.array(stages),
+                   np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks,
+                   longest_streak)
+
+
+def _result(scenario, controller, attacker, defenders, stages, intercepts, termination, held,
+            solve_times, iterations, failed, fallbacks, longest_streak) -> HuntResult:
+    hunt = scenario.hunt
+    T = hunt.time_step
+    K = len(attacker) - 1
+    n = defenders.shape[1]
+    finite = np.all(np.isfinite(attacker), axis=1) & np.all(np.isfinite(defenders), axis=(1, 2))
+    a, d = attacker[finite], defenders[finite]
+    centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
+    steps = np.diff(d, axis=0)
+    path_lengths = norm(steps).sum(axis=0) if len(d) > 1 else np.zeros(n)
+    final = success_test(a[-1], d[-1], centres, radii, hunt.hunt_radius, hunt.centre_tolerance)
+    clearance = attacker_clearance = None
+    if len(radii):
+        clearance = float(np.min(norm(d[:, :, None, :] - centres[None, None]) - radii))
+        attacker_clearance = float(np.min(norm(a[:, None, :] - centres[None]) - radii))
+    separation = None
+    if n > 1:
+        gaps = norm(d[:, :, None, :] - d[:, None, :, :])
+        gaps[:, np.arange(n), np.arange(n)] = np.inf
+        separation = float(gaps.min())
+    captured = termination == "captured"
+    return HuntResult(
+        scenario=scenario.name, controller=controller.describe(),
+        times=np.arange(K + 1) * T, attacker=attacker, defenders=defenders,
+        capture_stage=stages.reshape(K, n), intercepts=intercepts.reshape(K, n, 2),
+        termination=termination, captured=captured,
+        capture_time=(K - held + 1) * T if captured else None,
+        path_lengths=path_lengths, final_hunting_radius=final.radius,
+        min_obstacle_clearance=clearance, min_defender_separation=separation,
+        min_attacker_distance=float(np.min(norm(a[:, None, :] - d))),
+        attacker_min_obstacle_clearance=attacker_clearance,
+        solve_times=np.array(solve_times), solve_iterations=np.array(iterations, dtype=int),
+        failed_solves=failed, fallbacks=fallbacks, longest_failure_streak=longest_streak)

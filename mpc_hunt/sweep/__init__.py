@@ -1,0 +1,10 @@
+"""Random hunts at scale: random scenarios, reachability, the sweep on local processes or Dask, its results file,
+the failure taxonomy and the summary."""
+
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
+from mpc_hunt.sweep.runner import Hunt, Strategy, run_hunt, run_local
+from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.summary import summarise
+
+__all__ = ["Hunt", "ScenarioRanges", "Strategy", "SweepStore", "run_hunt", "run_local", "summarise",
+           "sweep_scenario"]

@@ -1,0 +1,48 @@
+"""Hunts that no controller can win: every defender is too far to reach the attacker in time.
+
+Until a defender comes within R_agg of the attacker, the attacker does not
+perceive it (Eq. 9 sums over the defenders within R_agg) and follows its
+undisturbed path, set by its nominal intent and the obstacles alone (Eq. 2).
+Until one comes within R_hunt, the success test cannot hold (Eqs. 4–5: every
+member within R_hunt). A defender covers at most v_i·T per step, in any
+direction (obstacles only lengthen its way). So if, along the undisturbed path
+a_0 … a_K, up to the step K at which the attacker leaves the arena or the time
+limit ends, every defender i keeps |p_i(0) − a_k| − max(R_agg, R_hunt) > v_i·k·T,
+then the attacker never sees a defender and the hunt fails whatever the
+defenders do. Such a hunt is *unreachable*; the converse does not hold (a
+reachable hunt may still be lost by every controller).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+import numpy as np
+
+from mpc_hunt.world import attacker
+from mpc_hunt.world.arena import attacker_escaped
+from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.scenario import Scenario
+
+
+def undisturbed_path(scenario: Scenario) -> Iterator[np.ndarray]:
+    """The attacker's positions a_0, a_1, … with no defender in sight, until it leaves the arena or time runs out."""
+    T = scenario.hunt.time_step
+    nobody = np.empty((0, 2))
+    p = np.array(scenario.attacker.start, dtype=float)
+    yield p
+    for _ in range(int(math.ceil(scenario.hunt.time_limit / T - 1e-9))):
+        p = p + T * attacker.velocity(scenario, p, nobody)
+        yield p
+        if attacker_escaped(scenario, p) or not np.all(np.isfinite(p)):
+            return
+
+
+def reachable(scenario: Scenario) -> bool:
+    """Can some defender, at full speed in a straight line, come within max(R_agg, R_hunt) of the
+    attacker's undisturbed path in time (see the module's docstring)? False: the hunt cannot be won."""
+    reach = max(scenario.attacker.perception_radius, scenario.hunt.hunt_radius)
+    starts, speeds = scenario.defender_starts, scenario.defender_max_speeds
+    T = scenario.hunt.time_step
+    return any(np.any(norm(a - starts) - reach <= speeds * k * T) for k, a in enumerate(undisturbed_path(scenario)))

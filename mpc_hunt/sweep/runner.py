@@ -1,0 +1,248 @@
+"""Monte Carlo sweeps: many random hunts for one or more strategies, on local processes or a Dask cluster.
+
+A strategy is written ``controller[:formulation[:backend[:horizon]]]``, e.g.
+``paper:nlp:ipopt:1`` (the paper's), ``paper:qp:daqp:5`` or ``apf``. Hunt i of
+a sweep with seed s uses the scenario ``random_scenario.sweep_scenario(s, i,
+ranges)`` for every strategy, so strategies meet the same hunts. Each finished
+hunt is one row (:func:`run_hunt`), stored at once (:mod:`mpc_hunt.sweep.store`),
+so an interrupted sweep loses nothing finished and resumes where it stopped.
+
+A worker that dies loses only the hunts it was running. On local processes a
+death breaks the whole pool: the hunts then running go to a new pool, and after
+``MAX_WORKER_DEATHS`` deaths the sweep stops (:class:`SweepStopped`). On Dask the
+scheduler reruns them; a hunt whose workers died too often (Dask's
+``allowed-failures``) is a row with cause ``error``.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from collections import deque
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from typing import Generator, Iterator
+
+import numpy as np
+
+from mpc_hunt.capture import registry
+from mpc_hunt.control import controllers
+from mpc_hunt.world.ensemble import perturbed
+from mpc_hunt.errors import MpcHuntError, SweepStopped
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
+from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
+from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.sweep.outcome import failure_cause
+
+# The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
+# Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
+# (paper:nlp:ipopt:1) stalls at IPOPT's iteration limit on the field's kink in many random hunts, at up
+# to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
+DEFAULT_STRATEGIES = ("paper:ms-nlp:ipopt:1", "paper:rti:hpipm:5", "apf")
+MAX_WORKER_DEATHS = 3
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """A controller and, for the paper's, its capture-stage solver."""
+
+    controller: str
+    formulation: str | None = None
+    backend: str | None = None
+    horizon: int | None = None
+
+    @classmethod
+    def parse(cls, text: str) -> "Strategy":
+        parts = text.split(":")
+        if len(parts) > 4 or not parts[0]:
+            raise MpcHuntError(f"--strategy {text!r}: expected controller[:formulation[:backend[:horizon]]]")
+        controller = parts[0]
+        if controller not in controllers.CONTROLLERS:
+            raise MpcHuntError(f"--strategy {text!r}: unknown controller {controller!r} "
+                               f"(available: {', '.join(controllers.CONTROLLERS)})")
+        if controller != "paper":
+            if len(parts) > 1:
+                raise MpcHuntError(f"--strategy {text!r}: controller {controller!r} takes no solver settings")
+            return cls(controller)
+        formulation = parts[1] if len(parts) > 1 and parts[1] else "nlp"
+        backend = registry.check_pair(formulation, parts[2] if len(parts) > 2 and parts[2] else None)
+        try:
+            horizon = int(parts[3]) if len(parts) > 3 else 1
+        except ValueError:
+            horizon = 0
+        if horizon < 1:
+            raise MpcHuntError(f"--strategy {text!r}: the horizon must be a whole number ≥ 1")
+        return cls(controller, formulation, backend, horizon)
+
+    @property
+    def label(self) -> str:
+        if self.controller != "paper":
+            return self.controller
+        return f"paper:{self.formulation}:{self.backend}:{self.horizon}"
+
+    def controller_for(self, scenario):
+        if self.controller != "paper":
+            return controllers.make_controller(self.controller, scenario)
+        return controllers.make_controller("paper", scenario, formulation=self.formulation, backend=self.backend,
+                                        horizon=self.horizon)
+
+
+@dataclass(frozen=True)
+class Hunt:
+    """One task of a sweep: a strategy on the scenario (seed, index) drawn from ``ranges``.
+
+    ``member`` 0 is the scenario as drawn; member k > 0 moves each start by at most a nanometre
+    (:func:`mpc_hunt.world.ensemble.perturbed`, its RNG seeded by seed, index and k), to measure a row's spread.
+    """
+
+    strategy: str
+    seed: int
+    index: int
+    ranges: dict
+    member: int = 0
+
+
+def run_hunt(task: Hunt) -> dict:
+    """Run one hunt; its row (plain data). An unexpected exception is a row with cause ``error``."""
+    strategy = Strategy.parse(task.strategy)
+    scenario, row = _drawn(task)
+    start = time.perf_counter()
+    try:
+        result = simulate(scenario, strategy.controller_for(scenario))
+    except Exception as exc:  # noqa: BLE001 - one hunt's crash is its row, never the sweep's end
+        return row | _error(exc, time.perf_counter() - start)
+    cause = failure_cause(result, scenario)
+    times = result.solve_times
+    T = scenario.hunt.time_step
+    outcome = "captured" if cause is None else ("uncapturable" if not capturable_by_definition(scenario)
+                                                else "failed")
+    return row | {
+        "outcome": outcome, "cause": cause, "message": None, "termination": result.termination,
+        "capture_time_s": result.capture_time, "path_length_m": float(np.sum(result.path_lengths)),
+        "min_obstacle_clearance_m": result.min_obstacle_clearance,
+        "min_defender_separation_m": result.min_defender_separation,
+        "min_attacker_distance_m": result.min_attacker_distance, "steps": result.steps,
+        "solves": int(len(times)), "failed_solves": result.failed_solves, "fallbacks": result.fallbacks,
+        "longest_failure_streak": result.longest_failure_streak,
+        "solve_time_p50_s": float(np.median(times)) if len(times) else None,
+        "solve_time_p95_s": float(np.percentile(times, 95)) if len(times) else None,
+        "solve_time_max_s": float(np.max(times)) if len(times) else None,
+        "solves_over_time_step": int(np.sum(times > T)),
+        "wall_time_s": time.perf_counter() - start,
+    }
+
+
+def _drawn(task: Hunt) -> tuple:
+    """The task's scenario, and the start of its row: the strategy and the scenario's parameters."""
+    scenario = sweep_scenario(task.seed, task.index, ranges_from_dict(task.ranges))
+    if task.member:
+        scenario = perturbed(scenario, np.random.default_rng([task.seed, task.index, task.member]))
+    return scenario, {"strategy": task.strategy, **scenario_row(scenario, seed=task.seed, index=task.index)}
+
+
+def _error(exc: BaseException, wall_time: float | None) -> dict:
+    """The result part of a row for a hunt that raised ``exc``."""
+    return {"outcome": "failed", "cause": "error", "message": one_line(exc), "wall_time_s": wall_time}
+
+
+def one_line(exc: BaseException) -> str:
+    """``exc`` named, on one line of at most 500 characters."""
+    return " ".join(f"{type(exc).__name__}: {exc}".split())[:500]
+
+
+def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, done: set) -> list[Hunt]:
+    """Every (strategy, hunt) not yet in ``done`` (keys (strategy, seed, index)), hunt-major order."""
+    plain = ranges_to_dict(ranges)
+    return [Hunt(s, seed, i, plain) for i in range(hunts) for s in strategies if (s, seed, i) not in done]
+
+
+def run_local(todo: list[Hunt], workers: int | None = None) -> Iterator[dict]:
+    """Rows as hunts finish, on local worker processes; stops cleanly when the caller stops iterating."""
+    workers = workers or os.cpu_count() or 1
+    waiting = deque(todo)
+    for _ in range(MAX_WORKER_DEATHS + 1):
+        if not (yield from _run_pool(waiting, workers)):
+            return
+    raise SweepStopped(f"local worker processes died {MAX_WORKER_DEATHS + 1} times (killed? out of memory?)")
+
+
+def _run_pool(waiting: deque, workers: int) -> Generator[dict, None, bool]:
+    """Run the hunts ``waiting`` on one pool, yielding rows; True if a worker died (unfinished hunts wait again)."""
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=signal.signal,       # idle workers ignore Ctrl-C
+                               initargs=(signal.SIGINT, signal.SIG_IGN))
+    running: dict[Future, Hunt] = {}
+    broken = False
+    try:
+        while (waiting or running) and not broken:
+            while waiting and len(running) < 2 * workers:
+                task = waiting.popleft()
+                running[pool.submit(_interruptible_hunt, task)] = task
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            broken = any(isinstance(f.exception(), BrokenProcessPool) for f in finished)
+            if broken:      # every running hunt is lost with the pool; some may have finished first
+                finished, _ = wait(running)
+            for future in finished:
+                task = running.pop(future)
+                if isinstance(future.exception(), BrokenProcessPool):
+                    waiting.appendleft(task)
+                else:
+                    yield future.result()
+        return broken
+    finally:
+        for future in running:
+            future.cancel()
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _interruptible_hunt(task: Hunt) -> dict:
+    """``run_hunt`` in a local worker, which ignores Ctrl-C except while it runs a hunt: then it exits at once.
+
+    Not by KeyboardInterrupt: a solver such as IPOPT catches it as a request to end its solve, and the
+    hunt would run on to its end before the sweep could stop.
+    """
+    signal.signal(signal.SIGINT, _exit_now)
+    try:
+        return run_hunt(task)
+    finally:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _exit_now(signum, frame):
+    os._exit(128 + signum)
+
+
+def connect_dask(address: str):
+    """A client of the Dask scheduler at ``address``; a one-line error if Dask or the scheduler is missing."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise MpcHuntError('--dask-scheduler needs Dask: pip install "mpc-hunt[dask]"') from None
+    try:
+        return Client(address, timeout="10s")
+    except (OSError, TimeoutError) as exc:
+        raise MpcHuntError(f"--dask-scheduler {address}: cannot connect ({one_line(exc)})") from None
+
+
+def run_dask(todo: list[Hunt], client) -> Iterator[dict]:
+    """Rows as hunts finish, on the Dask cluster of ``client`` (:func:`connect_dask`), which it closes."""
+    from distributed import KilledWorker, as_completed
+
+    address = client.scheduler.address
+    with client:
+        futures = client.map(run_hunt, todo, pure=False)
+        task_of = dict(zip((f.key for f in futures), todo))
+        try:
+            for future in as_completed(futures):
+                try:
+                    row = future.result()
+                except KilledWorker as exc:     # the workers running it died too often: suspect the hunt
+                    row = _drawn(task_of[future.key])[1] | _error(exc, None)
+                except MpcHuntError:    # the scenario could not be drawn: the ranges are at fault
+                    raise
+                except Exception as exc:  # noqa: BLE001 - anything else is the cluster failing, not a hunt
+                    raise SweepStopped(f"--dask-scheduler {address}: {one_line(exc)}") from None
+                yield row
+        finally:
+            client.cancel(futures)

@@ -1,0 +1,104 @@
+"""A sweep's results file: SQLite, one row per finished hunt, written as each hunt finishes.
+
+Tables: ``sweep`` (one row: ``arguments``, the JSON of what the sweep runs,
+and ``numpy``, the version that drew its scenarios) and ``hunts`` (one row per
+hunt, the columns of :data:`COLUMNS`, key (strategy, seed, "index"); see
+docs/robustness.md). WAL mode and one commit per row: a killed process loses at
+most the hunts still running, and ``--resume`` skips every key present.
+
+    sqlite3 sweep.db "select strategy, outcome, count(*) from hunts group by 1, 2"
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from dataclasses import fields
+from pathlib import Path
+
+import numpy as np
+
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.world.scenario import HuntParameters
+
+KEY = ("strategy", "seed", "index")
+
+SCENARIO_COLUMNS = {   # mpc_hunt.sweep.scenario_row.scenario_row
+    "name": "text", "seed": "integer", "index": "integer", "n_defenders": "integer", "n_obstacles": "integer",
+    "capturable_by_definition": "integer", "reachable": "integer", "defender_speed_min": "real",
+    "defender_speed_max": "real", "attacker_speed": "real", "speed_ratio": "real", "perception_radius": "real",
+    "attacker_heading": "real", "attacker_start_x": "real", "attacker_start_y": "real", "obstacle_radius_min": "real",
+    "obstacle_radius_max": "real", "arena_x_min": "real", "arena_y_min": "real", "arena_x_max": "real",
+    "arena_y_max": "real", "failed_defender": "integer", "fails_at": "real",
+    **{f"hunt_{f.name}": "real" for f in fields(HuntParameters)},
+    "scenario_toml": "text",
+}
+RESULT_COLUMNS = {     # mpc_hunt.sweep.runner.run_hunt; an error row leaves all but the first three and the last null
+    "outcome": "text", "cause": "text", "message": "text", "termination": "text", "capture_time_s": "real",
+    "path_length_m": "real", "min_obstacle_clearance_m": "real", "min_defender_separation_m": "real",
+    "min_attacker_distance_m": "real", "steps": "integer", "solves": "integer", "failed_solves": "integer",
+    "fallbacks": "integer", "longest_failure_streak": "integer", "solve_time_p50_s": "real",
+    "solve_time_p95_s": "real", "solve_time_max_s": "real", "solves_over_time_step": "integer",
+    "wall_time_s": "real",
+}
+COLUMNS = {"strategy": "text", **SCENARIO_COLUMNS, **RESULT_COLUMNS}
+
+
+class SweepStore:
+    """An open results file: new (``arguments`` given), resumed (and ``resume``), or read (neither)."""
+
+    def __init__(self, path: str | Path, arguments: dict | None = None, resume: bool = False):
+        self.path = Path(path)
+        exists = self.path.exists()
+        if exists and arguments is not None and not resume:
+            raise MpcHuntError(f"{self.path}: exists (use --resume to continue it, or another --output)")
+        if not exists and arguments is None:
+            raise MpcHuntError(f"{self.path}: no such results file")
+        try:
+            self.db = sqlite3.connect(self.path)
+            if not exists:
+                self._create(arguments)
+            stored = self.db.execute("select arguments, numpy from sweep").fetchone()
+            columns = [r[1] for r in self.db.execute('pragma table_info("hunts")')]
+        except sqlite3.DatabaseError as exc:
+            raise MpcHuntError(f"{self.path}: not a sweep results file ({exc})") from None
+        if stored is None or columns != list(COLUMNS):
+            raise MpcHuntError(f"{self.path}: not a results file of this version of mpc-hunt's sweep "
+                               f"(docs/robustness.md)")
+        if arguments is not None and json.loads(stored[0]) != arguments:
+            raise MpcHuntError(f"{self.path}: --resume with other arguments than the sweep it holds ({stored[0]})")
+        if arguments is not None and stored[1] != np.__version__:
+            raise MpcHuntError(f"{self.path}: its scenarios were drawn with numpy {stored[1]}; this is numpy "
+                               f"{np.__version__}, which may draw others from the same seeds")
+        if arguments is not None:
+            self.db.execute("pragma journal_mode=wal")
+        self.arguments = json.loads(stored[0])
+
+    def _create(self, arguments: dict) -> None:
+        """Both tables and the sweep's row, in one transaction."""
+        columns = ", ".join(f'"{name}" {kind}' for name, kind in COLUMNS.items())
+        key = ", ".join(f'"{k}"' for k in KEY)
+        with self.db:
+            self.db.execute("begin")
+            self.db.execute("create table sweep (arguments text not null, numpy text not null)")
+            self.db.execute(f"create table hunts ({columns}, primary key ({key}))")
+            self.db.execute("insert into sweep values (?, ?)", (json.dumps(arguments, sort_keys=True),
+                                                                np.__version__))
+
+    def add(self, row: dict) -> None:
+        """Store one finished hunt, committed at once; a key already present is left as it is."""
+        unknown = set(row) - set(COLUMNS)
+        if unknown:
+            raise MpcHuntError(f"a sweep row has columns the results file does not: {', '.join(sorted(unknown))}")
+        placeholders = ", ".join("?" for _ in COLUMNS)
+        with self.db:
+            self.db.execute(f"insert or ignore into hunts values ({placeholders})", [row.get(c) for c in COLUMNS])
+
+    def done(self) -> set[tuple]:
+        return set(self.db.execute('select "strategy", "seed", "index" from hunts'))
+
+    def rows(self) -> list[dict]:
+        return [dict(zip(COLUMNS, r)) for r in self.db.execute('select * from hunts order by "index", "strategy"')]
+
+    def close(self) -> None:
+        self.db.close()

@@ -1,0 +1,109 @@
+"""A sweep's summary per strategy, recomputed from its rows alone (``mpc-hunt sweep-report``).
+
+The success rate counts the hunts that can be captured by definition
+(:func:`mpc_hunt.sweep.scenario_row.capturable_by_definition`); the others are
+reported apart. Among those, the unreachable ones (no defender can come near
+the attacker before it leaves: :mod:`mpc_hunt.sweep.reachability`) are lost by
+every controller; ``success_rate_reachable`` leaves them out too. Each 95 %
+interval is Wilson's score interval.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+
+import numpy as np
+
+from mpc_hunt.sweep.outcome import CAUSES
+
+Z95 = 1.959963984540054
+
+
+def wilson(successes: int, trials: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson's score interval for a binomial proportion; (0, 1) with no trials."""
+    if trials == 0:
+        return (0.0, 1.0)
+    p = successes / trials
+    centre = (p + z * z / (2 * trials)) / (1 + z * z / trials)
+    half = z * math.sqrt(p * (1 - p) / trials + z * z / (4 * trials * trials)) / (1 + z * z / trials)
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def _median_iqr(values: list[float]) -> tuple[float | None, float | None]:
+    if not values:
+        return None, None
+    q1, q2, q3 = np.percentile(values, [25, 50, 75])
+    return float(q2), float(q3 - q1)
+
+
+def _least(rows: list[dict], key: str) -> float | None:
+    values = [r[key] for r in rows if r.get(key) is not None]
+    return min(values) if values else None
+
+
+def summarise(rows: list[dict]) -> list[dict]:
+    """One summary per strategy, in order of first appearance."""
+    out = []
+    for strategy in dict.fromkeys(r["strategy"] for r in rows):
+        mine = [r for r in rows if r["strategy"] == strategy]
+        counted = [r for r in mine if r["outcome"] != "uncapturable"]
+        won = [r for r in counted if r["outcome"] == "captured"]
+        reachable = [r for r in counted if r["reachable"]]
+        won_reachable = [r for r in reachable if r["outcome"] == "captured"]
+        causes = Counter(r["cause"] for r in counted if r["outcome"] == "failed")
+        capture_median, capture_iqr = _median_iqr([r["capture_time_s"] for r in won])
+        path_median, path_iqr = _median_iqr([r["path_length_m"] for r in won])
+        solves = sum(r.get("solves") or 0 for r in mine)
+        p50 = [r["solve_time_p50_s"] for r in mine if r.get("solve_time_p50_s") is not None]
+        p95 = [r["solve_time_p95_s"] for r in mine if r.get("solve_time_p95_s") is not None]
+        out.append({
+            "strategy": strategy, "hunts": len(mine), "uncapturable_by_definition": len(mine) - len(counted),
+            "captured": len(won), "success_rate": len(won) / len(counted) if counted else None,
+            "success_rate_ci95": list(wilson(len(won), len(counted))),
+            "unreachable": len(counted) - len(reachable),
+            "success_rate_reachable": len(won_reachable) / len(reachable) if reachable else None,
+            "success_rate_reachable_ci95": list(wilson(len(won_reachable), len(reachable))),
+            "failures": {c: causes.get(c, 0) for c in CAUSES},
+            "collisions": causes.get("obstacle_collision", 0) + causes.get("defender_contact", 0),
+            "capture_time_median_s": capture_median, "capture_time_iqr_s": capture_iqr,
+            "path_length_median_m": path_median, "path_length_iqr_m": path_iqr,
+            "min_obstacle_clearance_m": _least(mine, "min_obstacle_clearance_m"),
+            "min_defender_separation_m": _least(mine, "min_defender_separation_m"),
+            "solve_time_p50_median_s": float(np.median(p50)) if p50 else None,
+            "solve_time_p95_median_s": float(np.median(p95)) if p95 else None,
+            "solve_time_max_s": max((r["solve_time_max_s"] for r in mine if r.get("solve_time_max_s")), default=None),
+            "failed_solve_share": (sum(r.get("failed_solves") or 0 for r in mine) / solves) if solves else None,
+            "over_time_step_share": (sum(r.get("solves_over_time_step") or 0 for r in mine) / solves)
+            if solves else None,
+        })
+    return out
+
+
+def table(summaries: list[dict]) -> str:
+    """The summary as a Markdown table."""
+    def pct(x):
+        return "–" if x is None else f"{100 * x:.1f} %"
+
+    def num(x, scale=1.0, unit=""):
+        return "–" if x is None else f"{x * scale:.3g}{unit}"
+
+    def rate(s, key):
+        lo, hi = s[f"{key}_ci95"]
+        return f"{pct(s[key])} ({pct(lo)}–{pct(hi)})"
+
+    lines = ["| strategy | hunts | success (95 % CI) | of reachable hunts | failures by cause | "
+             "capture time median (IQR) | min clearance / separation | solve p50 / p95 | failed solves | "
+             "solves over T |",
+             "| --- | ---: | --- | --- | --- | --- | --- | --- | ---: | ---: |"]
+    for s in summaries:
+        causes = ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none"
+        lines.append(
+            f"| {s['strategy']} | {s['hunts']} ({s['uncapturable_by_definition']} uncapturable, "
+            f"{s['unreachable']} unreachable) | {rate(s, 'success_rate')} | {rate(s, 'success_rate_reachable')} | "
+            f"{causes} | "
+            f"{num(s['capture_time_median_s'], unit=' s')} ({num(s['capture_time_iqr_s'], unit=' s')}) | "
+            f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')} | "
+            f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')} | "
+            f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |")
+    return "\n".join(lines)

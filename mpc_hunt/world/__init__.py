@@ -1,0 +1,10 @@
+"""The world: a hunt declared as data (scenario, arena, the built-in scenarios) and the paper's model of it:
+the fields (Eqs. 2–3), the attacker (Eq. 9), intercepts (Eqs. 7–8), the approaching stage (Eq. 6), the hunting
+circle (Eqs. 4–5, 10–11) and separation. It imports nothing of the layers above."""
+
+from mpc_hunt.world.ensemble import perturbed
+from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
+from mpc_hunt.world.scenario_io import builtin_names, builtin_scenario, load_scenario, resolve_scenario, save_scenario
+
+__all__ = ["Attacker", "Defender", "HuntParameters", "Obstacle", "Scenario", "builtin_names", "builtin_scenario",
+           "load_scenario", "perturbed", "resolve_scenario", "save_scenario"]

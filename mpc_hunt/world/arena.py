@@ -1,0 +1,31 @@
+"""The arena: the rectangle the attacker must be kept in.
+
+A scenario may declare an arena (x_min, y_min, x_max, y_max). The paper gives
+none (both of its simulations are open planes), so the built-in scenarios have
+none. An attacker strictly beyond one of the arena's edges has escaped, and the
+hunt has failed (docs/robustness.md); a point on an edge is still inside.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from mpc_hunt.world.scenario import Scenario
+
+Arena = tuple[float, float, float, float]
+
+
+def outside(arena: Arena, p) -> bool:
+    """True when ``p`` lies strictly beyond an edge of ``arena``.
+
+    A non-finite point is not outside: the simulator ends such a run with its own cause.
+    """
+    x, y = float(p[0]), float(p[1])
+    x_min, y_min, x_max, y_max = arena
+    return x < x_min or x > x_max or y < y_min or y > y_max
+
+
+def attacker_escaped(scenario: Scenario, p_a) -> bool:
+    """Has the attacker at ``p_a`` left the scenario's arena? Never, when the scenario has no arena."""
+    return scenario.arena is not None and outside(scenario.arena, p_a)

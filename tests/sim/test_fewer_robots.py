@@ -1,0 +1,35 @@
+"""Fewer robots: obstacles complete the hunting circle; a failed robot stays a stationary member."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from mpc_hunt import CaptureProblem, builtin_scenario, simulate
+from mpc_hunt.cli.commands import main
+
+
+@pytest.mark.parametrize("name", ["two-defenders", "failed-defender"])
+def test_the_hunt_is_finished_with_fewer_working_robots(capsys, name):
+    code = main(["simulate", "--scenario", name, "--json"])
+    report = json.loads(capsys.readouterr().out)
+    assert code == 0 and report["captured"], report["termination"]
+    assert report["min_obstacle_clearance_m"] is None or report["min_obstacle_clearance_m"] > 0
+
+
+def test_a_failed_robot_stands_still_and_is_never_controlled():
+    scenario = builtin_scenario("failed-defender")
+    fails_at = scenario.defenders[2].fails_at
+    short = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=fails_at + 5.0))
+    result = simulate(short)
+    after = result.times[:-1] >= fails_at
+    stopped = result.defenders[np.flatnonzero(after)[0]:, 2]
+    assert np.all(stopped == stopped[0]) and not result.capture_stage[after, 2].any()
+    assert np.ptp(result.defenders[: np.flatnonzero(after)[0], 2], axis=0).max() > 1.0   # it moved before
+    p_a = stopped[0] + [0.3, 0.0]                   # within R_agg of the failed robot and of defender 0
+    defenders = np.vstack([p_a + [0.0, 0.5], result.defenders[-1, 1], stopped[0]])
+    problem = CaptureProblem.at_state(scenario, p_a, defenders, active=[True, True, False])
+    assert problem.controlled.tolist() == [True, False, False]

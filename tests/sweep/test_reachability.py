@@ -1,0 +1,75 @@
+"""Unreachable hunts (mpc_hunt/sweep/reachability.py): lost whatever the defenders do."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.world.geometry import norm
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
+from mpc_hunt.sweep.reachability import reachable, undisturbed_path
+from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Scenario
+from mpc_hunt.sim.simulator import simulate
+
+
+class Pursuit:
+    """Every defender straight at the attacker at full speed: the most any defender can close in."""
+
+    def __init__(self, scenario: Scenario):
+        self.speeds = scenario.defender_max_speeds
+
+    def command(self, obs: Observation) -> Command:
+        towards = obs.attacker - obs.defenders
+        n = len(obs.defenders)
+        velocities = towards / norm(towards)[:, None] * self.speeds[:, None]
+        return Command(velocities, np.zeros(n, dtype=bool), np.full((n, 2), np.nan))
+
+    def describe(self) -> dict:
+        return {"controller": "pursuit"}
+
+
+def _leaving(*starts: tuple[float, float]) -> Scenario:
+    """The attacker 2 m from the arena's right edge, heading out at 0.03 m/s: it leaves after 66.7 s."""
+    return Scenario(name="leaving", defenders=tuple(Defender(start=s, max_speed=0.08) for s in starts),
+                    attacker=Attacker(start=(18.0, 10.0), nominal_velocity=(0.03, 0.0), max_speed=0.03,
+                                      perception_radius=1.0),
+                    obstacles=(), hunt=HuntParameters(), arena=(0.0, 0.0, 20.0, 20.0))
+
+
+def test_the_undisturbed_path_ends_where_the_attacker_leaves():
+    path = np.array(list(undisturbed_path(_leaving((1.0, 1.0), (1.0, 19.0), (2.0, 10.0)))))
+    assert len(path) == 668 and path[-1][0] > 20.0 >= path[-2][0]
+    np.testing.assert_allclose(path[:, 1], 10.0)
+
+
+def test_a_defender_that_can_come_within_r_agg_in_time_makes_the_hunt_reachable():
+    # The attacker leaves at (20.0, 10.0) after 66.7 s; a defender covers 5.34 m by then.
+    far = [(1.0, 1.0), (1.0, 19.0)]
+    assert not reachable(_leaving(*far, (13.0, 10.0)))        # 7 m − R_agg = 6 m: too far
+    assert reachable(_leaving(*far, (14.5, 10.0)))            # 5.5 m − R_agg = 4.5 m: in time
+
+
+def test_r_hunt_counts_when_it_exceeds_r_agg():
+    scenario = _leaving((1.0, 1.0), (1.0, 19.0), (13.0, 10.0))
+    wide = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, hunt_radius=2.0))
+    assert reachable(wide)                                     # 7 m − R_hunt = 5 m: in time
+
+
+UNREACHABLE = [i for i in range(40) if not reachable(sweep_scenario(2, i, ScenarioRanges()))]
+
+
+def test_some_random_hunts_are_unreachable():
+    assert 2 <= len(UNREACHABLE) <= 20
+
+
+@pytest.mark.parametrize("index", UNREACHABLE[:4])
+def test_on_an_unreachable_hunt_pursuit_never_disturbs_the_attacker(index):
+    """Defenders flying straight at the attacker never enter R_agg: its path is the undisturbed one."""
+    scenario = sweep_scenario(2, index, ScenarioRanges())
+    result = simulate(scenario, Pursuit(scenario))
+    assert not result.captured and result.termination in ("attacker_escaped", "time_limit")
+    np.testing.assert_array_equal(result.attacker, np.array(list(undisturbed_path(scenario))))
+    assert result.min_attacker_distance > scenario.attacker.perception_radius

@@ -1,0 +1,281 @@
+"""Sweeps: the summary's statistics, the failure taxonomy, local and Dask runs, and resuming."""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import io
+import json
+import multiprocessing
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import small_scenario
+from mpc_hunt import Attacker, Command, Defender, HuntParameters, Obstacle, Scenario, Solution, Status, simulate
+from mpc_hunt.cli.commands import main
+from mpc_hunt.control.encircling import EncirclingController
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.sweep.random_scenario import ScenarioRanges
+from mpc_hunt.sweep.runner import Hunt, Strategy, connect_dask, run_dask, run_hunt, run_local, tasks
+from mpc_hunt.sweep.outcome import FAILURE_STREAK, failure_cause
+from mpc_hunt.sweep.store import COLUMNS, SweepStore
+from mpc_hunt.sweep.summary import summarise, wilson
+
+ROOT = Path(__file__).resolve().parents[2]
+TIMING = {"wall_time_s", "solve_time_p50_s", "solve_time_p95_s", "solve_time_max_s", "solves_over_time_step"}
+QUICK = ScenarioRanges(time_limit=30.0)
+
+
+def _outcomes(rows):
+    return sorted(tuple((k, v) for k, v in r.items() if k not in TIMING) for r in rows)
+
+
+def test_wilson_interval_on_known_values():
+    assert wilson(0, 0) == (0.0, 1.0)
+    lo, hi = wilson(5, 10)
+    assert lo == pytest.approx(0.2366, abs=1e-4) and hi == pytest.approx(0.7634, abs=1e-4)
+    lo, hi = wilson(10, 10)
+    assert hi == pytest.approx(1.0, abs=1e-12) and lo == pytest.approx(0.7225, abs=1e-4)
+
+
+def test_summary_of_hand_made_rows():
+    base = {"strategy": "s", "capture_time_s": None, "path_length_m": None, "cause": None, "reachable": True}
+    rows = [base | {"outcome": "captured", "capture_time_s": 100.0, "path_length_m": 30.0},
+            base | {"outcome": "captured", "capture_time_s": 200.0, "path_length_m": 50.0},
+            base | {"outcome": "failed", "cause": "time_limit"},
+            base | {"outcome": "failed", "cause": "defender_contact"},
+            base | {"outcome": "failed", "cause": "attacker_escaped", "reachable": False},
+            base | {"outcome": "uncapturable", "cause": "time_limit", "reachable": False}]
+    (s,) = summarise(rows)
+    assert s["hunts"] == 6 and s["uncapturable_by_definition"] == 1 and s["success_rate"] == 0.4
+    assert s["unreachable"] == 1 and s["success_rate_reachable"] == 0.5
+    assert s["success_rate_reachable_ci95"] == list(wilson(2, 4))
+    assert s["failures"]["time_limit"] == 1 and s["failures"]["defender_contact"] == 1 and s["collisions"] == 1
+    assert s["capture_time_median_s"] == 150.0 and s["capture_time_iqr_s"] == 50.0
+
+
+def test_each_failure_cause():
+    scenario = small_scenario(obstacles=((6.0, 11.8, 0.3),))
+    scenario = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=0.5))
+    result = simulate(scenario, EncirclingController(scenario))
+    assert failure_cause(result, scenario) == "time_limit"
+    cases = {"obstacle_collision": dict(min_obstacle_clearance=-0.01),
+             "defender_contact": dict(min_defender_separation=0.1),
+             "attacker_escaped": dict(termination="attacker_escaped"),
+             "solver_failure_streak": dict(longest_failure_streak=50),
+             "non_finite_state": dict(termination="non_finite_state")}
+    for cause, change in cases.items():
+        assert failure_cause(dataclasses.replace(result, **change), scenario) == cause
+    assert failure_cause(dataclasses.replace(result, captured=True, termination="captured"), scenario) is None
+    assert failure_cause(dataclasses.replace(result, captured=True, min_defender_separation=0.1),
+                         scenario) == "defender_contact"      # safety comes before capture
+
+
+class Scripted:
+    """Fixed velocities every step and, if given, the same capture-stage solution (say, a failed one)."""
+
+    def __init__(self, velocities, solution=None):
+        self.velocities, self.solution = np.array(velocities, dtype=float), solution
+
+    def describe(self):
+        return {"controller": "scripted"}
+
+    def command(self, obs):
+        n = len(obs.defenders)
+        return Command(self.velocities, np.zeros(n, dtype=bool), np.full((n, 2), np.nan), self.solution,
+                       self.solution is not None)
+
+
+def _hunt(defenders, obstacles=(), time_limit=15.0):
+    """Defenders (x, y) far from an attacker at (10, 10) who stands still: nothing is captured."""
+    return Scenario(name="scripted", defenders=tuple(Defender(p, 0.08) for p in defenders),
+                    attacker=Attacker((10.0, 10.0), (0.0, 0.0), 0.03, 1.0),
+                    obstacles=tuple(Obstacle(c, r) for c, r in obstacles), hunt=HuntParameters(time_limit=time_limit))
+
+
+@pytest.mark.parametrize("cause, scenario, controller", [
+    ("time_limit", _hunt([(0, 0), (0, 2), (0, 4)]), Scripted(np.zeros((3, 2)))),
+    ("obstacle_collision", _hunt([(0, 0), (0, 2), (0, 4)], obstacles=[((1.0, 0.0), 0.3)]),
+     Scripted([(0.08, 0), (0, 0), (0, 0)])),                                         # into the obstacle at t = 8.75 s
+    ("defender_contact", _hunt([(0, 0), (2, 0), (0, 4)]), Scripted([(0.08, 0), (-0.08, 0), (0, 0)])),  # t = 11.25 s
+    ("non_finite_state", _hunt([(0, 0), (0, 2), (0, 4)]), Scripted([(np.nan, 0), (0, 0), (0, 0)])),
+    ("solver_failure_streak", _hunt([(0, 0), (0, 2), (0, 4)], time_limit=FAILURE_STREAK * 0.1),
+     Scripted(np.zeros((3, 2)), Solution(status=Status.ERROR))),
+    ("time_limit", _hunt([(0, 0), (0, 2), (0, 4)], time_limit=(FAILURE_STREAK - 1) * 0.1),
+     Scripted(np.zeros((3, 2)), Solution(status=Status.ERROR))),                             # one failed solve short
+])
+def test_hand_built_hunts_end_with_each_cause(cause, scenario, controller):
+    result = simulate(scenario, controller)
+    assert failure_cause(result, scenario) == cause
+    # A collision, a contact or a streak is recorded, and the hunt goes on to its time limit.
+    expected = "non_finite_state" if cause == "non_finite_state" else "time_limit"
+    assert result.termination == expected
+
+
+def test_an_exception_inside_a_hunt_is_a_row_with_its_message(monkeypatch):
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("no")
+
+    monkeypatch.setattr("mpc_hunt.sweep.runner.simulate", broken)
+    row = run_hunt(Hunt("apf", 1, 0, tasks(["apf"], 1, 1, QUICK, set())[0].ranges))
+    assert (row["outcome"], row["cause"], row["message"]) == ("failed", "error", "ZeroDivisionError: no")
+    assert set(row) <= set(COLUMNS) and row["scenario_toml"]
+
+
+def test_the_results_file_keeps_every_column_whatever_row_comes_first(tmp_path):
+    task = tasks(["apf"], 2, 1, ScenarioRanges(time_limit=2.0), set())
+    good = run_hunt(task[1])
+    assert list(good) == list(COLUMNS)                        # the documented schema, in order
+    error = {k: v for k, v in good.items() if k in ("strategy", "name", "seed", "index")}
+    error |= {"index": 0, "outcome": "failed", "cause": "error", "message": "boom"}
+    store = SweepStore(tmp_path / "s.db", {"sweep": 1})
+    store.add(error)                                          # an error row first, with few columns
+    store.add(good)
+    store.add(good | {"outcome": "captured"})                 # a key already present is left as it is
+    rows = store.rows()
+    assert len(rows) == 2 and rows[0]["termination"] is None
+    assert rows[1] == good | {"capturable_by_definition": int(good["capturable_by_definition"])}
+    with pytest.raises(MpcHuntError, match="columns the results file does not"):
+        store.add(good | {"surprise": 1})
+    store.close()
+
+
+def test_a_hunt_ends_when_the_attacker_leaves_the_arena():
+    scenario = small_scenario(obstacles=())
+    scenario = dataclasses.replace(scenario, arena=(9.0, 9.0, 11.0, 11.0))      # attacker starts at (10, 10)
+    result = simulate(scenario, EncirclingController(scenario))
+    assert result.termination == "attacker_escaped" and failure_cause(result, scenario) == "attacker_escaped"
+
+
+def test_strategy_specs():
+    assert Strategy.parse("paper:qp:daqp:5").label == "paper:qp:daqp:5"
+    assert Strategy.parse("paper").label == "paper:nlp:ipopt:1" and Strategy.parse("apf").label == "apf"
+    for bad in ("paper:qp:ipopt", "apf:qp", "paper:qp:daqp:0", "nobody", "a:b:c:d:e"):
+        with pytest.raises(Exception) as exc:
+            Strategy.parse(bad)
+        assert type(exc.value).__name__ in ("MpcHuntError", "UnknownNameError")
+
+
+SMALL = ["--hunts", "3", "--seed", "1", "--strategy", "apf", "--strategy", "paper:qp:daqp:1", "--set", "time_limit=30"]
+
+
+@pytest.fixture(scope="module")
+def small_sweep(tmp_path_factory):
+    """The CLI's tiny sweep on 2 local processes: its JSON summary and its stored rows."""
+    path = tmp_path_factory.mktemp("sweep") / "s.db"
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["sweep", *SMALL, "--workers", "2", "--output", str(path), "--json"]) == 0
+    return json.loads(out.getvalue()), SweepStore(path).rows()
+
+
+def test_sweep_end_to_end_on_local_processes(small_sweep):
+    summary, rows = small_sweep
+    for s in summary["strategies"]:
+        for key in ("success_rate", "success_rate_ci95", "failures", "collisions", "capture_time_median_s"):
+            assert key in s
+        assert s["hunts"] == 3 and set(s["failures"]) >= {"time_limit", "obstacle_collision", "defender_contact",
+                                                          "attacker_escaped", "solver_failure_streak",
+                                                          "non_finite_state"}
+    assert len(rows) == 6 and all(r["wall_time_s"] > 0 for r in rows)
+
+
+def test_the_same_rows_on_a_dask_cluster(small_sweep):
+    from distributed import LocalCluster
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        todo = tasks(["apf", "paper:qp:daqp:1"], 3, 1, QUICK, set())
+        remote = list(run_dask(todo, connect_dask(cluster.scheduler_address)))
+    assert _outcomes(remote) == _outcomes(small_sweep[1])
+
+
+def test_a_killed_local_worker_loses_no_hunt(small_sweep):
+    rows = []
+    for row in run_local(tasks(["apf", "paper:qp:daqp:1"], 3, 1, QUICK, set()), workers=2):
+        if not rows:        # the pool breaks; the hunts it was running go to a new one
+            os.kill(multiprocessing.active_children()[0].pid, signal.SIGKILL)
+        rows.append(row)
+    assert _outcomes(rows) == _outcomes(small_sweep[1])
+
+
+def test_an_interrupted_sweep_resumes_to_the_same_rows(tmp_path):
+    argv = ["sweep", "--hunts", "6", "--seed", "2", "--strategy", "apf", "--set", "time_limit=20",
+            "--workers", "1", "--json"]
+    killed = tmp_path / "killed.db"
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli.commands", *argv, "--output", str(killed)], cwd=ROOT,
+                               env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _wait_for_rows(killed, 2)
+    process.send_signal(signal.SIGKILL)
+    process.wait()
+    partial = len(SweepStore(killed).rows())
+    assert 2 <= partial < 6
+    assert main([*argv, "--output", str(killed), "--resume"]) == 0
+    whole = tmp_path / "whole.db"
+    assert main([*argv, "--output", str(whole)]) == 0
+    assert _outcomes(SweepStore(killed).rows()) == _outcomes(SweepStore(whole).rows())
+
+
+def _wait_for_rows(path: Path, count: int, seconds: float = 120) -> None:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        time.sleep(0.1)
+        if not path.exists():      # connecting would create it
+            continue
+        try:
+            with sqlite3.connect(path) as db:
+                if db.execute("select count(*) from hunts").fetchone()[0] >= count:
+                    return
+        except sqlite3.OperationalError:      # the table does not exist yet
+            continue
+
+
+def test_ctrl_c_stops_a_sweep_at_once_even_inside_ipopt(tmp_path):
+    """IPOPT takes a KeyboardInterrupt as a request to end one solve; the hunt must not run on to its end."""
+    path = tmp_path / "s.db"
+    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli.commands", "sweep", "--hunts", "3", "--seed", "1",
+                                "--strategy", "paper:ms-nlp:ipopt:1", "--workers", "1", "--output", str(path)],
+                               cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, start_new_session=True,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    _wait_for_rows(path, 1)
+    time.sleep(1.0)                          # the second hunt is running (for seconds more)
+    os.killpg(process.pid, signal.SIGINT)    # what Ctrl-C in a terminal does: the whole process group
+    start = time.monotonic()
+    _, err = process.communicate(timeout=120)
+    assert time.monotonic() - start < 5.0
+    assert process.returncode == 2 and "interrupted; finished hunts are in" in err.decode()
+    assert len(SweepStore(path).rows()) == 1
+
+
+def test_resume_with_other_arguments_or_numpy_is_refused(capsys, tmp_path):
+    path = tmp_path / "s.db"
+    base = ["sweep", "--hunts", "1", "--strategy", "apf", "--set", "time_limit=5", "--output", str(path), "--json"]
+    assert main(base) == 0
+    assert main(base) == 2 and "exists (use --resume" in capsys.readouterr().err
+    assert main([*base[:2], "2", *base[3:], "--resume"]) == 2
+    assert "other arguments" in capsys.readouterr().err
+    with sqlite3.connect(path) as db:
+        db.execute("update sweep set numpy = '0.1'")
+    assert main([*base, "--resume"]) == 2 and "drawn with numpy 0.1" in capsys.readouterr().err
+
+
+def test_a_file_that_is_not_a_sweep_is_one_line(capsys, tmp_path):
+    other = tmp_path / "other.db"
+    with sqlite3.connect(other) as db:
+        db.execute("create table t (x)")
+    text = tmp_path / "text.db"
+    text.write_text("hello\n")
+    for path in (other, text, tmp_path / "missing.db"):
+        assert main(["sweep-report", str(path)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and str(path) in err
+    with sqlite3.connect(other) as db:            # read, never changed
+        assert [r[0] for r in db.execute("select name from sqlite_master")] == ["t"]
