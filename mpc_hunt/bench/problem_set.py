@@ -23,6 +23,7 @@ built-in scenario. Files are written one problem per line
 from __future__ import annotations
 
 import json
+import os
 from collections import Counter
 from dataclasses import dataclass, replace
 from importlib import resources
@@ -253,8 +254,17 @@ def load_problem_set(path: str | Path) -> ProblemSet:
 
 
 def save_problem_set(problem_set: ProblemSet, path: str | Path) -> None:
-    """Write a set as JSON (:func:`dumps_problem_set`); :func:`load_problem_set` reads it back unchanged."""
-    Path(path).write_text(dumps_problem_set(problem_set), encoding="utf-8")
+    """Write a set as JSON (:func:`dumps_problem_set`); :func:`load_problem_set` reads it back unchanged.
+
+    Written whole or not at all: into a temporary file beside ``path``, then renamed over it.
+    """
+    path = Path(path)
+    temporary = path.with_name(f".{path.name}.partial")
+    try:
+        temporary.write_text(dumps_problem_set(problem_set), encoding="utf-8")
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
 
 
 def builtin_problem_sets() -> list[str]:

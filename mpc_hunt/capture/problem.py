@@ -22,6 +22,9 @@ class ProblemError(MpcHuntError, ValueError):
     """A capture problem was given an impossible state (wrong shape, NaN, nobody to control)."""
 
 
+# Steps (20 s at T = 0.1 s): the formulations' set-up grows with N, and no capture needs a longer look-ahead.
+MAX_HORIZON = 200
+
 @dataclass(frozen=True)
 class CaptureWeights:
     """Weights of the objective's terms; fixed for every scenario (docs/formulations.md).
@@ -68,8 +71,9 @@ class CaptureProblem:
             raise ProblemError("controlled: no defender is in the capture stage")
         controlled.setflags(write=False)
         set_(self, "controlled", controlled)
-        if isinstance(self.horizon, bool) or not isinstance(self.horizon, (int, np.integer)) or self.horizon < 1:
-            raise ProblemError(f"horizon: must be a whole number ≥ 1, got {self.horizon!r}")
+        if isinstance(self.horizon, bool) or not isinstance(self.horizon, (int, np.integer)) or \
+                not 1 <= self.horizon <= MAX_HORIZON:
+            raise ProblemError(f"horizon: must be a whole number from 1 to {MAX_HORIZON}, got {self.horizon!r}")
         set_(self, "horizon", int(self.horizon))
 
     @classmethod

@@ -20,7 +20,8 @@ from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.capture import registry
 from mpc_hunt.control import controllers
-from mpc_hunt.cli.common import Progress, non_negative_int, positive_float, positive_int
+from mpc_hunt.cli.common import (MAX_HORIZON, MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress,
+                                 check_writable, count, non_negative, positive_float, seed, stop_at_once)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED
 from mpc_hunt.world.scenario_io import DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario, resolve_scenario
@@ -48,7 +49,7 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
     p.add_argument("--formulation", choices=sorted(registry.FORMULATIONS),
                    help=f"capture-stage formulation (default: {default['formulation']}, {which})")
     p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
-    p.add_argument("--horizon", type=positive_int, metavar="N",
+    p.add_argument("--horizon", type=count(MAX_HORIZON), metavar="N",
                    help="receding horizon in steps (default: 1" + ("" if default["horizon"] == 1 else
                         f"; {default['horizon']} with the default formulation") + ")")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
@@ -134,20 +135,20 @@ def _compare_parser(sub) -> None:
                      help="a shipped problem set or a problem set file (default: default; see mpc-hunt problems)")
     cmp.add_argument("--tag", action="append", default=[], metavar="TAG", help="only problems with this tag "
                      "(repeat for several, all required)")
-    cmp.add_argument("--limit", type=positive_int, metavar="K",
+    cmp.add_argument("--limit", type=count(MAX_PROBLEMS), metavar="K",
                      help="at most K problems, drawn with --seed (sequences kept whole)")
-    cmp.add_argument("--seed", type=non_negative_int, default=0,
+    cmp.add_argument("--seed", type=seed, default=0,
                      help="seed of the draw and of the reference's random starts (default: 0)")
     cmp.add_argument("--pair", action="append", metavar="FORMULATION[:BACKEND]",
                      help="a pair to run (a formulation alone: all its installed backends); repeat for several "
                           "(default: every registered pair whose solver is installed)")
-    cmp.add_argument("--horizon", type=positive_int, nargs="+", default=[1], metavar="N",
+    cmp.add_argument("--horizon", type=count(MAX_HORIZON), nargs="+", default=[1], metavar="N",
                      help="one or more horizons (default: 1)")
     cmp.add_argument("--mode", nargs="+", choices=MODES, default=list(MODES), help="default: both")
     cmp.add_argument("--accuracy", choices=ACCURACIES, default="default", help="default: default")
     cmp.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
                      help="handed to each solver call; a failed solve then counts at it in the shifted mean")
-    cmp.add_argument("--starts", type=positive_int, default=4,
+    cmp.add_argument("--starts", type=count(MAX_STARTS), default=4,
                      help="starts of the reference multi-start NLP (default: 4)")
     cmp.add_argument("--json", action="store_true", help="print one JSON object (machine, settings, rows)")
     cmp.add_argument("--csv", type=Path, metavar="FILE.csv", help="also write the rows as CSV")
@@ -169,13 +170,13 @@ def _problems_parser(sub) -> None:
     prob.add_argument("--scenario", action="append", metavar="NAME_OR_FILE",
                       help="a scenario whose hunt is sampled; repeat for several (default: every built-in); "
                            "the first one's robots are the random states' template")
-    prob.add_argument("--every", type=positive_int, default=560, metavar="K",
+    prob.add_argument("--every", type=count(MAX_PROBLEMS), default=560, metavar="K",
                       help="a run starts at every K-th capture-stage state (default: 560)")
-    prob.add_argument("--run-length", type=positive_int, default=4, metavar="L",
+    prob.add_argument("--run-length", type=count(MAX_RUN_LENGTH), default=4, metavar="L",
                       help="consecutive states per run (default: 4)")
-    prob.add_argument("--random", type=non_negative_int, default=2, metavar="M",
+    prob.add_argument("--random", type=non_negative(MAX_RANDOM), default=2, metavar="M",
                       help="random states per constraint family (default: 2)")
-    prob.add_argument("--seed", type=non_negative_int, default=0, help="seed of the random states (default: 0)")
+    prob.add_argument("--seed", type=seed, default=0, help="seed of the random states (default: 0)")
 
 
 def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> None:
@@ -189,6 +190,7 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
         raise MpcHuntError(f"{option} {path}: is a directory")
     if not path.parent.is_dir():
         raise MpcHuntError(f"{option} {path}: folder {path.parent} does not exist")
+    check_writable(path.parent, option, path)
 
 
 def _controller(args, scenario):
@@ -215,7 +217,7 @@ def _simulate(args) -> int:
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
     scenario = resolve_scenario(args.scenario)
     controller = _controller(args, scenario)
-    with Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
+    with stop_at_once("simulate"), Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
         result = simulate(scenario, controller, progress=update)
     report = result.to_dict()
     # The report goes out before any figure is written, so a failed write loses nothing computed.
@@ -280,14 +282,17 @@ def _solve(args) -> int:
     from mpc_hunt.capture.solver import CaptureSolver
 
     formulation, backend, horizon = _solver_choice(args)
+    if args.save_state:
+        check_output(args.save_state, (".json",), "--save-state")
     solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)
     scenario = resolve_scenario(args.scenario)
-    state = _state(args, scenario)
+    with stop_at_once("solve"):
+        state = _state(args, scenario)
+        problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon,
+                                          active=~scenario.failed(state.time))
+        solution = solver.solve(problem)
     if args.save_state:
         save_state(state, args.save_state)
-    problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon,
-                                      active=~scenario.failed(state.time))
-    solution = solver.solve(problem)
     report = solution.to_dict()
     report.update(scenario=scenario.name, state=state.to_dict(), horizon=horizon)
     if args.json:
@@ -339,9 +344,12 @@ def _backends(args) -> int:
 
 def check_folder(path: Path | None, option: str) -> None:
     """Refuse, before any work, an output folder that is a file or whose parent does not exist."""
-    if path is not None and (path.exists() and not path.is_dir() or not path.parent.is_dir()):
+    if path is None:
+        return
+    if path.exists() and not path.is_dir() or not path.parent.is_dir():
         raise MpcHuntError(f"{option} {path}: " + ("is not a folder" if path.exists()
                                                    else f"folder {path.parent} does not exist"))
+    check_writable(path if path.exists() else path.parent, option, path)
 
 
 def _compare(args) -> int:
@@ -416,11 +424,12 @@ def _build_problems(args) -> int:
 
     check_output(args.build, (".json",), "--build")
     scenarios = [resolve_scenario(s) for s in (args.scenario or builtin_names())]
-    ps = build_problem_set(scenarios, np.random.default_rng(args.seed), every=args.every, run_length=args.run_length,
-                           random_per_case=args.random,
-                           description=f"Built by mpc-hunt problems --build (every {args.every}, runs of "
-                                       f"{args.run_length}, {args.random} random states per family, seed "
-                                       f"{args.seed}).")
+    with stop_at_once("problems"):
+        ps = build_problem_set(scenarios, np.random.default_rng(args.seed), every=args.every,
+                               run_length=args.run_length, random_per_case=args.random,
+                               description=f"Built by mpc-hunt problems --build (every {args.every}, runs of "
+                                           f"{args.run_length}, {args.random} random states per family, seed "
+                                           f"{args.seed}).")
     save_problem_set(ps, args.build)
     print("\n".join(ps.describe()))
     print(f"wrote {args.build}")
@@ -439,7 +448,8 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # the reader went away (e.g. `| head`): nothing left to report
         return EXIT_ERROR
     except OSError as exc:
-        print(f"mpc-hunt {args.command}: error: {exc.filename or ''}: {exc.strerror or exc}", file=sys.stderr)
+        where = f"{exc.filename}: " if exc.filename else ""      # an error about a file names the file
+        print(f"mpc-hunt {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
     except KeyboardInterrupt:
         print(f"mpc-hunt {args.command}: interrupted", file=sys.stderr)
     return EXIT_ERROR

@@ -3,25 +3,87 @@
 from __future__ import annotations
 
 import argparse
+import os
+import signal
 import sys
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+from mpc_hunt.capture.problem import MAX_HORIZON
+from mpc_hunt.errors import MpcHuntError
+
+# Every count the command line takes has an upper bound (docs/robustness.md, "Limits"), so that no value forks
+# processes without end, asks for more memory than a machine has, or overflows the results file.
+MAX_SEED = 2**63 - 1               # SQLite's largest integer (a sweep stores its seed); NumPy takes any
+MAX_STARTS = 100                   # compare's reference starts per problem
+MAX_PROBLEMS = 100_000             # compare --limit, problems --every (closed-loop states)
+MAX_RUN_LENGTH = 1_000             # problems --run-length
+MAX_RANDOM = 1_000                 # problems --random: states per family, each up to 200 draws with a solve
+MAX_HUNTS = 1_000_000              # sweep --hunts per strategy
+MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core (each holds a solver's memory)
 
 
-def _whole(text: str, least: int, rule: str) -> int:
+def max_workers() -> int:
+    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
+def _whole(text: str, least: int, most: int, rule: str) -> int:
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
     if value < least:
         raise argparse.ArgumentTypeError(f"{rule}, got {value}")
+    if value > most:
+        raise argparse.ArgumentTypeError(f"at most {most} (docs/robustness.md, Limits), got {value}")
     return value
 
 
-def positive_int(text: str) -> int:
-    return _whole(text, 1, "must be at least 1")
+def count(most: int):
+    """An argument type: a whole number from 1 to ``most``."""
+    return lambda text: _whole(text, 1, most, "must be at least 1")
 
 
-def non_negative_int(text: str) -> int:
-    return _whole(text, 0, "must not be negative")
+def cores_count(text: str) -> int:
+    """Worker processes: from 1 to MAX_WORKERS_PER_CORE per core of this machine."""
+    return _whole(text, 1, max_workers(), "must be at least 1")
+
+
+def non_negative(most: int):
+    """An argument type: a whole number from 0 to ``most``."""
+    return lambda text: _whole(text, 0, most, "must not be negative")
+
+
+def seed(text: str) -> int:
+    return _whole(text, 0, MAX_SEED, "must not be negative")
+
+
+def check_writable(folder: Path, option: str, path: Path) -> None:
+    """Refuse, before any work, a folder this process cannot create a file in (read-only, /proc, ...)."""
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise MpcHuntError(f"{option} {path}: cannot write in {folder} ({exc.strerror or exc})") from None
+
+
+@contextmanager
+def stop_at_once(command: str):
+    """Ctrl-C ends the command at once, status 130, with nothing written.
+
+    Not by KeyboardInterrupt: a solver such as IPOPT takes it as a request to end its current solve, and the
+    command would run on to its end. Output is written after this block, so nothing is half-written.
+    """
+    def _exit(signum, frame):
+        os.write(2, f"mpc-hunt {command}: interrupted: nothing written\n".encode())
+        os._exit(128 + signum)
+
+    previous = signal.signal(signal.SIGINT, _exit)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def positive_float(text: str) -> float:

@@ -6,7 +6,7 @@ import json
 import sys
 from pathlib import Path
 
-from mpc_hunt.cli.common import Progress, non_negative_int, positive_int
+from mpc_hunt.cli.common import MAX_HUNTS, Progress, check_writable, cores_count, count, seed
 from mpc_hunt.errors import MpcHuntError
 
 
@@ -23,15 +23,16 @@ def add_parsers(sub) -> None:
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
-    sw.add_argument("--hunts", type=positive_int, default=100, help="hunts per strategy (default: 100)")
-    sw.add_argument("--seed", type=non_negative_int, default=0,
+    sw.add_argument("--hunts", type=count(MAX_HUNTS), default=100, help="hunts per strategy (default: 100)")
+    sw.add_argument("--seed", type=seed, default=0,
                     help="the sweep's seed (≥ 0); hunt i uses scenario (seed, i)")
     sw.add_argument("--ranges", type=Path, metavar="FILE", help="TOML file of scenario ranges ([ranges] table)")
     sw.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
                     help="override one range, e.g. --set n_defenders=3 --set defender_failure=0.5 (TOML values)")
     sw.add_argument("--output", type=Path, default=Path("sweep.db"), help="the results file (default: sweep.db)")
     sw.add_argument("--resume", action="store_true", help="continue the sweep in --output, skipping finished hunts")
-    sw.add_argument("--workers", type=positive_int, help="local worker processes (default: the number of cores)")
+    sw.add_argument("--workers", type=cores_count,
+                    help="local worker processes (default: the number of cores; at most 4 per core)")
     sw.add_argument("--dask-scheduler", metavar="ADDRESS", help="run on this Dask distributed scheduler instead")
     sw.add_argument("--json", action="store_true", help="print the summary as JSON")
     rep = sub.add_parser("sweep-report", help="summarise a sweep's results file",
@@ -68,6 +69,7 @@ def sweep(args) -> int:
     ranges = _ranges(args)
     if args.output.is_dir() or not args.output.parent.is_dir():
         raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
+    check_writable(args.output.parent, "--output", args.output)
     arguments = {"strategies": strategies, "hunts": args.hunts, "seed": args.seed, "ranges": ranges_to_dict(ranges)}
     client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None    # before any file is written
     store = SweepStore(args.output, arguments, resume=args.resume)
@@ -102,6 +104,8 @@ def sweep_report(args) -> int:
     store.close()
     if args.plot and not args.plot.is_dir():
         raise MpcHuntError(f"--plot {args.plot}: not an existing folder")
+    if args.plot:
+        check_writable(args.plot, "--plot", args.plot)
     return _report(rows, args.json, args.plot)
 
 

@@ -28,6 +28,7 @@ from typing import Generator, Iterator
 import numpy as np
 
 from mpc_hunt.capture import registry
+from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.control import controllers
 from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.errors import MpcHuntError, SweepStopped
@@ -72,8 +73,8 @@ class Strategy:
             horizon = int(parts[3]) if len(parts) > 3 else 1
         except ValueError:
             horizon = 0
-        if horizon < 1:
-            raise MpcHuntError(f"--strategy {text!r}: the horizon must be a whole number ≥ 1")
+        if not 1 <= horizon <= MAX_HORIZON:
+            raise MpcHuntError(f"--strategy {text!r}: the horizon must be a whole number from 1 to {MAX_HORIZON}")
         return cls(controller, formulation, backend, horizon)
 
     @property
@@ -221,8 +222,9 @@ def connect_dask(address: str):
         raise MpcHuntError('--dask-scheduler needs Dask: pip install "mpc-hunt[dask]"') from None
     try:
         return Client(address, timeout="10s")
-    except (OSError, TimeoutError) as exc:
-        raise MpcHuntError(f"--dask-scheduler {address}: cannot connect ({one_line(exc)})") from None
+    except Exception as exc:  # noqa: BLE001 - a malformed address raises ValueError or TypeError, not OSError
+        raise MpcHuntError(f"--dask-scheduler {address}: cannot connect ({one_line(exc)}); give the scheduler's "
+                           "address, e.g. tcp://127.0.0.1:8786") from None
 
 
 def run_dask(todo: list[Hunt], client) -> Iterator[dict]:

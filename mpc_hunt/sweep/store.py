@@ -65,14 +65,28 @@ class SweepStore:
         if stored is None or columns != list(COLUMNS):
             raise MpcHuntError(f"{self.path}: not a results file of this version of mpc-hunt's sweep "
                                f"(docs/robustness.md)")
-        if arguments is not None and json.loads(stored[0]) != arguments:
+        self.arguments = self._stored_arguments(stored)
+        if arguments is not None and self.arguments != arguments:
             raise MpcHuntError(f"{self.path}: --resume with other arguments than the sweep it holds ({stored[0]})")
         if arguments is not None and stored[1] != np.__version__:
             raise MpcHuntError(f"{self.path}: its scenarios were drawn with numpy {stored[1]}; this is numpy "
                                f"{np.__version__}, which may draw others from the same seeds")
         if arguments is not None:
             self.db.execute("pragma journal_mode=wal")
-        self.arguments = json.loads(stored[0])
+
+    def _stored_arguments(self, stored: tuple) -> dict:
+        """The sweep's arguments as the file holds them, checked to be what the code writes."""
+        try:
+            value = json.loads(stored[0])
+        except (TypeError, ValueError):
+            value = None
+        shape = {"strategies": list, "hunts": int, "seed": int, "ranges": dict}
+        if not isinstance(value, dict) or set(value) != set(shape) or not isinstance(stored[1], str) or \
+                any(not isinstance(value[k], kind) or isinstance(value[k], bool) for k, kind in shape.items()) or \
+                not all(isinstance(s, str) for s in value["strategies"]):
+            raise MpcHuntError(f"{self.path}: its stored arguments are not what mpc-hunt's sweep writes "
+                               f"({str(stored[0])[:80]!r}); it was changed by hand or by another program")
+        return value
 
     def _create(self, arguments: dict) -> None:
         """Both tables and the sweep's row, in one transaction."""

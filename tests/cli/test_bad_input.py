@@ -18,6 +18,8 @@ import numpy as np
 import pytest
 
 from mpc_hunt.bench.capture_state import load_state, save_state
+from mpc_hunt.cli.common import (MAX_HORIZON, MAX_HUNTS, MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_SEED,
+                                 MAX_STARTS, MAX_WORKERS_PER_CORE)
 from mpc_hunt.cli.commands import main
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.world.scenario import MAX_DEFENDERS, MAX_MAGNITUDE, MAX_OBSTACLES, MAX_SPEED, MAX_STEPS
@@ -405,11 +407,17 @@ def _row(table: list[list[str]], name: str) -> list[str]:
 def test_documented_limits_and_defaults_match_the_code():
     doc = (Path(__file__).parents[2] / "docs" / "robustness.md").read_text(encoding="utf-8")
     limits = _table(doc, "| what | limit | constant |")
+    counts = _table(doc, "| count | limit | constant |")
     ranges = _table(doc, "| field | default | meaning |")
     for name, value in [("MAX_MAGNITUDE", MAX_MAGNITUDE), ("MAX_SPEED", MAX_SPEED), ("MAX_STEPS", MAX_STEPS),
                         ("MAX_DEFENDERS", MAX_DEFENDERS), ("MAX_OBSTACLES", MAX_OBSTACLES),
                         ("MAX_FILE_BYTES", MAX_FILE_BYTES)]:
         assert value in _numbers(_row(limits, name)[1]), name
+    for name, value in [("MAX_HORIZON", MAX_HORIZON), ("MAX_SEED", MAX_SEED), ("MAX_STARTS", MAX_STARTS),
+                        ("MAX_PROBLEMS", MAX_PROBLEMS), ("MAX_RUN_LENGTH", MAX_RUN_LENGTH),
+                        ("MAX_RANDOM", MAX_RANDOM), ("MAX_HUNTS", MAX_HUNTS),
+                        ("MAX_WORKERS_PER_CORE", MAX_WORKERS_PER_CORE)]:
+        assert float(value) in _numbers(_row(counts, name)[1]), name
     for field in dataclasses.fields(ScenarioRanges):
         default = getattr(ScenarioRanges(), field.name)
         assert _numbers(_row(ranges, field.name)[1]) == list(np.ravel(default)), field.name

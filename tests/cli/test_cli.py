@@ -127,7 +127,7 @@ def test_bad_state_file_is_one_line(capsys, tmp_path):
 
 
 def test_console_script_runs_without_traceback():
-    result = subprocess.run([sys.executable, "-m", "mpc_hunt.cli.commands", "simulate", "--scenario", "missing.toml"],
+    result = subprocess.run([sys.executable, "-m", "mpc_hunt.cli", "simulate", "--scenario", "missing.toml"],
                             capture_output=True, text=True)
     assert result.returncode == 2 and "Traceback" not in result.stderr
 

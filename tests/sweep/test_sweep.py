@@ -210,7 +210,7 @@ def test_an_interrupted_sweep_resumes_to_the_same_rows(tmp_path):
             "--workers", "1", "--json"]
     killed = tmp_path / "killed.db"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli.commands", *argv, "--output", str(killed)], cwd=ROOT,
+    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli", *argv, "--output", str(killed)], cwd=ROOT,
                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     _wait_for_rows(killed, 2)
     process.send_signal(signal.SIGKILL)
@@ -240,7 +240,7 @@ def _wait_for_rows(path: Path, count: int, seconds: float = 120) -> None:
 def test_ctrl_c_stops_a_sweep_at_once_even_inside_ipopt(tmp_path):
     """IPOPT takes a KeyboardInterrupt as a request to end one solve; the hunt must not run on to its end."""
     path = tmp_path / "s.db"
-    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli.commands", "sweep", "--hunts", "3", "--seed", "1",
+    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli", "sweep", "--hunts", "3", "--seed", "1",
                                 "--strategy", "paper:ms-nlp:ipopt:1", "--workers", "1", "--output", str(path)],
                                cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)}, start_new_session=True,
                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
