@@ -23,7 +23,8 @@ def _modules() -> list[str]:
     names = []
     for package in (mpc_hunt, formulations):
         names.append(package.__name__)
-        names += [m.name for m in pkgutil.walk_packages(package.__path__, package.__name__ + ".")]
+        names += [m.name for m in pkgutil.walk_packages(package.__path__, package.__name__ + ".")
+                  if not m.name.endswith(".__main__")]      # importing it runs the command line
     return names
 
 

@@ -20,7 +20,8 @@ from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.capture import registry
 from mpc_hunt.control import controllers
-from mpc_hunt.cli.common import (MAX_HORIZON, MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress,
+from mpc_hunt.capture.problem import MAX_HORIZON
+from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress,
                                  check_writable, count, non_negative, positive_float, seed, stop_at_once)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED

@@ -10,7 +10,6 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
-from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.errors import MpcHuntError
 
 # Every count the command line takes has an upper bound (docs/robustness.md, "Limits"), so that no value forks

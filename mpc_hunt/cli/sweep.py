@@ -78,10 +78,10 @@ def sweep(args) -> int:
     stopped = None
     with Progress(len(todo), "sweep", quiet=args.json, unit="hunts") as update:
         try:
-            for count, row in enumerate(rows, 1):
+            for finished, row in enumerate(rows, 1):
                 store.add(row)
                 if update:
-                    update(count)
+                    update(finished)
         except KeyboardInterrupt:
             stopped = "interrupted"
             rows.close()
