@@ -25,7 +25,8 @@ from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_S
                                  check_writable, count, non_negative, positive_float, seed, stop_at_once)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED
-from mpc_hunt.world.scenario_io import DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario, resolve_scenario
+from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario,
+                                        resolve_scenario)
 
 EXIT_ERROR = 2
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")

@@ -15,8 +15,8 @@ def add_parsers(sub) -> None:
 
     sw = sub.add_parser(
         "sweep", help="run many random hunts for one or more strategies",
-        description="Run --hunts random hunts (mpc_hunt.sweep.random_scenario; ranges from --ranges FILE and --set) for "
-                    "each strategy, on local worker processes or a Dask cluster, streaming one row per hunt into "
+        description="Run --hunts random hunts (mpc_hunt.sweep.random_scenario; ranges from --ranges FILE and --set) "
+                    "for each strategy, on local worker processes or a Dask cluster, streaming one row per hunt into "
                     "an SQLite file; then print the summary per strategy. A strategy is "
                     "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
                     "paper:qp:daqp:5, apf. "
