@@ -65,7 +65,7 @@ class SweepStore:
         if stored is None or columns != list(COLUMNS):
             raise MpcHuntError(f"{self.path}: not a results file of this version of mpc-hunt's sweep "
                                f"(docs/robustness.md)")
-        self.arguments = self._stored_arguments(stored)
+        self.arguments = self._stored_arguments(stored) if exists else arguments     # a file read: checked
         if arguments is not None and self.arguments != arguments:
             raise MpcHuntError(f"{self.path}: --resume with other arguments than the sweep it holds ({stored[0]})")
         if arguments is not None and stored[1] != np.__version__:
