@@ -1,4 +1,4 @@
-"""What the command line's subcommands share: argument types and the progress bar."""
+"""What the command line's subcommands share: bounded argument types, the output-path check, Ctrl-C, progress."""
 
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core
 
 
 def max_workers() -> int:
+    """The most local worker processes a sweep may start on this machine."""
     return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
 
 
