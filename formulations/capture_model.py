@@ -22,22 +22,54 @@ SCALARS = ("perception_radius", "eta", "k_d", "k_o", "attacker_max_speed", "prot
            "hunt_radius", "w_force", "w_ring", "w_move", "w_equal")
 
 
-def _layout(nc: int, nf: int, m: int) -> list[tuple[str, int]]:
-    return [("attacker", 2), ("controlled", 2 * nc), ("held", 2 * nf), ("desired", 2), ("nominal", 2),
-            ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
+ENCLOSE_SCALARS = ("w_attacker", "w_edge", "edge_margin")
+FAR = 1e9    # m: the arena's edges when a scenario has none (no edge term, no bound)
 
 
-def unpack(theta, nc: int, nf: int, m: int) -> dict:
+def reference_size(nc: int) -> int:
+    """One step's reference: the controlled defenders' places, the attacker's, the places' weight."""
+    return 2 * nc + 3
+
+
+def _layout(nc: int, nf: int, m: int, objective: str = "paper", steps: int = 0) -> list[tuple[str, int]]:
+    """θ's parts; ``enclose`` adds the arena, its weights and ``steps`` steps of the reference."""
+    layout = [("attacker", 2), ("controlled", 2 * nc), ("held", 2 * nf), ("desired", 2), ("nominal", 2),
+              ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
+    if objective == "enclose":
+        layout += [("arena", 4)] + [(s, 1) for s in ENCLOSE_SCALARS] + [("reference", steps * reference_size(nc))]
+    return layout
+
+
+def unpack(theta, nc: int, nf: int, m: int, objective: str = "paper", steps: int = 0) -> dict:
     """The named parts of θ (symbols or numbers), in the order of :func:`_layout`."""
     out, offset = {}, 0
-    for name, size in _layout(nc, nf, m):
+    for name, size in _layout(nc, nf, m, objective, steps):
         out[name] = theta[offset:offset + size]
         offset += size
     return out
 
 
-def parameter_size(nc: int, nf: int, m: int) -> int:
-    return sum(size for _, size in _layout(nc, nf, m))
+def parameter_size(nc: int, nf: int, m: int, objective: str = "paper", steps: int = 0) -> int:
+    return sum(size for _, size in _layout(nc, nf, m, objective, steps))
+
+
+def step_reference(p: dict, k: int, nc: int):
+    """Step k's reference (k = 0..steps−1) from unpacked θ: (places (nc·2), attacker (2), weight)."""
+    size = reference_size(nc)
+    ref = p["reference"][k * size:(k + 1) * size]
+    return ref[:2 * nc], ref[2 * nc:2 * nc + 2], ref[2 * nc + 2]
+
+
+def stage_parameters(theta, nc: int, nf: int, m: int, objective: str, N: int, k: int):
+    """The θ of one stage (its own step of the reference) from the whole horizon's θ, for stage k = 1..N.
+
+    For ``paper`` every stage shares θ. The last entry (the smoothing width) is kept.
+    """
+    if objective == "paper":
+        return theta
+    common = parameter_size(nc, nf, m, objective, 0)
+    size = reference_size(nc)
+    return ca.vertcat(theta[:common], theta[common + (k - 1) * size:common + k * size], theta[-1])
 
 
 def parameter_vector(problem: CaptureProblem) -> np.ndarray:
@@ -56,8 +88,17 @@ def parameter_vector(problem: CaptureProblem) -> np.ndarray:
         "ring_radius": problem.ring_radius, "time_step": hunt.time_step, "hunt_radius": hunt.hunt_radius,
         "w_force": w.force, "w_ring": w.ring, "w_move": w.move, "w_equal": w.equal_distance,
     }
-    nc, nf, m, _ = problem.structure
-    return np.concatenate([np.ravel(np.asarray(values[name], dtype=float)) for name, _ in _layout(nc, nf, m)])
+    nc, nf, m, N, objective = problem.structure
+    if objective == "enclose":
+        e, ref = problem.enclose_weights, problem.reference
+        values.update({
+            "w_force": 0.0, "w_ring": 0.0, "w_move": e.move, "w_equal": 1.0,
+            "arena": s.arena if s.arena is not None else (-FAR, -FAR, FAR, FAR),
+            "w_attacker": e.attacker, "w_edge": e.edge, "edge_margin": e.edge_margin,
+            "reference": np.concatenate([ref.defenders[:, c].reshape(N, -1), ref.attacker, ref.slot_weight[:, None]],
+                                        axis=1)})
+    return np.concatenate([np.ravel(np.asarray(values[name], dtype=float))
+                           for name, _ in _layout(nc, nf, m, objective, N)])
 
 
 def _norm(v):
@@ -83,14 +124,32 @@ def saturate(v, max_norm):
     return v * ca.fmin(1, max_norm / _norm(v))
 
 
+def enclose_residuals(p: dict, attacker, defenders: list, places, attacker_place, weight) -> list:
+    """The ``enclose`` objective's residuals at one step (docs/formulations.md).
+
+    Each controlled defender to its place, the attacker to its reference position, and the attacker's
+    distance beyond the arena less ``edge_margin`` on each side, all per r̄_d (the mean step, so that a
+    step's worth of error costs about one: the QP is then as well scaled as the paper's).
+    """
+    length = ca.sum1(p["step_limits"]) / p["step_limits"].shape[0]
+    out = [ca.sqrt(weight) * (d - places[2 * i:2 * i + 2]) / length for i, d in enumerate(defenders)]
+    out.append(ca.sqrt(p["w_attacker"]) * (attacker - attacker_place) / length)
+    x_min, y_min, x_max, y_max = (p["arena"][j] for j in range(4))
+    margin = p["edge_margin"]
+    beyond = ca.vertcat(x_min + margin - attacker[0], y_min + margin - attacker[1],
+                        attacker[0] - x_max + margin, attacker[1] - y_max + margin)
+    out.append(ca.sqrt(p["w_edge"]) * ca.fmax(beyond, 0) / length)
+    return out
+
+
 class CaptureModel:
     """Symbols and expressions of the capture problem for one structure."""
 
-    def __init__(self, nc: int, nf: int, m: int, N: int):
-        self.nc, self.nf, self.m, self.N = nc, nf, m, N
+    def __init__(self, nc: int, nf: int, m: int, N: int, objective: str = "paper"):
+        self.nc, self.nf, self.m, self.N, self.objective = nc, nf, m, N, objective
         self.X = ca.SX.sym("X", N * nc * 2)
-        self.theta = ca.SX.sym("theta", parameter_size(nc, nf, m))
-        self.p = unpack(self.theta, nc, nf, m)
+        self.theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, N))
+        self.p = unpack(self.theta, nc, nf, m, objective, N)
         self._build()
 
     def defender(self, k: int, i: int):
@@ -125,11 +184,15 @@ class CaptureModel:
             team = [self.defender(k, i) for i in range(nc)] + held
             attacker.append(p_a)
             force = self._resultant(p_a, team)
-            residuals.append(ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"])
+            if self.objective == "enclose":
+                residuals += enclose_residuals(p, p_a, team[:nc], *step_reference(p, k, nc))
+            else:
+                residuals.append(ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"])
             for i in range(nc):
                 r = self.defender(k, i) - p_a
-                sq_dist.append(ca.dot(r, r))
-                residuals.append(ca.sqrt(p["w_ring"]) * (_norm(r) - p["ring_radius"]) / p["hunt_radius"])
+                sq_dist.append(ca.dot(r, r) if self.objective == "paper" else ca.SX.zeros(1, 1))   # enclose: no Eq. 14
+                if self.objective != "enclose":
+                    residuals.append(ca.sqrt(p["w_ring"]) * (_norm(r) - p["ring_radius"]) / p["hunt_radius"])
                 residuals.append(ca.sqrt(p["w_move"]) * (self.defender(k, i) - self.previous(k, i))
                                  / p["step_limits"][i])
             p_a = p_a + p["time_step"] * saturate(force, p["attacker_max_speed"])
@@ -144,9 +207,9 @@ class CaptureModel:
 
 
 @lru_cache(maxsize=32)
-def capture_model(nc: int, nf: int, m: int, N: int) -> CaptureModel:
+def capture_model(nc: int, nf: int, m: int, N: int, objective: str = "paper") -> CaptureModel:
     """The model for one structure, built once per process."""
-    return CaptureModel(nc, nf, m, N)
+    return CaptureModel(nc, nf, m, N, objective)
 
 
 def plan_from_x(problem: CaptureProblem, X: np.ndarray) -> np.ndarray:

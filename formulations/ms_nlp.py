@@ -27,8 +27,8 @@ import casadi as ca
 import numpy as np
 
 from formulations.base import Formulation
-from formulations.capture_model import parameter_vector, unpack, x_from_plan
-from formulations.nlp import RELAXABLE
+from formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack, x_from_plan
+from formulations.nlp import RELAXABLE, arena_bounds
 from formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt.capture.backends.base import NLPData
 from mpc_hunt.capture.solution import Solution, WarmStart
@@ -38,14 +38,18 @@ class StagedNLP:
     """The multiple-shooting NLP of one structure, its starting point and its read-back (built once)."""
 
     def __init__(self, structure: tuple):
-        nc, nf, m, N = structure
-        sm = stage_model(nc, nf, m)
-        theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
+        nc, nf, m, N, objective = structure
+        sm = stage_model(nc, nf, m, objective)
+        theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, N if objective == "enclose" else 0) + 1)
+
+        def stage(k):                           # θ of stage k ≥ 1 (its own step of the reference)
+            return stage_parameters(theta, nc, nf, m, objective, N, max(k, 1))
+
         p = unpack(theta, nc, nf, m)
         D = ca.SX.sym("D", N * 2 * nc)          # the controlled defenders' plan, steps 1..N
         x = x_guess = ca.vertcat(p["attacker"], p["controlled"])   # x_0: the state, a parameter
         # The first move of the attacker follows from the state alone: the paper's field, unsmoothed.
-        exact = ca.vertcat(theta[:-1], 0)
+        exact = ca.vertcat(stage(1)[:-1], 0)
         # Rows in units of one step (Eq. 13 per r_d², distances per r̄_d): IPOPT's tolerances and bound
         # relaxation (1e-8 in a row's units) then move a robot by ~1e-10 m, not ~1e-7 m, so a plan the
         # world caps at the robot's speed lands where it was planned (docs/robustness.md).
@@ -71,23 +75,24 @@ class StagedNLP:
             w.append(ca.vertcat(*u)); guess.append(ca.vertcat(*u_guess)); kinds.append(np.array(u_kinds, dtype=object))
             if k < N:
                 x_next = ca.SX.sym(f"x{k + 1}", sm.nx)
-                rows(x_next - sm.dynamics(x, du, exact if k == 0 else theta), 0.0, 0.0, False)
-                steps, limits = sm.motion(du, theta)
+                rows(x_next - sm.dynamics(x, du, exact if k == 0 else stage(k)), 0.0, 0.0, False)
+                steps, limits = sm.motion(du, stage(k))
                 rows(steps / limits - 1, -np.inf, 0.0, False)                        # Eq. 13, per r_d²
-                f += ca.sumsqr(sm.move(du, theta))
+                f += ca.sumsqr(sm.move(du, stage(k)))
             if k > 0:
-                values, lower = sm.path(x, theta)
+                values, lower = sm.path(x, stage(k))
                 rows((values - lower) / length, 0.0, np.inf, np.array([fam in RELAXABLE for fam in sm.families]))
                 gap = sm.squared_distance(x) - q                                     # Eq. 14, exact L1
                 rows(gap - s, -np.inf, 0.0, False)
                 rows(gap + s, 0.0, np.inf, False)
-                f += ca.sumsqr(sm.residual(x, theta)) + p["w_equal"] * ca.sum1(s) / p["hunt_radius"] ** 2
+                f += ca.sumsqr(sm.residual(x, stage(k))) + p["w_equal"] * ca.sum1(s) / p["hunt_radius"] ** 2
             if k < N:
-                x_guess = sm.dynamics(x_guess, u_guess[0], exact if k == 0 else theta)
+                x_guess = sm.dynamics(x_guess, u_guess[0], exact if k == 0 else stage(k))
                 x = x_next
                 w.append(x); guess.append(x_guess); kinds.append(np.full(sm.nx, "state", dtype=object))
         w, g = ca.vertcat(*w), ca.vertcat(*g)
         self.problem = {"x": w, "p": theta, "f": f, "g": g}
+        self.nc = nc
         self.lbg, self.ubg, self.relax = np.array(lbg), np.array(ubg), np.array(relax, dtype=bool)
         kinds = np.concatenate(kinds)
         self.slack = kinds == "s"
@@ -133,6 +138,9 @@ class MSNLPFormulation(Formulation):
         theta = np.append(parameter_vector(problem), self.smoothing)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
         w0, lbx, ubx, lbg = nlp.bounds(theta, x_from_plan(problem, plan0))
+        low, high = arena_bounds(problem)
+        lbx[nlp.plan_index] = np.tile(low, problem.horizon * nlp.nc)
+        ubx[nlp.plan_index] = np.tile(high, problem.horizon * nlp.nc)
         data = NLPData(("ms-nlp",) + problem.structure, lambda: nlp.problem, theta, lbx, ubx, lbg, nlp.ubg, self.kind)
         result = backend.solve(data, WarmStart(w0, None if duals is None else duals.y,
                                                 None if duals is None else duals.z))

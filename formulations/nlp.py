@@ -53,6 +53,19 @@ def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[
 RELAXABLE = ("obstacle_safety", "attacker_distance", "separation")
 
 
+def arena_bounds(problem: CaptureProblem) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) of a defender's (x, y): with the enclose objective, the scenario's arena; else none (±inf).
+
+    A defender already outside is bounded by where it stands (never worse than now). The paper's
+    objective keeps its problem as it was (and the committed results their numbers).
+    """
+    arena = problem.scenario.arena
+    if arena is None or problem.objective != "enclose":
+        return np.full(2, -np.inf), np.full(2, np.inf)
+    here = problem.defender_positions[problem.controlled]
+    return np.minimum(arena[:2], here.min(axis=0)), np.maximum(arena[2:], here.max(axis=0))
+
+
 @lru_cache(maxsize=32)
 def constraint_set(structure: tuple):
     """(g, lbg, ubg, rows to relax, g as a function of (X, θ)) for one structure."""
@@ -111,8 +124,9 @@ class NLPFormulation(Formulation):
         lbg = np.concatenate([lo, np.tile([-np.inf, 0.0], N * nc)])
         ubg = np.concatenate([hi, np.tile([0.0, np.inf], N * nc)])
         nX = N * nc * 2
-        lbx = np.concatenate([np.full(nX, -np.inf), np.zeros(N + N * nc)])
-        ubx = np.full(nX + N + N * nc, np.inf)
+        low, high = arena_bounds(problem)
+        lbx = np.concatenate([np.tile(low, N * nc), np.zeros(N + N * nc)])
+        ubx = np.concatenate([np.tile(high, N * nc), np.full(N + N * nc, np.inf)])
         return NLPData(("nlp",) + structure, lambda: self._nlp(structure), theta, lbx, ubx, lbg, ubg)
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:

@@ -69,8 +69,12 @@ class LinearisedCapture:
             relax.extend([relaxable] * expr.shape[0]); family.extend([name] * expr.shape[0])
 
         step_limits = ca.vertcat(*[ca.repmat(p["step_limits"][i], 2, 1) for i in range(nc)])
-        add(X - Xref, -TRUST_REGION * ca.repmat(step_limits, N, 1), TRUST_REGION * ca.repmat(step_limits, N, 1),
-            "trust_region")
+        region = TRUST_REGION * ca.repmat(step_limits, N, 1)
+        low, high = -region, region
+        if model.objective == "enclose":     # the arena bounds every plan (never worse than the reference)
+            low = ca.fmax(low, ca.fmin(ca.repmat(p["arena"][:2], N * nc, 1) - Xref, 0))
+            high = ca.fmin(high, ca.fmax(ca.repmat(p["arena"][2:], N * nc, 1) - Xref, 0))
+        add(X - Xref, low, high, "trust_region")
         add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc), "equal_distance")
         n_rows = nX + N * nc
         for k in range(N):

@@ -29,7 +29,8 @@ import casadi as ca
 import numpy as np
 
 from formulations.base import Formulation
-from formulations.capture_model import parameter_vector, plan_from_x, unpack, x_from_plan
+from formulations.capture_model import (parameter_size, parameter_vector, plan_from_x, stage_parameters, unpack,
+                                        x_from_plan)
 from formulations.nlp import RELAXABLE
 from formulations.qp import TRUST_REGION
 from formulations.stage_linearisation import stage_linearisation
@@ -46,15 +47,21 @@ class LinearisedStages:
     """The stage-structured QP of one structure, as CasADi expressions of (θ, reference plan)."""
 
     def __init__(self, structure: tuple):
-        nc, nf, m, N = structure
-        sm = stage_model(nc, nf, m)
-        st = stage_linearisation(nc, nf, m)
+        nc, nf, m, N, objective = structure
+        sm = stage_model(nc, nf, m, objective)
+        st = stage_linearisation(nc, nf, m, objective)
         nx, nd, nu = st.nx, st.nd, st.nu
-        theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
+        steps = N if objective == "enclose" else 0
+        theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, steps) + 1)
         D = ca.SX.sym("D", N * nd)                                     # the reference plan, steps 1..N
+
+        def stage(k):                                                  # θ of stage k ≥ 1 (its own reference)
+            return stage_parameters(theta, nc, nf, m, objective, N, max(k, 1))
+
         p = unpack(theta, nc, nf, m)
-        S_x = st.S_x(theta)
-        exact = ca.vertcat(theta[:-1], 0)
+        p_enclose = unpack(theta, nc, nf, m, objective, steps)
+        S_x = st.S_x(stage(1))
+        exact = ca.vertcat(stage(1)[:-1], 0)
         relaxable = ca.DM([f in RELAXABLE for f in st.families])
         nz = (N + 1) * nx + N * nu
         x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []
@@ -68,26 +75,31 @@ class LinearisedStages:
                 hessian.append(ca.SX(nx, nx)); gradient.append(ca.SX(nx, 1))
                 lbz.append(ca.DM.zeros(nx)); ubz.append(ca.DM.zeros(nx))
             else:
-                r, J, c, C = st.state(x_ref[k], theta)
+                r, J, c, C = st.state(x_ref[k], stage(k))
                 constant += ca.sumsqr(r)
                 hessian.append(2 * ca.mtimes(J.T, J)); gradient.append(2 * ca.mtimes(J.T, r))
-                region = TRUST_REGION * ca.DM.ones(nd)
-                lbz.append(ca.vertcat(-ca.inf, -ca.inf, -region)); ubz.append(ca.vertcat(ca.inf, ca.inf, region))
+                low = high = TRUST_REGION * ca.DM.ones(nd)
+                low = -low
+                if objective == "enclose":     # the arena bounds every plan (never worse than the reference)
+                    scale, here = S_x[2:], x_ref[k][2:]
+                    low = ca.fmax(low, ca.fmin((ca.repmat(p_enclose["arena"][:2], nc, 1) - here) / scale, 0))
+                    high = ca.fmin(high, ca.fmax((ca.repmat(p_enclose["arena"][2:], nc, 1) - here) / scale, 0))
+                lbz.append(ca.vertcat(-ca.inf, -ca.inf, low)); ubz.append(ca.vertcat(ca.inf, ca.inf, high))
                 # Path rows c + C ξ ≥ 0, those the held plan breaks relaxed to its values (as nlp): their inner
                 # approximation then keeps each true distance at least as large as holding would.
-                at_held = st.state(held[k], theta)[2]
+                at_held = st.state(held[k], stage(k))[2]
                 c_rows.append(_place(C, col, nz))
                 c_lower.append(ca.if_else(relaxable, ca.fmin(at_held, 0), 0) - c)
                 c_upper.append(ca.DM.inf(c.shape[0]))
             if k < N:
                 u_ref = D[nd * k:nd * (k + 1)] - x_ref[k][2:]
                 # The attacker's first move follows from the state alone: the paper's field, unsmoothed.
-                move, M, nxt, G_x, G_u, c, C_x, C_u, penalty = st.control(x_ref[k], u_ref, exact if k == 0 else theta)
+                move, M, nxt, G_x, G_u, c, C_x, C_u, penalty = st.control(x_ref[k], u_ref, exact if k == 0 else stage(k))
                 constant += ca.sumsqr(move)
                 x_ref.append(nxt)
-                held.append(sm.dynamics(held[k], ca.DM.zeros(nd), exact if k == 0 else theta))
+                held.append(sm.dynamics(held[k], ca.DM.zeros(nd), exact if k == 0 else stage(k)))
                 hessian.append(2 * ca.mtimes(M.T, M)); gradient.append(2 * ca.mtimes(M.T, move) + penalty)
-                lo, hi, lo_rows, hi_rows = st.control_bounds(u_ref, theta)
+                lo, hi, lo_rows, hi_rows = st.control_bounds(u_ref, stage(k))
                 lbz.append(lo); ubz.append(hi)
                 # gap_k: ξ_k+1 + G_x ξ_k + G_u ν_k = 0 (the reference has no gaps)
                 rows.append(_place(ca.horzcat(G_x, G_u, ca.SX.eye(nx)), col, nz))

@@ -32,8 +32,8 @@ class StageLinearisation:
     diagonal rows and Eq. 14's rows for step k+1 with theirs, and the gradient of Eq. 14's penalty.
     """
 
-    def __init__(self, nc: int, nf: int, m: int):
-        sm = stage_model(nc, nf, m)
+    def __init__(self, nc: int, nf: int, m: int, objective: str = "paper"):
+        sm = stage_model(nc, nf, m, objective)
         self.nx, self.nd, self.nu = sm.nx, sm.nu, sm.nu + 1 + nc
         self.families = sm.families
         theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
@@ -80,5 +80,5 @@ class StageLinearisation:
 
 
 @lru_cache(maxsize=32)
-def stage_linearisation(nc: int, nf: int, m: int) -> StageLinearisation:
-    return StageLinearisation(nc, nf, m)
+def stage_linearisation(nc: int, nf: int, m: int, objective: str = "paper") -> StageLinearisation:
+    return StageLinearisation(nc, nf, m, objective)

@@ -22,20 +22,25 @@ from functools import lru_cache
 import casadi as ca
 
 from formulations.base import separation_pairs
-from formulations.capture_model import parameter_size, saturate, unpack
+from formulations.capture_model import enclose_residuals, parameter_size, saturate, step_reference, unpack
 from formulations.smooth_field import norm, obstacle_repulsion, repulsion
 
 SMOOTHING = 0.001   # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)
 
 
 class StageModel:
-    """CasADi functions of one stage for one structure (nc controlled, nf held, m obstacles)."""
+    """CasADi functions of one stage for one structure (nc controlled, nf held, m obstacles, objective).
 
-    def __init__(self, nc: int, nf: int, m: int):
-        self.nc, self.nf, self.m = nc, nf, m
+    With the ``enclose`` objective a stage's θ holds its own step of the reference
+    (:func:`formulations.capture_model.stage_parameters`).
+    """
+
+    def __init__(self, nc: int, nf: int, m: int, objective: str = "paper"):
+        self.nc, self.nf, self.m, self.objective = nc, nf, m, objective
         self.nx, self.nu = 2 + 2 * nc, 2 * nc
-        theta = ca.SX.sym("theta", parameter_size(nc, nf, m) + 1)
-        p = unpack(theta, nc, nf, m)
+        steps = 1 if objective == "enclose" else 0
+        theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, steps) + 1)
+        p = unpack(theta, nc, nf, m, objective, steps)
         w = theta[-1]
         x, u = ca.SX.sym("x", self.nx), ca.SX.sym("u", self.nu)
         a = x[:2]
@@ -52,13 +57,17 @@ class StageModel:
         self.dynamics = ca.Function("f", [x, u, theta], [ca.vertcat(a + step, x[2:] + u)])
 
         distance = [norm(d - a) for d in defenders]
-        residual = [ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"]]
-        residual += [ca.sqrt(p["w_ring"]) * (r - p["ring_radius"]) / p["hunt_radius"] for r in distance]
+        if objective == "enclose":
+            residual = enclose_residuals(p, a, defenders, *step_reference(p, 0, nc))
+        else:
+            residual = [ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"]]
+            residual += [ca.sqrt(p["w_ring"]) * (r - p["ring_radius"]) / p["hunt_radius"] for r in distance]
         self.residual = ca.Function("residual", [x, theta], [ca.vertcat(*residual)])
         reach = ca.vertcat(*[p["step_limits"][i] for i in range(nc) for _ in range(2)])
         self.move = ca.Function("move", [u, theta], [ca.sqrt(p["w_move"]) * u / reach])
-        self.squared_distance = ca.Function("squared_distance", [x],
-                                            [ca.vertcat(*[ca.dot(d - a, d - a) for d in defenders])])
+        # Eq. 14's squared distances; with ``enclose`` none (its rows then pin their slacks at zero).
+        squared = [ca.dot(d - a, d - a) if objective == "paper" else ca.SX.zeros(1, 1) for d in defenders]
+        self.squared_distance = ca.Function("squared_distance", [x], [ca.vertcat(*squared)])
 
         # Distances, not their squares: linearised, a distance gives the tangent half-plane
         # n̄·(p − c) ≥ R, the tightest inner approximation (the one formulations/qp.py uses).
@@ -80,6 +89,6 @@ class StageModel:
 
 
 @lru_cache(maxsize=32)
-def stage_model(nc: int, nf: int, m: int) -> StageModel:
+def stage_model(nc: int, nf: int, m: int, objective: str = "paper") -> StageModel:
     """The stage functions for one structure, built once per process."""
-    return StageModel(nc, nf, m)
+    return StageModel(nc, nf, m, objective)

@@ -1,8 +1,9 @@
 """The referee: scores any plan on the true nonlinear capture problem.
 
 Every formulation and backend is scored here, in plain NumPy, independently of
-the CasADi expressions the formulations are built from, by one objective
-(:data:`OBJECTIVE`) and one violation per constraint family, in metres.
+the CasADi expressions the formulations are built from, by the objective the
+plan was made for (:data:`OBJECTIVE`, the paper's; :data:`ENCLOSE_OBJECTIVE`)
+and one violation per constraint family, in metres.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from mpc_hunt.world.geometry import norm, saturate
 
 VIOLATION_NAMES = ("motion_limit", "equal_distance", "obstacle_safety", "separation", "attacker_distance")
 TERM_NAMES = ("force", "ring", "move", "equal_distance")
+ENCLOSE_TERM_NAMES = ("slot", "attacker", "edge", "move")
 
 OBJECTIVE = """\
 J(X) = sum over steps k = 1..N of
@@ -31,6 +33,18 @@ violation in metres: motion_limit (Eq. 13, |p_di,k - p_di,k-1| - r_d), equal_dis
 (Eq. 14, max_i |r_ai,k| - min_i |r_ai,k|), obstacle_safety (Eq. 15, r_o + R_safe -
 |p_di,k - c_o|), separation (d_sep - |p_di,k - p_dj,k|) and attacker_distance
 (d_min - |r_ai,k|)."""
+
+ENCLOSE_OBJECTIVE = """\
+J(X) = sum over steps k = 1..N of
+         w_k sum_i |p_di,k - s_i,k|^2 / r_d^2                    (slot: each defender to its place)
+       + w_a |p_a,k - a_k|^2 / r_d^2                             (attacker: to where the circle holds it)
+       + w_e sum_sides max(0, margin - distance to the side)^2 / r_d^2     (edge: the arena)
+       + w_m sum_i |p_di,k - p_di,k-1|^2 / r_d,i^2               (move: smoothness)
+with the places s_i,k, the attacker's a_k and the weights w_k from the reference the controller
+builds (mpc_hunt.control.enclosure), r_d the controlled defenders' mean step (v_d T), the
+attacker propagated through its APF dynamics (Eq. 2),
+w_a = 10, w_e = 10, margin = 1 m, w_m = 1e-3. The paper's constraints but Eq. 14 (the places
+decide the distances), with every defender inside the arena."""
 
 
 @dataclass(frozen=True)
@@ -86,13 +100,16 @@ def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:
     dist = norm(path[:, None, :] - plan)                                      # (N, n)
     steps = plan - np.concatenate([problem.defender_positions[None], plan[:-1]])
     mine = dist[:, c]
-    force_error = problem.desired_velocity - forces
-    terms = {
-        "force": w.force * float(np.sum(force_error**2)) / a.max_speed**2,
-        "ring": w.ring * float(np.sum(((mine - problem.ring_radius) / hunt.hunt_radius) ** 2)),
-        "move": w.move * float(np.sum(np.sum(steps[:, c] ** 2, axis=2) / r_d[c] ** 2)),
-        "equal_distance": w.equal_distance * equal_distance_penalty(mine**2) / hunt.hunt_radius**2,
-    }
+    if problem.objective == "enclose":
+        terms = _enclose_terms(problem, plan, path, steps, r_d)
+    else:
+        force_error = problem.desired_velocity - forces
+        terms = {
+            "force": w.force * float(np.sum(force_error**2)) / a.max_speed**2,
+            "ring": w.ring * float(np.sum(((mine - problem.ring_radius) / hunt.hunt_radius) ** 2)),
+            "move": w.move * float(np.sum(np.sum(steps[:, c] ** 2, axis=2) / r_d[c] ** 2)),
+            "equal_distance": w.equal_distance * equal_distance_penalty(mine**2) / hunt.hunt_radius**2,
+        }
     apart = norm(plan[:, c][:, :, None, :] - plan[:, None, :, :])            # (N, controlled, n)
     others = np.arange(n)[None, :] != np.flatnonzero(c)[:, None]
     worst = {
@@ -104,4 +121,26 @@ def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:
         "attacker_distance": _largest(hunt.min_attacker_distance - mine),
     }
     violation = {k: max(v, 0.0) for k, v in worst.items()}
+    if problem.objective == "enclose":      # Eq. 14 is no constraint of this objective (only a regulariser)
+        violation["equal_distance"] = 0.0
     return Evaluation(sum(terms.values()), violation, path, terms, {k: -v for k, v in worst.items()})
+
+
+def _enclose_terms(problem: CaptureProblem, plan, path, steps, r_d) -> dict[str, float]:
+    """The terms of :data:`ENCLOSE_OBJECTIVE`."""
+    e, ref, c = problem.enclose_weights, problem.reference, problem.controlled
+    arena = problem.scenario.arena
+    if arena is None:
+        beyond = np.zeros((len(path), 4))
+    else:
+        m = e.edge_margin
+        beyond = np.maximum(np.stack([arena[0] + m - path[:, 0], arena[1] + m - path[:, 1],
+                                      path[:, 0] - arena[2] + m, path[:, 1] - arena[3] + m], axis=1), 0.0)
+    length = float(np.mean(problem.step_limits[c]))
+    slot = np.sum((plan[:, c] - ref.defenders[:, c]) ** 2, axis=(1, 2)) / length**2
+    return {
+        "slot": float(np.sum(ref.slot_weight * slot)),
+        "attacker": e.attacker * float(np.sum((path - ref.attacker) ** 2)) / length**2,
+        "edge": e.edge * float(np.sum(beyond**2)) / length**2,
+        "move": e.move * float(np.sum(np.sum(steps[:, c] ** 2, axis=2) / r_d[c] ** 2)),
+    }

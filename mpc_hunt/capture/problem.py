@@ -25,6 +25,11 @@ class ProblemError(MpcHuntError, ValueError):
 # Steps (20 s at T = 0.1 s): the formulations' set-up grows with N, and no capture needs a longer look-ahead.
 MAX_HORIZON = 200
 
+# What the capture stage minimises (docs/formulations.md): ``paper``, Eq. 12 as published (force error, ring,
+# smoothness, Eq. 14's penalty); ``enclose``, a reference of places on the hunting circle tracked through the
+# attacker's response (built by the controller, :mod:`mpc_hunt.control.enclosure`).
+OBJECTIVES = ("paper", "enclose")
+
 @dataclass(frozen=True)
 class CaptureWeights:
     """Weights of the objective's terms; fixed for every scenario (docs/formulations.md).
@@ -41,6 +46,35 @@ class CaptureWeights:
 
 
 @dataclass(frozen=True)
+class EncloseWeights:
+    """Weights of the ``enclose`` objective (docs/formulations.md); each step's slot weight is the reference's.
+
+    attacker: the attacker's predicted position to the reference's;
+    edge: the attacker's predicted position beyond the arena less ``edge_margin``; move: step length
+    (smoothness); each per r̄_d, the controlled defenders' mean step. Eq. 14 is not part of it: the
+    places on the circle decide the distances.
+    """
+
+    attacker: float = 10.0
+    edge: float = 10.0
+    edge_margin: float = 1.0
+    move: float = 1e-3
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Where the ``enclose`` objective wants everybody at steps 1..N, and how much each step counts.
+
+    defenders: (N, n, 2) a place for every defender (rows of defenders not controlled are ignored);
+    attacker: (N, 2) where the attacker should be; slot_weight: (N,) the weight of step k's places.
+    """
+
+    defenders: np.ndarray
+    attacker: np.ndarray
+    slot_weight: np.ndarray
+
+
+@dataclass(frozen=True)
 class CaptureProblem:
     """One capture-stage problem: the state, the horizon and everything the constraints need."""
 
@@ -51,6 +85,9 @@ class CaptureProblem:
     desired_velocity: np.ndarray
     horizon: int = 1
     weights: CaptureWeights = field(default_factory=CaptureWeights)
+    objective: str = "paper"
+    reference: Reference | None = None
+    enclose_weights: EncloseWeights = field(default_factory=EncloseWeights)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -75,24 +112,47 @@ class CaptureProblem:
                 not 1 <= self.horizon <= MAX_HORIZON:
             raise ProblemError(f"horizon: must be a whole number from 1 to {MAX_HORIZON}, got {self.horizon!r}")
         set_(self, "horizon", int(self.horizon))
+        if self.objective not in OBJECTIVES:
+            raise ProblemError(f"objective: unknown {self.objective!r} (available: {', '.join(OBJECTIVES)})")
+        if self.objective == "enclose":
+            set_(self, "reference", self._checked_reference(n))
+
+    def _checked_reference(self, n: int) -> Reference:
+        ref, N = self.reference, self.horizon
+        if not isinstance(ref, Reference):
+            raise ProblemError("reference: the enclose objective needs a Reference (mpc_hunt.control.enclosure "
+                               "builds one)")
+        arrays = {}
+        for name, shape in (("defenders", (N, n, 2)), ("attacker", (N, 2)), ("slot_weight", (N,))):
+            value = np.array(getattr(ref, name), dtype=float)
+            if value.shape != shape or not np.all(np.isfinite(value)):
+                raise ProblemError(f"reference.{name}: expected finite values of shape {shape}, got {value.shape}")
+            value.setflags(write=False)
+            arrays[name] = value
+        return Reference(**arrays)
 
     @classmethod
     def at_state(cls, scenario: Scenario, attacker_position, defender_positions, horizon: int = 1,
-                 weights: CaptureWeights | None = None, active=None) -> "CaptureProblem":
+                 weights: CaptureWeights | None = None, active=None, controlled=None,
+                 reference: Reference | None = None) -> "CaptureProblem":
         """The problem the strategy poses at this state (controlled set and u'_a derived).
 
         ``active`` (default: every defender) marks the robots that can move; a
         failed one is held where it stands, like a defender in the approaching stage.
+        With a ``reference`` the objective is ``enclose`` and ``controlled`` (default:
+        every active defender) says whom it plans.
         """
         p_a = np.asarray(attacker_position, dtype=float)
         p_d = np.asarray(defender_positions, dtype=float)
         a, hunt = scenario.attacker, scenario.hunt
-        controlled = attacker.perceives(scenario, p_a, p_d)
+        if controlled is None:
+            controlled = attacker.perceives(scenario, p_a, p_d) if reference is None else np.ones(len(p_d), bool)
         if active is not None:
             controlled = controlled & np.asarray(active, dtype=bool)
         circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
         u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
-        return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights())
+        return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights(),
+                   "paper" if reference is None else "enclose", reference)
 
     # Derived quantities, named as in the paper.
     @property
@@ -114,10 +174,10 @@ class CaptureProblem:
         return 0.5 * self.scenario.hunt.hunt_radius
 
     @property
-    def structure(self) -> tuple[int, int, int, int]:
-        """What fixes a formulation's sizes: (controlled, held, obstacles, horizon)."""
+    def structure(self) -> tuple[int, int, int, int, str]:
+        """What fixes a formulation's sizes and expressions: (controlled, held, obstacles, horizon, objective)."""
         nc = int(self.controlled.sum())
-        return (nc, len(self.controlled) - nc, len(self.scenario.obstacles), self.horizon)
+        return (nc, len(self.controlled) - nc, len(self.scenario.obstacles), self.horizon, self.objective)
 
     @property
     def signature(self) -> tuple:

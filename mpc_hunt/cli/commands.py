@@ -19,6 +19,7 @@ from mpc_hunt import __version__
 from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.capture import registry
+from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress,
@@ -78,6 +79,8 @@ def build_parser() -> argparse.ArgumentParser:
                                         "--horizon 1 (docs/robustness.md)")
     sim.add_argument("--controller", default="paper", choices=sorted(controllers.CONTROLLERS),
                      help="paper: the paper's strategy with its capture-stage optimisation (default); "
+                          "enclose: the same strategy with the enclose objective, every defender planned "
+                          "(docs/formulations.md); "
                           "apf: the traditional potential-field encirclement, no optimisation "
                           "(--formulation, --backend, --horizon and --time-budget do not apply)")
     sim.add_argument("--no-prediction", action="store_true",
@@ -100,6 +103,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help='JSON state {"attacker": [x, y], "defenders": [[x, y], ...]} to solve at')
     solve.add_argument("--save-state", type=Path, metavar="FILE", help="write the state solved at as JSON")
     solve.add_argument("--time-limit", type=positive_float, metavar="SECONDS", help="solver time limit")
+    solve.add_argument("--objective", choices=OBJECTIVES, default="paper",
+                       help="paper: Eq. 12 as published (default); enclose: places on the hunting circle, "
+                            "built at the state as the enclose controller's first step would (docs/formulations.md)")
 
     scen = sub.add_parser("scenarios", help="list built-in scenarios, or write one out as TOML",
                           description="List the built-in scenarios, or write one out as TOML to start from.")
@@ -197,23 +203,23 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
 
 def _controller(args, scenario):
     prediction = not args.no_prediction
-    if args.controller != "paper":
+    if args.controller not in controllers.SOLVING:
         given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
                                           ("--horizon", args.horizon), ("--time-budget", args.time_budget))
                  if value is not None]
         if given:
-            raise MpcHuntError(f"{', '.join(given)}: only with --controller paper "
+            raise MpcHuntError(f"{', '.join(given)}: only with --controller paper or enclose "
                                f"(controller {args.controller!r} solves no capture problem)")
         return controllers.make_controller(args.controller, scenario, prediction=prediction)
     formulation, backend, horizon = _solver_choice(args)
-    return controllers.make_controller("paper", scenario, prediction=prediction, formulation=formulation,
-                                    backend=backend, horizon=horizon, time_limit=args.time_budget)
+    return controllers.make_controller(args.controller, scenario, prediction=prediction, formulation=formulation,
+                                       backend=backend, horizon=horizon, time_limit=args.time_budget)
 
 
 def _simulate(args) -> int:
     from mpc_hunt.sim.simulator import simulate
 
-    if args.controller == "paper":
+    if args.controller in controllers.SOLVING:
         registry.check_pair(*_solver_choice(args)[:2])
     check_output(args.plot, FIGURE_SUFFIXES, "--plot")
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
@@ -240,8 +246,9 @@ def _simulate(args) -> int:
 def _summary(result, report: dict, scenario) -> str:
     stats = report["solve_time"]
     c = result.controller
-    if c["controller"] == "paper":
-        how = f"capture stage: {c['formulation']} on {c['backend']}, horizon {c['horizon']}"
+    if c["controller"] in controllers.SOLVING:
+        how = (f"capture stage: {c['formulation']} on {c['backend']}, horizon {c['horizon']}, "
+               f"objective {c['objective']}")
     else:
         how = f"controller: {c['controller']} (no capture-stage optimisation)"
     lines = [
@@ -290,8 +297,16 @@ def _solve(args) -> int:
     scenario = resolve_scenario(args.scenario)
     with stop_at_once("solve"):
         state = _state(args, scenario)
-        problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon,
-                                          active=~scenario.failed(state.time))
+        active = ~scenario.failed(state.time)
+        reference = None
+        if args.objective == "enclose":
+            from mpc_hunt.control.controller import Observation
+            from mpc_hunt.control.enclosure import Enclosure
+
+            observation = Observation(state.time, state.attacker, None, state.defenders, ~active)
+            reference = Enclosure(scenario, horizon).reference(observation)
+        problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon, active=active,
+                                          reference=reference)
         solution = solver.solve(problem)
     if args.save_state:
         save_state(state, args.save_state)

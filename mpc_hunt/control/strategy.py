@@ -21,7 +21,9 @@ import numpy as np
 
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target, approach_velocity
-from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
+from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.world.scenario import Scenario
@@ -64,22 +66,34 @@ def applied_plan(problem: CaptureProblem, solution: Solution, warm: np.ndarray |
 
 
 class HuntingStrategy:
-    """The paper's strategy; the capture stage solved by any formulation and backend."""
+    """The paper's strategy; the capture stage solved by any formulation and backend, for either objective.
+
+    ``objective="paper"``: Eqs. 12–15 for the defenders within R_agg, Eq. 6 for the others.
+    ``objective="enclose"``: every active defender planned at every step by the capture
+    problem, tracking the places :class:`~mpc_hunt.control.enclosure.Enclosure` builds.
+    """
 
     def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",
                  backend: str | None = None, horizon: int = 1, time_limit: float | None = None,
-                 **solver_options):
+                 objective: str = "paper", **solver_options):
+        if objective not in OBJECTIVES:
+            raise MpcHuntError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
         self.scenario = scenario
         self.prediction = prediction
         self.horizon = horizon
+        self.objective = objective
         self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, **solver_options)
+        self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
 
     def describe(self) -> dict:
-        return {"controller": "paper", "prediction": self.prediction, "formulation": self.solver.formulation.name,
-                "backend": self.solver.backend.name, "horizon": self.horizon}
+        return {"controller": "enclose" if self.enclosure else "paper", "prediction": self.prediction,
+                "formulation": self.solver.formulation.name, "backend": self.solver.backend.name,
+                "horizon": self.horizon, "objective": self.objective}
 
     def command(self, obs: Observation) -> Command:
+        if self.enclosure is not None:
+            return self._enclose(obs)
         s = self.scenario
         capture = attacker.perceives(s, obs.attacker, obs.defenders) & obs.active
         velocities, intercepts = approach_commands(s, obs, ~capture & obs.active, self.prediction)
@@ -94,6 +108,17 @@ class HuntingStrategy:
         velocities = keep_separation(obs.defenders, velocities, ~capture & obs.active, planned_next, s.hunt.time_step,
                                      s.defender_max_speeds, s.hunt.min_separation)
         return Command(velocities, capture, intercepts, solution, fallback)
+
+    def _enclose(self, obs: Observation) -> Command:
+        """Every active defender from the capture problem with the enclose objective."""
+        s = self.scenario
+        reference = self.enclosure.reference(obs)
+        problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active,
+                                          reference=reference)
+        solution, plan, fallback = self._capture(problem)
+        velocities = np.where(problem.controlled[:, None], (plan[0] - obs.defenders) / s.hunt.time_step, 0.0)
+        intercepts = np.full_like(obs.defenders, np.nan)
+        return Command(velocities, problem.controlled.copy(), intercepts, solution, fallback)
 
     def _capture(self, problem: CaptureProblem):
         """Solve the capture problem; returns (solution, the plan applied, whether it is a fallback)."""

@@ -11,6 +11,13 @@ limit ends, every defender i keeps |p_i(0) − a_k| − max(R_agg, R_hunt) > v_i
 then the attacker never sees a defender and the hunt fails whatever the
 defenders do. Such a hunt is *unreachable*; the converse does not hold (a
 reachable hunt may still be lost by every controller).
+
+A reachable hunt may still be a race that only a perfect controller wins: one
+defender arriving a step before the attacker leaves cannot enclose it. The
+stricter label *comfortable* asks that at least min(3, N_d) defenders (three
+are the fewest that enclose) can each come within that distance of the
+undisturbed path at least ``SPARE_TIME`` (20 s) before the attacker leaves the
+arena or the time limit ends: time to close the circle once they are there.
 """
 
 from __future__ import annotations
@@ -37,6 +44,33 @@ def undisturbed_path(scenario: Scenario) -> Iterator[np.ndarray]:
         yield p
         if attacker_escaped(scenario, p) or not np.all(np.isfinite(p)):
             return
+
+
+SPARE_TIME = 20.0     # s: what a comfortable hunt leaves the defenders to close the circle
+ENCLOSING = 3         # the fewest defenders that can enclose an attacker without an obstacle
+
+
+def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, int]:
+    """(the first step at which each defender can be within reach of the undisturbed path, or −1 for never;
+    the last step of that path)."""
+    reach = max(scenario.attacker.perception_radius, scenario.hunt.hunt_radius)
+    starts, speeds = scenario.defender_starts, scenario.defender_max_speeds
+    T = scenario.hunt.time_step
+    first = np.full(len(starts), -1)
+    k = -1
+    for k, a in enumerate(undisturbed_path(scenario)):
+        newly = (first < 0) & (norm(a - starts) - reach <= speeds * k * T)
+        first[newly] = k
+    return first, k
+
+
+def comfortable(scenario: Scenario) -> bool:
+    """Can at least min(3, N_d) defenders reach the attacker's undisturbed path ``SPARE_TIME`` before it
+    leaves (see the module's docstring)? Implies :func:`reachable`."""
+    first, last = arrival_steps(scenario)
+    spare = int(round(SPARE_TIME / scenario.hunt.time_step))
+    needed = min(ENCLOSING, len(first))
+    return int(np.sum((first >= 0) & (first <= last - spare))) >= needed
 
 
 def reachable(scenario: Scenario) -> bool:

@@ -63,7 +63,7 @@ class Strategy:
         if controller not in controllers.CONTROLLERS:
             raise MpcHuntError(f"--strategy {text!r}: unknown controller {controller!r} "
                                f"(available: {', '.join(controllers.CONTROLLERS)})")
-        if controller != "paper":
+        if controller not in controllers.SOLVING:
             if len(parts) > 1:
                 raise MpcHuntError(f"--strategy {text!r}: controller {controller!r} takes no solver settings")
             return cls(controller)
@@ -79,15 +79,15 @@ class Strategy:
 
     @property
     def label(self) -> str:
-        if self.controller != "paper":
+        if self.controller not in controllers.SOLVING:
             return self.controller
-        return f"paper:{self.formulation}:{self.backend}:{self.horizon}"
+        return f"{self.controller}:{self.formulation}:{self.backend}:{self.horizon}"
 
     def controller_for(self, scenario):
-        if self.controller != "paper":
+        if self.controller not in controllers.SOLVING:
             return controllers.make_controller(self.controller, scenario)
-        return controllers.make_controller("paper", scenario, formulation=self.formulation, backend=self.backend,
-                                        horizon=self.horizon)
+        return controllers.make_controller(self.controller, scenario, formulation=self.formulation,
+                                           backend=self.backend, horizon=self.horizon)
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ import pytest
 from mpc_hunt.control.controller import Command, Observation
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
-from mpc_hunt.sweep.reachability import reachable, undisturbed_path
+from mpc_hunt.sweep.reachability import comfortable, reachable, undisturbed_path
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Scenario
 from mpc_hunt.sim.simulator import simulate
 
@@ -56,6 +56,20 @@ def test_r_hunt_counts_when_it_exceeds_r_agg():
     scenario = _leaving((1.0, 1.0), (1.0, 19.0), (13.0, 10.0))
     wide = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, hunt_radius=2.0))
     assert reachable(wide)                                     # 7 m − R_hunt = 5 m: in time
+
+
+def test_comfortable_needs_three_defenders_in_time_with_twenty_seconds_to_spare():
+    # The attacker leaves after 66.7 s: a comfortable defender meets its path (within R_agg) by 46.7 s.
+    near = [(18.5, 11.5), (18.5, 8.5)]            # 0.58 m beyond R_agg: on the path within 8 s
+    in_time, late = (19.5, 14.0), (19.5, 15.0)    # meet the path at about 37.5 s and 50 s
+    assert comfortable(_leaving(*near, in_time))
+    assert not comfortable(_leaving(*near, late)) and reachable(_leaving(*near, late))
+    assert not comfortable(_leaving(*near, (1.0, 1.0))) and reachable(_leaving(*near, (1.0, 1.0)))
+
+
+def test_with_two_defenders_both_must_be_in_time():
+    assert comfortable(_leaving((18.5, 11.5), (18.5, 8.5)))
+    assert not comfortable(_leaving((18.5, 11.5), (1.0, 1.0)))
 
 
 UNREACHABLE = [i for i in range(40) if not reachable(sweep_scenario(2, i, ScenarioRanges()))]

@@ -1,0 +1,250 @@
+"""Where the defenders should be: the reference that the ``enclose`` capture objective tracks.
+
+The paper's capture objective parks the defenders on the attacker's perception
+radius R_agg and escorts it out (docs/formulations.md, "Why the paper's
+objective does not capture"). This builds, at every step, a place on a hunting
+circle for every active defender over the horizon, and the attacker's intended
+position, in three phases (docs/formulations.md, "The enclose objective"):
+
+- **gather**: the circle of radius R_agg + ``CLEARANCE`` around the attacker's
+  predicted position, which it does not perceive, so it keeps its course; the
+  three nearest defenders take places 120° apart, the first on the attacker's
+  escape direction (its predicted velocity), the others the bisectors between
+  them; a defender whose straight way to its place would cross the circle goes
+  round it (its target at most ``ORBIT_STEP`` radians ahead on the circle);
+- **herd** (only with an *anchor*: a failed defender, which must end in the
+  circle, or an obstacle standing in for a third robot when fewer than three
+  can move): the movers close in behind the attacker, at 0.8 R_agg, to push it
+  towards a point ``ANCHOR_GAP`` from the anchor;
+- **close**: the circle's centre is frozen where the attacker is, and its radius
+  shrinks at ``SHRINK_RATE`` of the slowest defender's speed (no faster than
+  the farthest defender of the first three follows) to R_hunt / 2, while the
+  attacker's reference is the centre. Nothing switches at R_agg: the capture
+  problem plans every active defender at every step.
+
+The first three take the escape side first, so the first defender to arrive
+stands where the attacker is going. If the attacker leaves the closing circle
+(farther than half its radius from the centre), the circle gathers again.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mpc_hunt.capture.problem import Reference
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.world import attacker
+from mpc_hunt.world.geometry import norm, unit
+from mpc_hunt.world.scenario import Scenario
+
+CLEARANCE = 0.3          # m beyond R_agg: the gathering circle, which the attacker does not perceive
+ARRIVED_ANGLE = 0.3      # rad: a defender this close to its place's bearing (and ARRIVED_RADIUS to its radius) is there
+ARRIVED_RADIUS = 0.25    # m
+ORBIT_STEP = 0.5         # rad: how far ahead on the circle a defender going round aims
+SHRINK_RATE = 0.5        # of the slowest defender's speed: how fast the closing circle contracts
+FOLLOW_SLACK = 0.1       # m: the circle waits while a defender of the first three is this much farther out
+PUSH = 0.8               # of R_agg: how close the movers herd the attacker from behind
+ANCHOR_GAP = 0.3         # m from an anchor's surface (or a failed robot): where an anchor's circle is centred
+HERDED = 0.3             # m: the attacker this close to that point, the circle closes
+TERMINAL_WEIGHT = 5.0    # the places' weight at step N (the others: 1)
+CORE = 3                 # the fewest members that enclose
+SWAP_MARGIN = 0.5        # m: how much nearer a defender must be to take a first member's place
+
+
+def wrap(angle: float) -> float:
+    """``angle`` in [−π, π)."""
+    return (angle + math.pi) % (2 * math.pi) - math.pi
+
+
+def _direction(angle: float) -> np.ndarray:
+    return np.array([math.cos(angle), math.sin(angle)])
+
+
+@dataclass
+class _Circle:
+    """The memory between steps: the phase and, once closing, the frozen centre and the radius."""
+
+    phase: str = "gather"
+    centre: np.ndarray | None = None
+    radius: float | None = None
+    heading: float | None = None     # the frozen escape (or herding) direction while closing
+
+
+class Enclosure:
+    """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``enclose`` objective."""
+
+    def __init__(self, scenario: Scenario, horizon: int):
+        self.scenario = scenario
+        self.horizon = horizon
+        self.circle = _Circle()
+        self._members: list[int] = []      # the first three, kept between steps
+
+    @property
+    def phase(self) -> str:
+        return self.circle.phase
+
+    def reference(self, obs: Observation) -> Reference:
+        """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""
+        s, N = self.scenario, self.horizon
+        T, R = s.hunt.time_step, s.attacker.perception_radius
+        p_a, P = obs.attacker, obs.defenders
+        movers = np.flatnonzero(obs.active)
+        predicted = self._predicted(p_a, P)
+        anchor = self._anchor(obs, len(movers))
+        angles, heading = self._angles(p_a, P, movers, anchor, predicted)
+        c = self.circle
+        if c.phase == "close" and norm(p_a - c.centre) > max(0.5 * c.radius, ANCHOR_GAP):
+            self.circle = c = _Circle()                       # it slipped out: gather again
+        if c.phase == "gather" and self._arrived(p_a, P, movers, angles, R + CLEARANCE):
+            c.phase = "herd" if anchor is not None and norm(p_a - anchor) > HERDED else "close"
+        if c.phase == "herd" and norm(p_a - anchor) <= HERDED:
+            c.phase = "close"
+        if c.phase == "close" and c.centre is None:
+            c.centre, c.radius, c.heading = (p_a.copy() if anchor is None else anchor), R + CLEARANCE, heading
+        places = np.repeat(P[None], N, axis=0).astype(float)
+        target = self._predicted(p_a, P[:0])       # gathering, the attacker should not notice anybody
+        if c.phase == "close":
+            angles = self._spread(c.centre, P, movers, anchor, c.heading, c.radius)
+            core = self._core(c.centre, P, movers)
+            farthest = max(norm(P[i] - c.centre) for i in core)
+            rate = SHRINK_RATE * float(np.min(s.defender_max_speeds[movers])) * T
+            ring = 0.5 * s.hunt.hunt_radius
+            c.radius = max(ring, min(c.radius, max(c.radius - rate, farthest - FOLLOW_SLACK)))
+            radii = np.maximum(ring, c.radius - rate * np.arange(1, N + 1))
+            for i in movers:
+                places[:, i] = c.centre + radii[:, None] * _direction(angles[i])
+            target[:] = c.centre
+        else:
+            radius = PUSH * R if c.phase == "herd" else R + CLEARANCE
+            for i in movers:
+                places[:, i] = self._route(P[i], predicted, angles[i], radius, s.defender_max_speeds[i] * T)
+            if c.phase == "herd":
+                target[:] = anchor
+        weight = np.ones(N)
+        weight[-1] = TERMINAL_WEIGHT
+        return Reference(places, target, weight)
+
+    def _predicted(self, p_a: np.ndarray, P: np.ndarray) -> np.ndarray:
+        """The attacker at steps 1..N with the defenders ``P`` held where they are (Eq. 2)."""
+        out, p = np.empty((self.horizon, 2)), np.array(p_a, dtype=float)
+        for k in range(self.horizon):
+            p = p + self.scenario.hunt.time_step * attacker.velocity(self.scenario, p, P)
+            out[k] = p
+        return out
+
+    def _anchor(self, obs: Observation, movers: int) -> np.ndarray | None:
+        """Where the circle must be centred to include a stationary member, or None (enclose in place).
+
+        A failed defender must end inside the circle (the success test counts every robot); with fewer
+        than three movers and no failed one, the obstacle whose surface is nearest the attacker stands in.
+        """
+        s, p_a = self.scenario, obs.attacker
+        if obs.failed is not None and obs.failed.any():
+            stopped = obs.defenders[obs.failed]
+            nearest = stopped[np.argmin(norm(stopped - p_a))]
+            return nearest + ANCHOR_GAP * unit(p_a - nearest)
+        if movers >= CORE or not len(s.obstacles):
+            return None
+        gaps = norm(p_a - s.obstacle_centres) - s.obstacle_radii
+        j = int(np.argmin(gaps))
+        return s.obstacle_centres[j] + (s.obstacle_radii[j] + s.hunt.safety_distance + ANCHOR_GAP) \
+            * unit(p_a - s.obstacle_centres[j])
+
+    def _core(self, centre: np.ndarray, P: np.ndarray, movers: np.ndarray) -> np.ndarray:
+        """The (up to) three movers nearest ``centre``: the first members of the circle.
+
+        Sticky: a member is replaced only by a mover ``SWAP_MARGIN`` nearer, so two defenders at much the
+        same distance do not trade places (and targets) step after step.
+        """
+        distance = {int(i): float(norm(P[i] - centre)) for i in movers}
+        core = [i for i in self._members if i in distance]
+        for i in sorted(distance, key=distance.get):
+            if i in core:
+                continue
+            if len(core) < CORE:
+                core.append(i)
+                continue
+            worst = max(core, key=distance.get)
+            if distance[i] < distance[worst] - SWAP_MARGIN:
+                core[core.index(worst)] = i
+        self._members = core
+        return np.array(sorted(core, key=distance.get), dtype=int)
+
+    def _angles(self, centre, P, movers, anchor, predicted, heading: float | None = None):
+        """Each mover's bearing on the circle around ``centre``, and the direction the first place faces."""
+        if heading is None:
+            if anchor is not None:
+                heading = math.atan2(*(centre - anchor)[::-1])          # behind the attacker, seen from the anchor
+            else:
+                v = predicted[0] - centre
+                heading = math.atan2(v[1], v[0]) if np.hypot(*v) > 0 else 0.0
+        bearing = {int(i): math.atan2(*(P[i] - centre)[::-1]) for i in movers}
+        angles: dict[int, float] = {}
+        if anchor is not None:     # the anchor holds the place opposite the heading; the movers share the rest
+            n = len(movers)
+            slots = [heading + math.pi + 2 * math.pi * (j + 1) / (n + 1) for j in range(n)]
+            order = sorted(movers, key=lambda i: wrap(bearing[int(i)] - heading - math.pi) % (2 * math.pi))
+            return {int(i): slots[j] for j, i in enumerate(order)}, heading
+        core = self._core(centre, P, movers)
+        k = len(core)
+        slots = [heading + 2 * math.pi * j / k for j in range(k)]
+        order = sorted(core, key=lambda i: bearing[int(i)] % (2 * math.pi))
+        best = min(range(k), key=lambda rot: max(abs(wrap(slots[(j + rot) % k] - bearing[int(i)]))
+                                                 for j, i in enumerate(order)))
+        angles.update({int(i): slots[(j + best) % k] for j, i in enumerate(order)})
+        spare = [heading + math.pi / k + 2 * math.pi * j / k for j in range(k)]
+        for i in sorted((i for i in movers if i not in core), key=lambda i: norm(P[i] - centre)):
+            j = min(range(len(spare)), key=lambda j: abs(wrap(spare[j] - bearing[int(i)])))
+            angles[int(i)] = spare.pop(j) if len(spare) > 1 else spare[0]
+        return angles, heading
+
+    def _spread(self, centre, P, movers, anchor, heading: float, radius: float) -> dict[int, float]:
+        """Places on the closing circle: the movers within reach of it (and the anchor) evenly spaced, in the
+        order they stand, turned as little as possible; each latecomer on the bisector of the widest gap."""
+        bearing = {int(i): math.atan2(*(P[i] - centre)[::-1]) for i in movers}
+        present = [int(i) for i in movers if norm(P[i] - centre) <= radius + 2 * ARRIVED_RADIUS]
+        if anchor is not None:
+            return self._angles(centre, P, movers, anchor, None, heading)[0]
+        if len(present) < CORE:
+            present = [int(i) for i in self._core(centre, P, movers)]
+        n = len(present)
+        order = sorted(present, key=lambda i: bearing[i] % (2 * math.pi))
+        offset = math.atan2(sum(math.sin(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)),
+                            sum(math.cos(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)))
+        angles = {i: offset + 2 * math.pi * j / n for j, i in enumerate(order)}
+        taken = sorted(a % (2 * math.pi) for a in angles.values())
+        for i in (int(i) for i in movers if int(i) not in angles):
+            gaps = [(taken[(j + 1) % n] - taken[j]) % (2 * math.pi) or 2 * math.pi for j in range(n)]
+            j = int(np.argmax(gaps))
+            angles[i] = taken[j] + gaps[j] / 2
+        return angles
+
+    def _arrived(self, p_a, P, movers, angles, radius) -> bool:
+        """Have the first three reached their places on the gathering circle?"""
+        for i in self._core(p_a, P, movers):
+            offset = P[i] - p_a
+            if abs(wrap(math.atan2(offset[1], offset[0]) - angles[int(i)])) > ARRIVED_ANGLE \
+                    or abs(norm(offset) - radius) > ARRIVED_RADIUS:
+                return False
+        return True
+
+    def _route(self, p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
+        """A defender's targets at steps 1..N: towards its place on the circle round the predicted attacker,
+        going round the circle where the straight way would cross it; each no farther than it can move."""
+        N = len(predicted)
+        out = np.empty((N, 2))
+        q = p - predicted[0]
+        distance, bearing = float(np.hypot(*q)), math.atan2(q[1], q[0])
+        turn = wrap(angle - bearing)
+        if abs(turn) > ORBIT_STEP:
+            angle = bearing + math.copysign(ORBIT_STEP, turn)
+            radius = max(radius, min(distance, radius + 1.0))
+        for k in range(N):
+            goal = predicted[k] + radius * _direction(angle)
+            step = goal - p
+            length = float(np.hypot(*step))
+            out[k] = p + step * min(1.0, (k + 1) * reach / length) if length > 0 else goal
+        return out
