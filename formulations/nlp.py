@@ -123,7 +123,6 @@ class NLPFormulation(Formulation):
         lo = relaxed_lower_bounds(lo, relax, held)
         lbg = np.concatenate([lo, np.tile([-np.inf, 0.0], N * nc)])
         ubg = np.concatenate([hi, np.tile([0.0, np.inf], N * nc)])
-        nX = N * nc * 2
         low, high = arena_bounds(problem)
         lbx = np.concatenate([np.tile(low, N * nc), np.zeros(N + N * nc)])
         ubx = np.concatenate([np.tile(high, N * nc), np.full(N + N * nc, np.inf)])
