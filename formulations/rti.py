@@ -58,8 +58,7 @@ class LinearisedStages:
         def stage(k):                                                  # θ of stage k ≥ 1 (its own reference)
             return stage_parameters(theta, nc, nf, m, objective, N, max(k, 1))
 
-        p = unpack(theta, nc, nf, m)
-        p_enclose = unpack(theta, nc, nf, m, objective, steps)
+        p = unpack(theta, nc, nf, m, objective, steps)
         S_x = st.S_x(stage(1))
         exact = ca.vertcat(stage(1)[:-1], 0)
         relaxable = ca.DM([f in RELAXABLE for f in st.families])
@@ -82,8 +81,8 @@ class LinearisedStages:
                 low = -low
                 if objective == "enclose":     # the arena bounds every plan (never worse than the reference)
                     scale, here = S_x[2:], x_ref[k][2:]
-                    low = ca.fmax(low, ca.fmin((ca.repmat(p_enclose["arena"][:2], nc, 1) - here) / scale, 0))
-                    high = ca.fmin(high, ca.fmax((ca.repmat(p_enclose["arena"][2:], nc, 1) - here) / scale, 0))
+                    low = ca.fmax(low, ca.fmin((ca.repmat(p["arena"][:2], nc, 1) - here) / scale, 0))
+                    high = ca.fmin(high, ca.fmax((ca.repmat(p["arena"][2:], nc, 1) - here) / scale, 0))
                 lbz.append(ca.vertcat(-ca.inf, -ca.inf, low)); ubz.append(ca.vertcat(ca.inf, ca.inf, high))
                 # Path rows c + C ξ ≥ 0, those the held plan breaks relaxed to its values (as nlp): their inner
                 # approximation then keeps each true distance at least as large as holding would.

@@ -133,24 +133,25 @@ class CaptureProblem:
 
     @classmethod
     def at_state(cls, scenario: Scenario, attacker_position, defender_positions, horizon: int = 1,
-                 weights: CaptureWeights | None = None, active=None, controlled=None,
+                 weights: CaptureWeights | None = None, active=None,
                  reference: Reference | None = None) -> "CaptureProblem":
         """The problem the strategy poses at this state (controlled set and u'_a derived).
 
         ``active`` (default: every defender) marks the robots that can move; a
         failed one is held where it stands, like a defender in the approaching stage.
-        With a ``reference`` the objective is ``enclose`` and ``controlled`` (default:
-        every active defender) says whom it plans.
+        With a ``reference`` the objective is ``enclose``, which plans every active
+        defender and has no herding target (u'_a is zero).
         """
         p_a = np.asarray(attacker_position, dtype=float)
         p_d = np.asarray(defender_positions, dtype=float)
         a, hunt = scenario.attacker, scenario.hunt
-        if controlled is None:
-            controlled = attacker.perceives(scenario, p_a, p_d) if reference is None else np.ones(len(p_d), bool)
+        controlled = attacker.perceives(scenario, p_a, p_d) if reference is None else np.ones(len(p_d), bool)
         if active is not None:
             controlled = controlled & np.asarray(active, dtype=bool)
-        circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
-        u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
+        u_des = np.zeros(2)
+        if reference is None:
+            circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
+            u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
         return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights(),
                    "paper" if reference is None else "enclose", reference)
 

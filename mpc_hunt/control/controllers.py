@@ -6,7 +6,7 @@ from mpc_hunt.capture.registry import load_class
 
 CONTROLLERS = {
     "paper": "mpc_hunt.control.strategy:HuntingStrategy",
-    "enclose": "mpc_hunt.control.strategy:HuntingStrategy",
+    "enclose": "mpc_hunt.control.strategy:EnclosingStrategy",
     "apf": "mpc_hunt.control.encircling:EncirclingController",
 }
 SOLVING = ("paper", "enclose")     # the controllers that solve a capture problem (take solver settings)
@@ -15,6 +15,4 @@ SOLVING = ("paper", "enclose")     # the controllers that solve a capture proble
 def make_controller(name: str, scenario, **options):
     """A fresh controller for ``scenario`` by name: ``paper``, the strategy with the paper's capture
     objective; ``enclose``, the same strategy with the enclose objective; ``apf``, no optimisation."""
-    if name == "enclose":
-        options["objective"] = "enclose"
     return load_class(CONTROLLERS, "controller", name)(scenario, **options)

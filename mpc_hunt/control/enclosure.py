@@ -94,21 +94,22 @@ class Enclosure:
         movers = np.flatnonzero(obs.active)
         predicted = self._predicted(p_a, P)
         anchor = self._anchor(obs, len(movers))
-        angles, heading = self._angles(p_a, P, movers, anchor, predicted)
         c = self.circle
         if c.phase == "close" and norm(p_a - c.centre) > max(0.5 * c.radius, ANCHOR_GAP):
             self.circle = c = _Circle()                       # it slipped out: gather again
-        if c.phase == "gather" and self._arrived(p_a, P, movers, angles, R + CLEARANCE):
-            c.phase = "herd" if anchor is not None and norm(p_a - anchor) > HERDED else "close"
-        if c.phase == "herd" and norm(p_a - anchor) <= HERDED:
-            c.phase = "close"
-        if c.phase == "close" and c.centre is None:
-            c.centre, c.radius, c.heading = (p_a.copy() if anchor is None else anchor), R + CLEARANCE, heading
+        core = self._core(p_a if c.centre is None else c.centre, P, movers)
+        if c.phase != "close":
+            angles, heading = self._angles(p_a, P, movers, core, anchor, predicted)
+            if c.phase == "gather" and self._arrived(p_a, P, core, angles, R + CLEARANCE):
+                c.phase = "herd" if anchor is not None and norm(p_a - anchor) > HERDED else "close"
+            if c.phase == "herd" and norm(p_a - anchor) <= HERDED:
+                c.phase = "close"
+            if c.phase == "close":
+                c.centre, c.radius, c.heading = (p_a.copy() if anchor is None else anchor), R + CLEARANCE, heading
         places = np.repeat(P[None], N, axis=0).astype(float)
         target = self._predicted(p_a, P[:0])       # gathering, the attacker should not notice anybody
         if c.phase == "close":
-            angles = self._spread(c.centre, P, movers, anchor, c.heading, c.radius)
-            core = self._core(c.centre, P, movers)
+            angles = self._spread(c.centre, P, movers, core, anchor, c.heading, c.radius)
             farthest = max(norm(P[i] - c.centre) for i in core)
             rate = SHRINK_RATE * float(np.min(s.defender_max_speeds[movers])) * T
             ring = 0.5 * s.hunt.hunt_radius
@@ -154,7 +155,7 @@ class Enclosure:
             * unit(p_a - s.obstacle_centres[j])
 
     def _core(self, centre: np.ndarray, P: np.ndarray, movers: np.ndarray) -> np.ndarray:
-        """The (up to) three movers nearest ``centre``: the first members of the circle.
+        """The (up to) three movers nearest ``centre``: the first members of the circle (once per step).
 
         Sticky: a member is replaced only by a mover ``SWAP_MARGIN`` nearer, so two defenders at much the
         same distance do not trade places (and targets) step after step.
@@ -173,7 +174,7 @@ class Enclosure:
         self._members = core
         return np.array(sorted(core, key=distance.get), dtype=int)
 
-    def _angles(self, centre, P, movers, anchor, predicted, heading: float | None = None):
+    def _angles(self, centre, P, movers, core, anchor, predicted, heading: float | None = None):
         """Each mover's bearing on the circle around ``centre``, and the direction the first place faces."""
         if heading is None:
             if anchor is not None:
@@ -188,7 +189,6 @@ class Enclosure:
             slots = [heading + math.pi + 2 * math.pi * (j + 1) / (n + 1) for j in range(n)]
             order = sorted(movers, key=lambda i: wrap(bearing[int(i)] - heading - math.pi) % (2 * math.pi))
             return {int(i): slots[j] for j, i in enumerate(order)}, heading
-        core = self._core(centre, P, movers)
         k = len(core)
         slots = [heading + 2 * math.pi * j / k for j in range(k)]
         order = sorted(core, key=lambda i: bearing[int(i)] % (2 * math.pi))
@@ -201,15 +201,15 @@ class Enclosure:
             angles[int(i)] = spare.pop(j) if len(spare) > 1 else spare[0]
         return angles, heading
 
-    def _spread(self, centre, P, movers, anchor, heading: float, radius: float) -> dict[int, float]:
+    def _spread(self, centre, P, movers, core, anchor, heading: float, radius: float) -> dict[int, float]:
         """Places on the closing circle: the movers within reach of it (and the anchor) evenly spaced, in the
         order they stand, turned as little as possible; each latecomer on the bisector of the widest gap."""
         bearing = {int(i): math.atan2(*(P[i] - centre)[::-1]) for i in movers}
         present = [int(i) for i in movers if norm(P[i] - centre) <= radius + 2 * ARRIVED_RADIUS]
         if anchor is not None:
-            return self._angles(centre, P, movers, anchor, None, heading)[0]
+            return self._angles(centre, P, movers, core, anchor, None, heading)[0]
         if len(present) < CORE:
-            present = [int(i) for i in self._core(centre, P, movers)]
+            present = [int(i) for i in core]
         n = len(present)
         order = sorted(present, key=lambda i: bearing[i] % (2 * math.pi))
         offset = math.atan2(sum(math.sin(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)),
@@ -222,9 +222,9 @@ class Enclosure:
             angles[i] = taken[j] + gaps[j] / 2
         return angles
 
-    def _arrived(self, p_a, P, movers, angles, radius) -> bool:
+    def _arrived(self, p_a, P, core, angles, radius) -> bool:
         """Have the first three reached their places on the gathering circle?"""
-        for i in self._core(p_a, P, movers):
+        for i in core:
             offset = P[i] - p_a
             if abs(wrap(math.atan2(offset[1], offset[0]) - angles[int(i)])) > ARRIVED_ANGLE \
                     or abs(norm(offset) - radius) > ARRIVED_RADIUS:

@@ -127,3 +127,10 @@ class HuntingStrategy:
         plan, fallback = applied_plan(problem, solution, warm)
         self._applied = (problem.signature, plan)
         return solution, plan, fallback
+
+
+class EnclosingStrategy(HuntingStrategy):
+    """The strategy with the enclose objective (CLI ``--controller enclose``)."""
+
+    def __init__(self, scenario: Scenario, **options):
+        super().__init__(scenario, objective="enclose", **options)

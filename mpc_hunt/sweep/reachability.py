@@ -76,7 +76,4 @@ def comfortable(scenario: Scenario) -> bool:
 def reachable(scenario: Scenario) -> bool:
     """Can some defender, at full speed in a straight line, come within max(R_agg, R_hunt) of the
     attacker's undisturbed path in time (see the module's docstring)? False: the hunt cannot be won."""
-    reach = max(scenario.attacker.perception_radius, scenario.hunt.hunt_radius)
-    starts, speeds = scenario.defender_starts, scenario.defender_max_speeds
-    T = scenario.hunt.time_step
-    return any(np.any(norm(a - starts) - reach <= speeds * k * T) for k, a in enumerate(undisturbed_path(scenario)))
+    return bool(np.any(arrival_steps(scenario)[0] >= 0))
