@@ -54,11 +54,12 @@ def test_the_slot_term_moves_each_defender_to_its_place(formulation, backend):
     problem = _problem(_scenario(), FAR, FAR + shift)
     solution = CaptureSolver(formulation, backend).solve(problem)
     assert solution.success
-    np.testing.assert_allclose(solution.plan[-1], FAR + shift, atol=2e-3)
+    exact = backend != "osqp"       # OSQP's default accuracy: 8e-4 m here; the interior-point solvers: 1e-11 m
+    np.testing.assert_allclose(solution.plan[-1], FAR + shift, atol=1e-6 if exact else 2e-3)
     still = dataclasses.replace(problem, reference=dataclasses.replace(problem.reference, slot_weight=np.zeros(5)),
                                 enclose_weights=EncloseWeights(attacker=0.0))
-    if backend != "osqp":      # OSQP's default accuracy leaves about a centimetre on this flat QP
-        assert np.max(np.abs(CaptureSolver(formulation, backend).solve(still).plan[-1] - FAR)) < 1e-3
+    if exact:      # OSQP's default accuracy leaves about a centimetre on this flat QP
+        assert np.max(np.abs(CaptureSolver(formulation, backend).solve(still).plan[-1] - FAR)) < 1e-6
 
 
 @pytest.mark.parametrize("formulation, backend", STAGE_PAIRS)
@@ -97,7 +98,7 @@ def test_the_arena_bounds_every_plan(formulation, backend):
     solution = CaptureSolver(formulation, backend).solve(_problem(scenario, defenders, places))
     assert solution.success
     assert np.min(solution.plan[:, 0, 0]) >= 9.0 - 1e-6
-    assert np.min(solution.plan[:, 0, 0]) == pytest.approx(9.0, abs=1e-4)       # binding
+    assert np.min(solution.plan[:, 0, 0]) == pytest.approx(9.0, abs=1e-6)       # binding (IPOPT: 9e-8 inside)
 
 
 def test_a_reference_of_the_wrong_shape_is_a_one_line_error():
