@@ -9,22 +9,28 @@ position, in three phases (docs/formulations.md, "The enclose objective"):
 - **gather**: the circle of radius R_agg + ``CLEARANCE`` around the attacker's
   predicted position, which it does not perceive, so it keeps its course; the
   three nearest defenders take places 120° apart, the first on the attacker's
-  escape direction (its predicted velocity), the others the bisectors between
+  escape direction (its undisturbed course), the others the bisectors between
   them; a defender whose straight way to its place would cross the circle goes
-  round it (its target at most ``ORBIT_STEP`` radians ahead on the circle);
+  round it (its target at most ``ORBIT_STEP`` radians ahead on the circle). The
+  first to stand at the escape-side place steps in to ``BLOCK`` R_agg and holds
+  the attacker where it is while the others come;
 - **herd** (only with an *anchor*: a failed defender, which must end in the
   circle, or an obstacle standing in for a third robot when fewer than three
-  can move): the movers close in behind the attacker, at 0.8 R_agg, to push it
-  towards a point ``ANCHOR_GAP`` from the anchor;
-- **close**: the circle's centre is frozen where the attacker is, and its radius
-  shrinks at ``SHRINK_RATE`` of the slowest defender's speed (no faster than
-  the farthest defender of the first three follows) to R_hunt / 2, while the
-  attacker's reference is the centre. Nothing switches at R_agg: the capture
-  problem plans every active defender at every step.
+  can move): from the moment one mover stands at its place, the movers close in
+  behind the attacker, at ``PUSH`` R_agg, to push it towards a point
+  ``ANCHOR_GAP`` from the anchor;
+- **close**, once at least three defenders near the circle surround the
+  attacker (no gap between neighbours wider than ``MAX_GAP``; with an anchor,
+  once the attacker is at it): the radius shrinks at ``SHRINK_RATE`` of the
+  slowest defender's speed (no faster than the farthest defender of the first
+  three follows) to R_hunt / 2, the attacker's reference is the centre, and the
+  centre moves at ``DRIFT`` of the attacker's top speed towards the farthest
+  defender still on its way (the success test needs every robot within R_hunt).
+  Nothing switches at R_agg: the capture problem plans every active defender at
+  every step.
 
-The first three take the escape side first, so the first defender to arrive
-stands where the attacker is going. If the attacker leaves the closing circle
-(farther than half its radius from the centre), the circle gathers again.
+If the attacker leaves the closing circle (farther than half its radius from
+the centre), the circle gathers again.
 """
 
 from __future__ import annotations
@@ -51,6 +57,9 @@ ANCHOR_GAP = 0.3         # m from an anchor's surface (or a failed robot): where
 HERDED = 0.3             # m: the attacker this close to that point, the circle closes
 TERMINAL_WEIGHT = 5.0    # the places' weight at step N (the others: 1)
 CORE = 3                 # the fewest members that enclose
+DRIFT = 0.7              # of the attacker's top speed: how fast the closing circle moves towards a latecomer
+BLOCK = 0.9              # of R_agg: where the escape-side defender holds the attacker while the others come
+MAX_GAP = 2.6            # rad (about 150°): the widest gap between neighbours that still surrounds the attacker
 SWAP_MARGIN = 0.5        # m: how much nearer a defender must be to take a first member's place
 
 
@@ -100,14 +109,17 @@ class Enclosure:
         core = self._core(p_a if c.centre is None else c.centre, P, movers)
         if c.phase != "close":
             angles, heading = self._angles(p_a, P, movers, core, anchor, predicted)
-            if c.phase == "gather" and self._arrived(p_a, P, core, angles, R + CLEARANCE):
+            ready = any(self._there(p_a, P, i, angles[int(i)], R + CLEARANCE) for i in core) if anchor is not None \
+                else self._surrounded(p_a, P, movers, R + CLEARANCE)
+            if c.phase == "gather" and ready:
                 c.phase = "herd" if anchor is not None and norm(p_a - anchor) > HERDED else "close"
             if c.phase == "herd" and norm(p_a - anchor) <= HERDED:
                 c.phase = "close"
             if c.phase == "close":
                 c.centre, c.radius, c.heading = (p_a.copy() if anchor is None else anchor), R + CLEARANCE, heading
         places = np.repeat(P[None], N, axis=0).astype(float)
-        target = self._predicted(p_a, P[:0])       # gathering, the attacker should not notice anybody
+        undisturbed = self._predicted(p_a, P[:0])
+        target = undisturbed                       # gathering, the attacker should not notice anybody
         if c.phase == "close":
             angles = self._spread(c.centre, P, movers, core, anchor, c.heading, c.radius)
             farthest = max(norm(P[i] - c.centre) for i in core)
@@ -115,13 +127,21 @@ class Enclosure:
             ring = 0.5 * s.hunt.hunt_radius
             c.radius = max(ring, min(c.radius, max(c.radius - rate, farthest - FOLLOW_SLACK)))
             radii = np.maximum(ring, c.radius - rate * np.arange(1, N + 1))
+            drift = self._drift(c, P, movers) if anchor is None else np.zeros(2)
+            centres = c.centre + np.arange(1, N + 1)[:, None] * drift
+            c.centre = c.centre + drift
             for i in movers:
-                places[:, i] = c.centre + radii[:, None] * _direction(angles[i])
-            target[:] = c.centre
+                places[:, i] = centres + radii[:, None] * _direction(angles[i])
+            target = centres
         else:
             radius = PUSH * R if c.phase == "herd" else R + CLEARANCE
+            blocker = self._blocker(p_a, P, core, angles, heading, R + CLEARANCE) if c.phase == "gather" \
+                and anchor is None else None
             for i in movers:
-                places[:, i] = self._route(P[i], predicted, angles[i], radius, s.defender_max_speeds[i] * T)
+                ring = BLOCK * R if i == blocker else radius
+                places[:, i] = self._route(P[i], predicted, angles[i], ring, s.defender_max_speeds[i] * T)
+            if blocker is not None:
+                target = np.repeat(p_a[None], N, axis=0)     # held while the others come
             if c.phase == "herd":
                 target[:] = anchor
         weight = np.ones(N)
@@ -180,7 +200,7 @@ class Enclosure:
             if anchor is not None:
                 heading = math.atan2(*(centre - anchor)[::-1])          # behind the attacker, seen from the anchor
             else:
-                v = predicted[0] - centre
+                v = self._predicted(centre, P[:0])[0] - centre
                 heading = math.atan2(v[1], v[0]) if np.hypot(*v) > 0 else 0.0
         bearing = {int(i): math.atan2(*(P[i] - centre)[::-1]) for i in movers}
         angles: dict[int, float] = {}
@@ -222,14 +242,40 @@ class Enclosure:
             angles[i] = taken[j] + gaps[j] / 2
         return angles
 
-    def _arrived(self, p_a, P, core, angles, radius) -> bool:
-        """Have the first three reached their places on the gathering circle?"""
+    def _drift(self, c: _Circle, P: np.ndarray, movers: np.ndarray) -> np.ndarray:
+        """One step of the closing circle's centre towards the farthest defender still on its way (the
+        circle carries the attacker, at ``DRIFT`` of its top speed), until that defender is near."""
+        s = self.scenario
+        away = {int(i): float(norm(P[i] - c.centre)) for i in movers}
+        i = max(away, key=away.get)
+        gap = away[i] - (c.radius + s.attacker.perception_radius + CLEARANCE)
+        if gap <= 0:
+            return np.zeros(2)
+        return unit(P[i] - c.centre) * min(gap, DRIFT * s.attacker.max_speed * s.hunt.time_step)
+
+    def _blocker(self, p_a, P, core, angles, heading, radius) -> int | None:
+        """The first member whose place faces the escape direction, once it stands there (else None)."""
         for i in core:
-            offset = P[i] - p_a
-            if abs(wrap(math.atan2(offset[1], offset[0]) - angles[int(i)])) > ARRIVED_ANGLE \
-                    or abs(norm(offset) - radius) > ARRIVED_RADIUS:
-                return False
-        return True
+            if abs(wrap(angles[int(i)] - heading)) < 1e-9:
+                return int(i) if self._there(p_a, P, i, heading, radius) else None
+        return None
+
+    def _surrounded(self, p_a, P, movers, radius) -> bool:
+        """Do at least three movers near the gathering circle surround the attacker, no gap between
+        neighbours' bearings wider than ``MAX_GAP``? (Which defender stands where does not matter.)"""
+        offsets = P[movers] - p_a
+        near = offsets[norm(offsets) <= radius + ARRIVED_RADIUS]
+        if len(near) < CORE:
+            return False
+        bearings = np.sort(np.arctan2(near[:, 1], near[:, 0]))
+        gaps = np.diff(np.append(bearings, bearings[0] + 2 * math.pi))
+        return float(gaps.max()) <= MAX_GAP
+
+    def _there(self, p_a, P, i, angle, radius) -> bool:
+        """Does defender ``i`` stand at its place: bearing ``angle`` on the circle of ``radius`` round ``p_a``?"""
+        offset = P[i] - p_a
+        return abs(wrap(math.atan2(offset[1], offset[0]) - angle)) <= ARRIVED_ANGLE \
+            and abs(norm(offset) - radius) <= ARRIVED_RADIUS
 
     def _route(self, p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
         """A defender's targets at steps 1..N: towards its place on the circle round the predicted attacker,

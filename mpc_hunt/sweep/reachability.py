@@ -18,6 +18,12 @@ stricter label *comfortable* asks that at least min(3, N_d) defenders (three
 are the fewest that enclose) can each come within that distance of the
 undisturbed path at least ``SPARE_TIME`` (20 s) before the attacker leaves the
 arena or the time limit ends: time to close the circle once they are there.
+
+With fewer than three robots an obstacle must be a member (``hunting_circle.members``),
+so its surface must come within R_hunt of the attacker. The attacker moves at
+most v_a, pushed or not (Eq. 2 caps it), so a hunt in which every obstacle's
+surface stays farther than R_hunt + v_a·t_limit from the attacker's start
+cannot be won either: such a hunt is unreachable too.
 """
 
 from __future__ import annotations
@@ -66,14 +72,27 @@ def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, int]:
 
 def comfortable(scenario: Scenario) -> bool:
     """Can at least min(3, N_d) defenders reach the attacker's undisturbed path ``SPARE_TIME`` before it
-    leaves (see the module's docstring)? Implies :func:`reachable`."""
+    leaves, and an obstacle stand in where it must (see the module's docstring)? Implies :func:`reachable`."""
     first, last = arrival_steps(scenario)
     spare = int(round(SPARE_TIME / scenario.hunt.time_step))
     needed = min(ENCLOSING, len(first))
-    return int(np.sum((first >= 0) & (first <= last - spare))) >= needed
+    return obstacle_in_reach(scenario) and int(np.sum((first >= 0) & (first <= last - spare))) >= needed
+
+
+def obstacle_in_reach(scenario: Scenario) -> bool:
+    """With fewer than three defenders: can the attacker, at its top speed, come within R_hunt of some
+    obstacle's surface before the time limit (see the module's docstring)? Always True with three or more."""
+    if len(scenario.defenders) >= ENCLOSING:
+        return True
+    if not len(scenario.obstacles):
+        return False
+    a = scenario.attacker
+    gaps = norm(np.asarray(a.start, dtype=float) - scenario.obstacle_centres) - scenario.obstacle_radii
+    return bool(np.min(gaps) - scenario.hunt.hunt_radius <= a.max_speed * scenario.hunt.time_limit)
 
 
 def reachable(scenario: Scenario) -> bool:
     """Can some defender, at full speed in a straight line, come within max(R_agg, R_hunt) of the
-    attacker's undisturbed path in time (see the module's docstring)? False: the hunt cannot be won."""
-    return bool(np.any(arrival_steps(scenario)[0] >= 0))
+    attacker's undisturbed path in time, and, with fewer than three defenders, can an obstacle stand in
+    (see the module's docstring)? False: the hunt cannot be won."""
+    return obstacle_in_reach(scenario) and bool(np.any(arrival_steps(scenario)[0] >= 0))

@@ -10,8 +10,8 @@ import pytest
 from mpc_hunt.control.controller import Command, Observation
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
-from mpc_hunt.sweep.reachability import comfortable, reachable, undisturbed_path
-from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Scenario
+from mpc_hunt.sweep.reachability import comfortable, obstacle_in_reach, reachable, undisturbed_path
+from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.sim.simulator import simulate
 
 
@@ -31,12 +31,12 @@ class Pursuit:
         return {"controller": "pursuit"}
 
 
-def _leaving(*starts: tuple[float, float]) -> Scenario:
+def _leaving(*starts: tuple[float, float], obstacles: tuple[Obstacle, ...] = ()) -> Scenario:
     """The attacker 2 m from the arena's right edge, heading out at 0.03 m/s: it leaves after 66.7 s."""
     return Scenario(name="leaving", defenders=tuple(Defender(start=s, max_speed=0.08) for s in starts),
                     attacker=Attacker(start=(18.0, 10.0), nominal_velocity=(0.03, 0.0), max_speed=0.03,
                                       perception_radius=1.0),
-                    obstacles=(), hunt=HuntParameters(), arena=(0.0, 0.0, 20.0, 20.0))
+                    obstacles=obstacles, hunt=HuntParameters(), arena=(0.0, 0.0, 20.0, 20.0))
 
 
 def test_the_undisturbed_path_ends_where_the_attacker_leaves():
@@ -67,21 +67,39 @@ def test_comfortable_needs_three_defenders_in_time_with_twenty_seconds_to_spare(
     assert not comfortable(_leaving(*near, (1.0, 1.0))) and reachable(_leaving(*near, (1.0, 1.0)))
 
 
+NEAR_OBSTACLE = (Obstacle(centre=(16.0, 12.0), radius=0.5),)
+
+
 def test_with_two_defenders_both_must_be_in_time():
-    assert comfortable(_leaving((18.5, 11.5), (18.5, 8.5)))
-    assert not comfortable(_leaving((18.5, 11.5), (1.0, 1.0)))
+    assert comfortable(_leaving((18.5, 11.5), (18.5, 8.5), obstacles=NEAR_OBSTACLE))
+    assert not comfortable(_leaving((18.5, 11.5), (1.0, 1.0), obstacles=NEAR_OBSTACLE))
+
+
+def test_with_two_defenders_an_obstacle_must_be_within_the_attackers_reach():
+    # The time limit is 600 s: the attacker covers at most 18 m. With two robots an obstacle must be a member.
+    near = [(18.5, 11.5), (18.5, 8.5)]
+    assert reachable(_leaving(*near, obstacles=NEAR_OBSTACLE)) and comfortable(_leaving(*near, obstacles=NEAR_OBSTACLE))
+    in_reach = (Obstacle(centre=(0.5, 10.0), radius=0.5),)      # surface 17 m away: 16.5 m beyond R_hunt
+    out_of_reach = (Obstacle(centre=(0.5, 1.0), radius=0.5),)   # surface 19.2 m away
+    assert reachable(_leaving(*near, obstacles=in_reach))
+    assert not reachable(_leaving(*near, obstacles=out_of_reach))
+    assert not comfortable(_leaving(*near, obstacles=out_of_reach))
+    assert not reachable(_leaving(*near))                       # no obstacle at all
+    assert reachable(_leaving(*near, (3.0, 3.0), obstacles=out_of_reach))   # three robots need none
 
 
 UNREACHABLE = [i for i in range(40) if not reachable(sweep_scenario(2, i, ScenarioRanges()))]
+OUT_OF_REACH = [i for i in UNREACHABLE if obstacle_in_reach(sweep_scenario(2, i, ScenarioRanges()))]
 
 
 def test_some_random_hunts_are_unreachable():
     assert 2 <= len(UNREACHABLE) <= 20
 
 
-@pytest.mark.parametrize("index", UNREACHABLE[:4])
+@pytest.mark.parametrize("index", OUT_OF_REACH[:4])
 def test_on_an_unreachable_hunt_pursuit_never_disturbs_the_attacker(index):
-    """Defenders flying straight at the attacker never enter R_agg: its path is the undisturbed one."""
+    """Defenders flying straight at the attacker never enter R_agg (where no obstacle is wanting):
+    its path is the undisturbed one."""
     scenario = sweep_scenario(2, index, ScenarioRanges())
     result = simulate(scenario, Pursuit(scenario))
     assert not result.captured and result.termination in ("attacker_escaped", "time_limit")
