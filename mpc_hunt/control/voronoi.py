@@ -4,8 +4,9 @@ Each step builds the attacker's bounded Voronoi cell (:mod:`mpc_hunt.control.vor
 arena cut by the bisectors to the defenders and by the obstacles' tangents). A defender that
 shares an edge with it aims at a distance from the attacker equal to that of the edge's
 midpoint, the area-minimising pursuit rule (Huang et al. 2011; Zhou et al. 2016, "Cooperative
-pursuit with Voronoi partitions"), which halves its distance step after step; a defender with no
-shared edge aims at the bisector's foot, half its distance. Its bearing is its place in an even
+pursuit with Voronoi partitions"): half its distance when the edge is centred on it, farther when
+the edge runs long to one side (the cell is open there); a defender with no shared edge aims at
+the bisector's foot, half its distance. Its bearing is its place in an even
 spread round the attacker, in the order the defenders stand (turned as little as possible); a
 stationary member (a failed robot, or an obstacle the success test recruits) holds the first
 place, so two robots and an obstacle share the turn in thirds. This is the evader-centred cell
