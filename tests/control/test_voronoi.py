@@ -72,9 +72,9 @@ def test_every_command_is_within_the_speed_and_keeps_places_and_defenders_in_the
 
 
 def test_a_defender_beside_an_obstacle_is_never_commanded_into_its_safety_distance():
-    # The defender's straight way to the attacker runs through the obstacle, 0.02 m beyond R_safe.
+    # Defender 0's straight way to its place runs through the obstacle; it starts 0.02 m beyond R_safe.
     centre, radius = np.array([5.0, 5.0]), 0.5
-    s = hunt((5.0, 2.5), (0.0, 0.0), [(5.0, 5.62)], obstacles=[((5.0, 5.0), radius)])
+    s = hunt((5.0, 3.2), (0.0, 0.0), [(5.0, 5.62), (3.0, 1.5), (7.0, 1.5)], obstacles=[((5.0, 5.0), radius)])
     limit = radius + s.hunt.safety_distance
     for obs, cmd in run(s, 300):
         after = obs.defenders[0] + s.hunt.time_step * cmd.velocities[0]
