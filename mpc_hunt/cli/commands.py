@@ -81,8 +81,9 @@ def build_parser() -> argparse.ArgumentParser:
                      help="paper: the paper's strategy with its capture-stage optimisation (default); "
                           "enclose: the same strategy with the enclose objective, every defender planned "
                           "(docs/formulations.md); "
-                          "apf: the traditional potential-field encirclement, no optimisation "
-                          "(--formulation, --backend, --horizon and --time-budget do not apply)")
+                          "apf: the traditional potential-field encirclement, no optimisation; "
+                          "voronoi: the Voronoi encirclement from the pursuit-evasion literature, no optimisation "
+                          "(for apf and voronoi --formulation, --backend, --horizon and --time-budget do not apply)")
     sim.add_argument("--no-prediction", action="store_true",
                      help="approach the attacker's current position instead of the predicted intercept")
     sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",

@@ -8,11 +8,13 @@ CONTROLLERS = {
     "paper": "mpc_hunt.control.strategy:HuntingStrategy",
     "enclose": "mpc_hunt.control.strategy:EnclosingStrategy",
     "apf": "mpc_hunt.control.encircling:EncirclingController",
+    "voronoi": "mpc_hunt.control.voronoi:VoronoiController",
 }
 SOLVING = ("paper", "enclose")     # the controllers that solve a capture problem (take solver settings)
 
 
 def make_controller(name: str, scenario, **options):
     """A fresh controller for ``scenario`` by name: ``paper``, the strategy with the paper's capture
-    objective; ``enclose``, the same strategy with the enclose objective; ``apf``, no optimisation."""
+    objective; ``enclose``, the same strategy with the enclose objective; ``apf``, the potential-field
+    encirclement, and ``voronoi``, the Voronoi encirclement, with no optimisation."""
     return load_class(CONTROLLERS, "controller", name)(scenario, **options)
