@@ -109,14 +109,15 @@ class Enclosure:
         core = self._core(p_a if c.centre is None else c.centre, P, movers)
         if c.phase != "close":
             angles, heading = self._angles(p_a, P, movers, core, anchor, predicted)
-            ready = any(self._there(p_a, P, i, angles[int(i)], R + CLEARANCE) for i in core) if anchor is not None \
+            ready = self._behind(p_a, P, movers, heading, R + CLEARANCE) if anchor is not None \
                 else self._surrounded(p_a, P, movers, R + CLEARANCE)
             if c.phase == "gather" and ready:
                 c.phase = "herd" if anchor is not None and norm(p_a - anchor) > HERDED else "close"
             if c.phase == "herd" and norm(p_a - anchor) <= HERDED:
                 c.phase = "close"
             if c.phase == "close":
-                c.centre, c.radius, c.heading = (p_a.copy() if anchor is None else anchor), R + CLEARANCE, heading
+                c.centre, c.heading = (p_a.copy() if anchor is None else anchor), heading
+                c.radius = max(0.5 * s.hunt.hunt_radius, min(R + CLEARANCE, max(norm(P[i] - c.centre) for i in core)))
         places = np.repeat(P[None], N, axis=0).astype(float)
         undisturbed = self._predicted(p_a, P[:0])
         target = undisturbed                       # gathering, the attacker should not notice anybody
@@ -259,6 +260,14 @@ class Enclosure:
             if abs(wrap(angles[int(i)] - heading)) < 1e-9:
                 return int(i) if self._there(p_a, P, i, heading, radius) else None
         return None
+
+    def _behind(self, p_a, P, movers, heading, radius) -> bool:
+        """Does a mover stand near the circle on the attacker's far side from the anchor (within 90° of
+        ``heading``), where it can push the attacker towards it?"""
+        offsets = P[movers] - p_a
+        bearings = np.arctan2(offsets[:, 1], offsets[:, 0])
+        return bool(np.any((norm(offsets) <= radius + ARRIVED_RADIUS)
+                           & (np.abs((bearings - heading + math.pi) % (2 * math.pi) - math.pi) <= math.pi / 2)))
 
     def _surrounded(self, p_a, P, movers, radius) -> bool:
         """Do at least three movers near the gathering circle surround the attacker, no gap between

@@ -20,10 +20,12 @@ undisturbed path at least ``SPARE_TIME`` (20 s) before the attacker leaves the
 arena or the time limit ends: time to close the circle once they are there.
 
 With fewer than three robots an obstacle must be a member (``hunting_circle.members``),
-so its surface must come within R_hunt of the attacker. The attacker moves at
-most v_a, pushed or not (Eq. 2 caps it), so a hunt in which every obstacle's
-surface stays farther than R_hunt + v_a·t_limit from the attacker's start
-cannot be won either: such a hunt is unreachable too.
+so its surface must come within R_hunt of the attacker. Until the first defender
+can be within R_agg, at step k_0, the attacker is on its undisturbed path, at
+a_{k_0}; from there it moves at most v_a per unit time, pushed or not (Eq. 2
+caps it). So a hunt in which every obstacle's surface stays farther than
+R_hunt + v_a (t_limit − k_0 T) from a_{k_0} cannot be won either: such a hunt is
+unreachable too.
 """
 
 from __future__ import annotations
@@ -56,43 +58,48 @@ SPARE_TIME = 20.0     # s: what a comfortable hunt leaves the defenders to close
 ENCLOSING = 3         # the fewest defenders that can enclose an attacker without an obstacle
 
 
-def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, int]:
+def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, list[np.ndarray]]:
     """(the first step at which each defender can be within reach of the undisturbed path, or −1 for never;
-    the last step of that path)."""
+    that path, up to where the attacker leaves or time runs out)."""
     reach = max(scenario.attacker.perception_radius, scenario.hunt.hunt_radius)
     starts, speeds = scenario.defender_starts, scenario.defender_max_speeds
     T = scenario.hunt.time_step
     first = np.full(len(starts), -1)
-    k = -1
+    path = []
     for k, a in enumerate(undisturbed_path(scenario)):
         newly = (first < 0) & (norm(a - starts) - reach <= speeds * k * T)
         first[newly] = k
-    return first, k
+        path.append(a)
+    return first, path
+
+
+def obstacle_in_reach(scenario: Scenario, first: np.ndarray, path: list[np.ndarray]) -> bool:
+    """With fewer than three defenders: can the attacker, at its top speed from where the first defender can
+    meet it, come within R_hunt of some obstacle's surface before the time limit (the module's docstring)?
+    Always True with three or more."""
+    if len(scenario.defenders) >= ENCLOSING:
+        return True
+    if not len(scenario.obstacles) or not np.any(first >= 0):
+        return False
+    k0 = int(np.min(first[first >= 0]))
+    hunt = scenario.hunt
+    gaps = norm(path[k0] - scenario.obstacle_centres) - scenario.obstacle_radii
+    return bool(np.min(gaps) - hunt.hunt_radius <= scenario.attacker.max_speed * (hunt.time_limit - k0 * hunt.time_step))
 
 
 def comfortable(scenario: Scenario) -> bool:
     """Can at least min(3, N_d) defenders reach the attacker's undisturbed path ``SPARE_TIME`` before it
     leaves, and an obstacle stand in where it must (see the module's docstring)? Implies :func:`reachable`."""
-    first, last = arrival_steps(scenario)
+    first, path = arrival_steps(scenario)
     spare = int(round(SPARE_TIME / scenario.hunt.time_step))
     needed = min(ENCLOSING, len(first))
-    return obstacle_in_reach(scenario) and int(np.sum((first >= 0) & (first <= last - spare))) >= needed
-
-
-def obstacle_in_reach(scenario: Scenario) -> bool:
-    """With fewer than three defenders: can the attacker, at its top speed, come within R_hunt of some
-    obstacle's surface before the time limit (see the module's docstring)? Always True with three or more."""
-    if len(scenario.defenders) >= ENCLOSING:
-        return True
-    if not len(scenario.obstacles):
-        return False
-    a = scenario.attacker
-    gaps = norm(np.asarray(a.start, dtype=float) - scenario.obstacle_centres) - scenario.obstacle_radii
-    return bool(np.min(gaps) - scenario.hunt.hunt_radius <= a.max_speed * scenario.hunt.time_limit)
+    in_time = int(np.sum((first >= 0) & (first <= len(path) - 1 - spare))) >= needed
+    return in_time and obstacle_in_reach(scenario, first, path)
 
 
 def reachable(scenario: Scenario) -> bool:
     """Can some defender, at full speed in a straight line, come within max(R_agg, R_hunt) of the
     attacker's undisturbed path in time, and, with fewer than three defenders, can an obstacle stand in
     (see the module's docstring)? False: the hunt cannot be won."""
-    return obstacle_in_reach(scenario) and bool(np.any(arrival_steps(scenario)[0] >= 0))
+    first, path = arrival_steps(scenario)
+    return bool(np.any(first >= 0)) and obstacle_in_reach(scenario, first, path)

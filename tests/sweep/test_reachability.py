@@ -10,7 +10,7 @@ import pytest
 from mpc_hunt.control.controller import Command, Observation
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
-from mpc_hunt.sweep.reachability import comfortable, obstacle_in_reach, reachable, undisturbed_path
+from mpc_hunt.sweep.reachability import arrival_steps, comfortable, reachable, undisturbed_path
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.sim.simulator import simulate
 
@@ -88,15 +88,32 @@ def test_with_two_defenders_an_obstacle_must_be_within_the_attackers_reach():
     assert reachable(_leaving(*near, (3.0, 3.0), obstacles=out_of_reach))   # three robots need none
 
 
+
+def test_the_attacker_runs_free_until_the_first_defender_can_meet_it():
+    # Heading +y at 0.03 m/s from (10, 10); both defenders wait ahead at y = 19.5 and can first meet its path
+    # (within R_agg) after 77.3 s, at (10, 12.3). The obstacle's surface is 5 m beyond R_hunt from the start,
+    # within 0.03 m/s × 300 s = 9 m, but 7.3 m beyond it from (10, 12.3), out of 0.03 m/s × 222.7 s = 6.7 m.
+    scenario = Scenario(name="ahead", defenders=(Defender(start=(10.0, 19.5), max_speed=0.08),
+                                                 Defender(start=(11.0, 19.5), max_speed=0.08)),
+                        attacker=Attacker(start=(10.0, 10.0), nominal_velocity=(0.0, 0.03), max_speed=0.03,
+                                          perception_radius=1.0),
+                        obstacles=(Obstacle(centre=(10.0, 4.0), radius=0.5),),
+                        hunt=HuntParameters(time_limit=300.0), arena=(0.0, 0.0, 20.0, 20.0))
+    assert np.any(arrival_steps(scenario)[0] >= 0)
+    assert not reachable(scenario)
+    nearer = dataclasses.replace(scenario, obstacles=(Obstacle(centre=(10.0, 5.0), radius=0.5),))   # 6.3 m
+    assert reachable(nearer)
+
+
 UNREACHABLE = [i for i in range(40) if not reachable(sweep_scenario(2, i, ScenarioRanges()))]
-OUT_OF_REACH = [i for i in UNREACHABLE if obstacle_in_reach(sweep_scenario(2, i, ScenarioRanges()))]
+NOBODY_IN_TIME = [i for i in UNREACHABLE if not np.any(arrival_steps(sweep_scenario(2, i, ScenarioRanges()))[0] >= 0)]
 
 
 def test_some_random_hunts_are_unreachable():
     assert 2 <= len(UNREACHABLE) <= 20
 
 
-@pytest.mark.parametrize("index", OUT_OF_REACH[:4])
+@pytest.mark.parametrize("index", NOBODY_IN_TIME[:4])
 def test_on_an_unreachable_hunt_pursuit_never_disturbs_the_attacker(index):
     """Defenders flying straight at the attacker never enter R_agg (where no obstacle is wanting):
     its path is the undisturbed one."""
