@@ -77,7 +77,10 @@ def _solve_lines(summaries: list[dict]) -> list[str]:
     return [f"- `{s['strategy']}`: the longest capture-stage solve took "
             f"{value(s['solve_time_max_s'], 1e3, 1, 'ms')}; least obstacle clearance "
             f"{value(s['min_obstacle_clearance_m'], 1, 3, 'm')}, least defender separation "
-            f"{value(s['min_defender_separation_m'], 1, 6, 'm')}." for s in summaries]
+            f"{value(s['min_defender_separation_m'], 1, 6, 'm')}, least arena margin "
+            f"{value(s['min_arena_margin_m'], 1, 3, 'm')}; a defender came inside R_safe in "
+            f"{s['safety_breaches_approach']} hunts while approaching and {s['safety_breaches_capture']} while "
+            "capturing." for s in summaries]
 
 
 def _escape_lines(rows: list[dict]) -> list[str]:
@@ -89,7 +92,8 @@ def _escape_lines(rows: list[dict]) -> list[str]:
         early = [r for r in escaped if not r["solves"]]
         lines.append(f"- `{strategy}`: {len(early)} of its {len(escaped)} escapes came before any defender was "
                      f"within R_agg (no capture-stage solve); {sum(not r['reachable'] for r in early)} of those "
-                     "hunts are unreachable.")
+                     f"hunts are unreachable, {sum(not r['comfortable'] for r in early)} not comfortable "
+                     "(the unreachable ones among them).")
     return lines
 
 
@@ -104,7 +108,10 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], 
              f"(docs/robustness.md): `{json.dumps(ranges)}`. The success rate counts the hunts that can be "
              "captured by definition; the next column leaves out the unreachable ones too (no defender can come within "
              "R_agg of the attacker's undisturbed path before it leaves: lost by any controller, "
-             "`mpc_hunt/sweep/reachability.py`). Failures are by cause (docs/robustness.md). One row per hunt, with its "
+             "`mpc_hunt/sweep/reachability.py`), and the one after counts only the comfortable ones (three defenders, "
+             "or all if fewer, can arrive 20 s before the attacker leaves: not a race only a perfect controller wins). "
+             "Failures are by cause (docs/robustness.md); the hunts in which a defender came inside an obstacle's "
+             "safety distance R_safe are counted by stage. One row per hunt, with its "
              "scenario's full parameters, is in `sweep.db` (SQLite).", "",
              "## Results", "", table(summaries), "", *_solve_lines(summaries), *_escape_lines(rows), "",
              "![success by defenders](success_by_n_defenders.png) "

@@ -7,8 +7,9 @@ radius R_hunt / 2 around the attacker on its own bearing, turned along the
 circle away from capture-stage neighbours that are closer in angle than an even
 spread (2π / n), and Eq. 6's obstacle and defender repulsion blends in as in the
 approaching stage. Obstacles are never members and nothing is herded: the
-robots close the circle and follow the attacker. Every command passes the
-separation filter (:mod:`mpc_hunt.world.separation`).
+robots close the circle and follow the attacker. The approaching stage's
+commands keep the safety distance R_safe (:mod:`mpc_hunt.world.safety`); every
+command passes the separation filter (:mod:`mpc_hunt.world.separation`).
 """
 
 from __future__ import annotations

@@ -11,8 +11,9 @@ feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
 stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not
 differentiable); else the applied plan shifted one step; else holding position,
 which the problem's constraints always allow. The approaching defenders'
-commands pass the separation filter (:mod:`mpc_hunt.world.separation`) against the
-capture-stage defenders' next positions and each other.
+commands pass the safety-distance filter (:mod:`mpc_hunt.world.safety`), then the
+separation filter (:mod:`mpc_hunt.world.separation`) against the capture-stage
+defenders' next positions and each other.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 from mpc_hunt.capture.solution import Solution
@@ -36,16 +38,20 @@ FEASIBLE_TOLERANCE = 1e-6
 
 def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndarray,
                       prediction: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Velocities (Eq. 6) and intercepts (Eqs. 7–8) of the ``approaching`` defenders; zero elsewhere."""
+    """Velocities (Eq. 6, kept out of R_safe: :mod:`mpc_hunt.world.safety`) and intercepts (Eqs. 7–8) of the
+    ``approaching`` defenders; zero elsewhere."""
     speeds = scenario.defender_max_speeds
+    hunt = scenario.hunt
     velocities = np.zeros_like(obs.defenders)
     intercepts = np.full_like(obs.defenders, np.nan)
-    v_a = attacker_velocity_estimate(obs, scenario.hunt.time_step)
+    v_a = attacker_velocity_estimate(obs, hunt.time_step)
     for i in np.flatnonzero(approaching):
         target = approach_target(obs.attacker, v_a, obs.defenders[i], speeds[i], prediction)
         intercepts[i] = target
         others = np.delete(obs.defenders, i, axis=0)
-        velocities[i] = approach_velocity(scenario, obs.defenders[i], target, speeds[i], others)
+        velocities[i] = keep_safety_distance(
+            obs.defenders[i], approach_velocity(scenario, obs.defenders[i], target, speeds[i], others),
+            scenario.obstacle_centres, scenario.obstacle_radii, hunt.safety_distance, hunt.time_step, speeds[i])
     return velocities, intercepts
 
 

@@ -27,6 +27,9 @@ class HuntResult:
     min_defender_separation: float | None
     min_attacker_distance: float
     attacker_min_obstacle_clearance: float | None
+    approach_min_obstacle_clearance: float | None   # over the positions approaching-stage commands led to
+    capture_min_obstacle_clearance: float | None    # over the positions capture-stage commands led to
+    min_arena_margin: float | None    # least distance of a defender inside the arena's edges, < 0 beyond one
     solve_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solve_iterations: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     failed_solves: int = 0
@@ -76,6 +79,9 @@ class HuntResult:
             "min_defender_separation_m": opt(self.min_defender_separation),
             "min_attacker_distance_m": float(self.min_attacker_distance),
             "attacker_min_obstacle_clearance_m": opt(self.attacker_min_obstacle_clearance),
+            "approach_min_obstacle_clearance_m": opt(self.approach_min_obstacle_clearance),
+            "capture_min_obstacle_clearance_m": opt(self.capture_min_obstacle_clearance),
+            "min_arena_margin_m": opt(self.min_arena_margin),
             "steps": self.steps,
             "solve_time": self.solve_time_stats(),
             "solve_iterations_median": (float(np.median(self.solve_iterations))

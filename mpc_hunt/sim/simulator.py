@@ -22,7 +22,7 @@ from mpc_hunt.world.geometry import norm, saturate
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.world.hunting_circle import success_test
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.world.arena import attacker_escaped
+from mpc_hunt.world.arena import attacker_escaped, margin
 from mpc_hunt.control.controller import Controller, Observation
 from mpc_hunt.control.strategy import HuntingStrategy
 
@@ -102,9 +102,16 @@ def _result(scenario, controller, attacker, defenders, stages, intercepts, termi
     path_lengths = norm(steps).sum(axis=0) if len(d) > 1 else np.zeros(n)
     final = success_test(a[-1], d[-1], centres, radii, hunt.hunt_radius, hunt.centre_tolerance)
     clearance = attacker_clearance = None
+    by_stage = {True: None, False: None}    # capture stage or not: the least clearance its commands led to
     if len(radii):
         clearance = float(np.min(norm(d[:, :, None, :] - centres[None, None]) - radii))
         attacker_clearance = float(np.min(norm(a[:, None, :] - centres[None]) - radii))
+        moved = finite[1:]                  # position k + 1 is where the command of step k led
+        reached = np.min(norm(defenders[1:][moved][:, :, None, :] - centres[None, None]) - radii, axis=2)
+        stage = stages.reshape(K, n)[moved]
+        for capture in by_stage:
+            if np.any(stage == capture):
+                by_stage[capture] = float(np.min(reached[stage == capture]))
     separation = None
     if n > 1:
         gaps = norm(d[:, :, None, :] - d[:, None, :, :])
@@ -121,5 +128,7 @@ def _result(scenario, controller, attacker, defenders, stages, intercepts, termi
         min_obstacle_clearance=clearance, min_defender_separation=separation,
         min_attacker_distance=float(np.min(norm(a[:, None, :] - d))),
         attacker_min_obstacle_clearance=attacker_clearance,
+        approach_min_obstacle_clearance=by_stage[False], capture_min_obstacle_clearance=by_stage[True],
+        min_arena_margin=None if scenario.arena is None else float(np.min(margin(scenario.arena, d))),
         solve_times=np.array(solve_times), solve_iterations=np.array(iterations, dtype=int),
         failed_solves=failed, fallbacks=fallbacks, longest_failure_streak=longest_streak)

@@ -35,7 +35,7 @@ from mpc_hunt.errors import MpcHuntError, SweepStopped
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.sweep.outcome import failure_cause
+from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 
 # The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
@@ -115,6 +115,7 @@ def run_hunt(task: Hunt) -> dict:
     except Exception as exc:  # noqa: BLE001 - one hunt's crash is its row, never the sweep's end
         return row | _error(exc, time.perf_counter() - start)
     cause = failure_cause(result, scenario)
+    breach_approach, breach_capture = safety_breaches(result, scenario)
     times = result.solve_times
     T = scenario.hunt.time_step
     outcome = "captured" if cause is None else ("uncapturable" if not capturable_by_definition(scenario)
@@ -124,7 +125,8 @@ def run_hunt(task: Hunt) -> dict:
         "capture_time_s": result.capture_time, "path_length_m": float(np.sum(result.path_lengths)),
         "min_obstacle_clearance_m": result.min_obstacle_clearance,
         "min_defender_separation_m": result.min_defender_separation,
-        "min_attacker_distance_m": result.min_attacker_distance, "steps": result.steps,
+        "min_attacker_distance_m": result.min_attacker_distance, "min_arena_margin_m": result.min_arena_margin,
+        "safety_breach_approach": breach_approach, "safety_breach_capture": breach_capture, "steps": result.steps,
         "solves": int(len(times)), "failed_solves": result.failed_solves, "fallbacks": result.fallbacks,
         "longest_failure_streak": result.longest_failure_streak,
         "solve_time_p50_s": float(np.median(times)) if len(times) else None,

@@ -10,7 +10,7 @@ import math
 from dataclasses import asdict
 
 from mpc_hunt.world.hunting_circle import MIN_MEMBERS
-from mpc_hunt.sweep.reachability import reachable
+from mpc_hunt.sweep.reachability import comfortable, reachable
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import dumps_scenario
 
@@ -32,7 +32,8 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
 
     Keys: ``name``, ``seed`` and ``index`` (as given: the sweep's seed and the
     scenario's index in it), ``n_defenders``, ``n_obstacles``,
-    ``capturable_by_definition``, ``reachable`` (:func:`mpc_hunt.sweep.reachability.reachable`),
+    ``capturable_by_definition``, ``reachable`` and ``comfortable``
+    (:func:`mpc_hunt.sweep.reachability.reachable` and ``comfortable``),
     ``defender_speed_min`` and ``_max`` (m/s),
     ``attacker_speed`` (m/s), ``speed_ratio`` (attacker / slowest defender),
     ``perception_radius`` (R_agg, m), ``attacker_heading`` (rad, of the nominal
@@ -55,6 +56,7 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
         "name": scenario.name, "seed": seed, "index": index,
         "n_defenders": len(scenario.defenders), "n_obstacles": len(scenario.obstacles),
         "capturable_by_definition": capturable_by_definition(scenario), "reachable": reachable(scenario),
+        "comfortable": comfortable(scenario),
         "defender_speed_min": min(speeds), "defender_speed_max": max(speeds),
         "attacker_speed": a.max_speed, "speed_ratio": a.max_speed / min(speeds),
         "perception_radius": a.perception_radius,

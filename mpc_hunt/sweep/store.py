@@ -25,18 +25,19 @@ KEY = ("strategy", "seed", "index")
 
 SCENARIO_COLUMNS = {   # mpc_hunt.sweep.scenario_row.scenario_row
     "name": "text", "seed": "integer", "index": "integer", "n_defenders": "integer", "n_obstacles": "integer",
-    "capturable_by_definition": "integer", "reachable": "integer", "defender_speed_min": "real",
-    "defender_speed_max": "real", "attacker_speed": "real", "speed_ratio": "real", "perception_radius": "real",
-    "attacker_heading": "real", "attacker_start_x": "real", "attacker_start_y": "real", "obstacle_radius_min": "real",
-    "obstacle_radius_max": "real", "arena_x_min": "real", "arena_y_min": "real", "arena_x_max": "real",
-    "arena_y_max": "real", "failed_defender": "integer", "fails_at": "real",
+    "capturable_by_definition": "integer", "reachable": "integer", "comfortable": "integer",
+    "defender_speed_min": "real", "defender_speed_max": "real", "attacker_speed": "real", "speed_ratio": "real",
+    "perception_radius": "real", "attacker_heading": "real", "attacker_start_x": "real", "attacker_start_y": "real",
+    "obstacle_radius_min": "real", "obstacle_radius_max": "real", "arena_x_min": "real", "arena_y_min": "real",
+    "arena_x_max": "real", "arena_y_max": "real", "failed_defender": "integer", "fails_at": "real",
     **{f"hunt_{f.name}": "real" for f in fields(HuntParameters)},
     "scenario_toml": "text",
 }
 RESULT_COLUMNS = {     # mpc_hunt.sweep.runner.run_hunt; an error row leaves all but the first three and the last null
     "outcome": "text", "cause": "text", "message": "text", "termination": "text", "capture_time_s": "real",
     "path_length_m": "real", "min_obstacle_clearance_m": "real", "min_defender_separation_m": "real",
-    "min_attacker_distance_m": "real", "steps": "integer", "solves": "integer", "failed_solves": "integer",
+    "min_attacker_distance_m": "real", "min_arena_margin_m": "real", "safety_breach_approach": "integer",
+    "safety_breach_capture": "integer", "steps": "integer", "solves": "integer", "failed_solves": "integer",
     "fallbacks": "integer", "longest_failure_streak": "integer", "solve_time_p50_s": "real",
     "solve_time_p95_s": "real", "solve_time_max_s": "real", "solves_over_time_step": "integer",
     "wall_time_s": "real",

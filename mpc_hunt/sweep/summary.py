@@ -4,8 +4,12 @@ The success rate counts the hunts that can be captured by definition
 (:func:`mpc_hunt.sweep.scenario_row.capturable_by_definition`); the others are
 reported apart. Among those, the unreachable ones (no defender can come near
 the attacker before it leaves: :mod:`mpc_hunt.sweep.reachability`) are lost by
-every controller; ``success_rate_reachable`` leaves them out too. Each 95 %
-interval is Wilson's score interval.
+every controller; ``success_rate_reachable`` leaves them out too.
+``success_rate_comfortable`` counts only the comfortable ones (enough
+defenders can arrive with time to spare: not a race only a perfect controller
+wins). Each 95 % interval is Wilson's score interval. ``safety_breaches_approach``
+and ``_capture`` count the hunts in which a defender came inside an obstacle's
+safety distance R_safe in that stage (:func:`mpc_hunt.sweep.outcome.safety_breaches`).
 """
 
 from __future__ import annotations
@@ -51,6 +55,8 @@ def summarise(rows: list[dict]) -> list[dict]:
         won = [r for r in counted if r["outcome"] == "captured"]
         reachable = [r for r in counted if r["reachable"]]
         won_reachable = [r for r in reachable if r["outcome"] == "captured"]
+        comfortable = [r for r in counted if r["comfortable"]]
+        won_comfortable = [r for r in comfortable if r["outcome"] == "captured"]
         causes = Counter(r["cause"] for r in counted if r["outcome"] == "failed")
         capture_median, capture_iqr = _median_iqr([r["capture_time_s"] for r in won])
         path_median, path_iqr = _median_iqr([r["path_length_m"] for r in won])
@@ -64,12 +70,18 @@ def summarise(rows: list[dict]) -> list[dict]:
             "unreachable": len(counted) - len(reachable),
             "success_rate_reachable": len(won_reachable) / len(reachable) if reachable else None,
             "success_rate_reachable_ci95": list(wilson(len(won_reachable), len(reachable))),
+            "comfortable": len(comfortable),
+            "success_rate_comfortable": len(won_comfortable) / len(comfortable) if comfortable else None,
+            "success_rate_comfortable_ci95": list(wilson(len(won_comfortable), len(comfortable))),
             "failures": {c: causes.get(c, 0) for c in CAUSES},
             "collisions": causes.get("obstacle_collision", 0) + causes.get("defender_contact", 0),
             "capture_time_median_s": capture_median, "capture_time_iqr_s": capture_iqr,
             "path_length_median_m": path_median, "path_length_iqr_m": path_iqr,
             "min_obstacle_clearance_m": _least(mine, "min_obstacle_clearance_m"),
             "min_defender_separation_m": _least(mine, "min_defender_separation_m"),
+            "min_arena_margin_m": _least(mine, "min_arena_margin_m"),
+            "safety_breaches_approach": sum(bool(r.get("safety_breach_approach")) for r in mine),
+            "safety_breaches_capture": sum(bool(r.get("safety_breach_capture")) for r in mine),
             "solve_time_p50_median_s": float(np.median(p50)) if p50 else None,
             "solve_time_p95_median_s": float(np.median(p95)) if p95 else None,
             "solve_time_max_s": max((r["solve_time_max_s"] for r in mine if r.get("solve_time_max_s")), default=None),
@@ -92,18 +104,19 @@ def table(summaries: list[dict]) -> str:
         lo, hi = s[f"{key}_ci95"]
         return f"{pct(s[key])} ({pct(lo)}–{pct(hi)})"
 
-    lines = ["| strategy | hunts | success (95 % CI) | of reachable hunts | failures by cause | "
-             "capture time median (IQR) | min clearance / separation | solve p50 / p95 | failed solves | "
-             "solves over T |",
-             "| --- | ---: | --- | --- | --- | --- | --- | --- | ---: | ---: |"]
+    lines = ["| strategy | hunts | success (95 % CI) | of reachable hunts | of comfortable hunts | failures by cause | "
+             "capture time median (IQR) | min clearance / separation | inside R_safe approaching / capturing | "
+             "solve p50 / p95 | failed solves | solves over T |",
+             "| --- | ---: | --- | --- | --- | --- | --- | --- | ---: | --- | ---: | ---: |"]
     for s in summaries:
         causes = ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none"
         lines.append(
             f"| {s['strategy']} | {s['hunts']} ({s['uncapturable_by_definition']} uncapturable, "
-            f"{s['unreachable']} unreachable) | {rate(s, 'success_rate')} | {rate(s, 'success_rate_reachable')} | "
-            f"{causes} | "
+            f"{s['unreachable']} unreachable, {s['comfortable']} comfortable) | {rate(s, 'success_rate')} | "
+            f"{rate(s, 'success_rate_reachable')} | {rate(s, 'success_rate_comfortable')} | {causes} | "
             f"{num(s['capture_time_median_s'], unit=' s')} ({num(s['capture_time_iqr_s'], unit=' s')}) | "
             f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')} | "
+            f"{s['safety_breaches_approach']} / {s['safety_breaches_capture']} hunts | "
             f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')} | "
             f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |")
     return "\n".join(lines)

@@ -3,12 +3,15 @@
 A scenario may declare an arena (x_min, y_min, x_max, y_max). The paper gives
 none (both of its simulations are open planes), so the built-in scenarios have
 none. An attacker strictly beyond one of the arena's edges has escaped, and the
-hunt has failed (docs/robustness.md); a point on an edge is still inside.
+hunt has failed (docs/robustness.md); a point on an edge is still inside. A
+sweep also counts a defender beyond an edge as a failure (``margin`` < 0).
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
+
+import numpy as np
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
@@ -24,6 +27,15 @@ def outside(arena: Arena, p) -> bool:
     x, y = float(p[0]), float(p[1])
     x_min, y_min, x_max, y_max = arena
     return x < x_min or x > x_max or y < y_min or y > y_max
+
+
+def margin(arena: Arena, points) -> np.ndarray:
+    """How far each point (…, 2) lies inside the arena: its distance to the nearest edge's line, negative
+    beyond an edge (by the most it exceeds one edge's line); zero on an edge."""
+    p = np.asarray(points, dtype=float)
+    x_min, y_min, x_max, y_max = arena
+    x, y = p[..., 0], p[..., 1]
+    return np.minimum(np.minimum(x - x_min, x_max - x), np.minimum(y - y_min, y_max - y))
 
 
 def attacker_escaped(scenario: Scenario, p_a) -> bool:

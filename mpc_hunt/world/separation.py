@@ -55,11 +55,17 @@ def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np
                 m, n = 0.5 * (p + positions[j]), _unit(p - positions[j])
                 gap = dot2(n, p - m)
                 rows.append((time_step * n, min(0.5 * min_separation, gap) - gap))
-        v = out[i]
-        for a, b in rows:
-            if dot2(a, v) < b:
-                v = v + (b - dot2(a, v)) / dot2(a, a) * a
-        v = saturate(v, speeds[i])
-        scale = min([1.0] + [b / dot2(a, v) for a, b in rows if dot2(a, v) < b])
-        out[i] = scale * v
+        out[i] = onto_half_planes(out[i], rows, speeds[i])
     return out
+
+
+def onto_half_planes(v: np.ndarray, rows: list[tuple[np.ndarray, float]], speed: float,
+                     aim: float = 0.0) -> np.ndarray:
+    """``v`` projected onto each broken half-plane a · v ≥ b of ``rows`` in turn (onto a · v = b + ``aim``),
+    capped at ``speed``, then scaled towards 0 until none is broken (every b ≤ 0, so v = 0 keeps them all)."""
+    for a, b in rows:
+        if dot2(a, v) < b:
+            v = v + (b + aim - dot2(a, v)) / dot2(a, a) * a
+    v = saturate(v, speed)
+    scale = min([1.0] + [b / dot2(a, v) for a, b in rows if dot2(a, v) < b])
+    return scale * v

@@ -25,9 +25,11 @@ from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.sweep.runner import Hunt, Strategy, connect_dask, run_dask, run_hunt, run_local, tasks
-from mpc_hunt.sweep.outcome import FAILURE_STREAK, failure_cause
+from mpc_hunt.sweep.outcome import FAILURE_STREAK, failure_cause, safety_breaches
+from mpc_hunt.sweep.random_scenario import sweep_scenario
+from mpc_hunt.sweep.reachability import comfortable
 from mpc_hunt.sweep.store import COLUMNS, SweepStore
-from mpc_hunt.sweep.summary import summarise, wilson
+from mpc_hunt.sweep.summary import summarise, table, wilson
 
 ROOT = Path(__file__).resolve().parents[2]
 TIMING = {"wall_time_s", "solve_time_p50_s", "solve_time_p95_s", "solve_time_max_s", "solves_over_time_step"}
@@ -47,19 +49,33 @@ def test_wilson_interval_on_known_values():
 
 
 def test_summary_of_hand_made_rows():
-    base = {"strategy": "s", "capture_time_s": None, "path_length_m": None, "cause": None, "reachable": True}
-    rows = [base | {"outcome": "captured", "capture_time_s": 100.0, "path_length_m": 30.0},
-            base | {"outcome": "captured", "capture_time_s": 200.0, "path_length_m": 50.0},
-            base | {"outcome": "failed", "cause": "time_limit"},
-            base | {"outcome": "failed", "cause": "defender_contact"},
-            base | {"outcome": "failed", "cause": "attacker_escaped", "reachable": False},
-            base | {"outcome": "uncapturable", "cause": "time_limit", "reachable": False}]
+    base = {"strategy": "s", "capture_time_s": None, "path_length_m": None, "cause": None, "reachable": True,
+            "comfortable": True}
+    rows = [base | {"outcome": "captured", "capture_time_s": 100.0, "path_length_m": 30.0,
+                    "safety_breach_approach": 1, "min_arena_margin_m": 0.5},
+            base | {"outcome": "captured", "capture_time_s": 200.0, "path_length_m": 50.0, "comfortable": False,
+                    "safety_breach_approach": 1, "safety_breach_capture": 1, "min_arena_margin_m": 0.25},
+            base | {"outcome": "failed", "cause": "time_limit", "safety_breach_approach": 0},
+            base | {"outcome": "failed", "cause": "defender_contact", "comfortable": False},
+            base | {"outcome": "failed", "cause": "attacker_escaped", "reachable": False, "comfortable": False},
+            base | {"outcome": "uncapturable", "cause": "time_limit", "reachable": False, "comfortable": False,
+                    "safety_breach_capture": 1}]
     (s,) = summarise(rows)
     assert s["hunts"] == 6 and s["uncapturable_by_definition"] == 1 and s["success_rate"] == 0.4
     assert s["unreachable"] == 1 and s["success_rate_reachable"] == 0.5
     assert s["success_rate_reachable_ci95"] == list(wilson(2, 4))
+    assert s["comfortable"] == 2 and s["success_rate_comfortable"] == 0.5       # the first and third rows
+    assert s["success_rate_comfortable_ci95"] == list(wilson(1, 2))
+    assert s["safety_breaches_approach"] == 2 and s["safety_breaches_capture"] == 2   # every hunt, uncapturable too
+    assert s["min_arena_margin_m"] == 0.25
     assert s["failures"]["time_limit"] == 1 and s["failures"]["defender_contact"] == 1 and s["collisions"] == 1
     assert s["capture_time_median_s"] == 150.0 and s["capture_time_iqr_s"] == 50.0
+    header, rule, line = table([s]).splitlines()
+    cells = dict(zip(header.strip("|").split(" | "), line.strip("|").split(" | ")))
+    assert len(rule.split("|")) == len(header.split("|")) == len(line.split("|"))
+    assert cells["hunts"] == "6 (1 uncapturable, 1 unreachable, 2 comfortable)"
+    assert cells["of comfortable hunts"] == f"50.0 % ({100 * wilson(1, 2)[0]:.1f} %–{100 * wilson(1, 2)[1]:.1f} %)"
+    assert cells["inside R_safe approaching / capturing"] == "2 / 2 hunts"
 
 
 def test_each_failure_cause():
@@ -69,6 +85,7 @@ def test_each_failure_cause():
     assert failure_cause(result, scenario) == "time_limit"
     cases = {"obstacle_collision": dict(min_obstacle_clearance=-0.01),
              "defender_contact": dict(min_defender_separation=0.1),
+             "outside_arena": dict(min_arena_margin=-0.01, termination="attacker_escaped"),
              "attacker_escaped": dict(termination="attacker_escaped"),
              "solver_failure_streak": dict(longest_failure_streak=50),
              "non_finite_state": dict(termination="non_finite_state")}
@@ -77,28 +94,36 @@ def test_each_failure_cause():
     assert failure_cause(dataclasses.replace(result, captured=True, termination="captured"), scenario) is None
     assert failure_cause(dataclasses.replace(result, captured=True, min_defender_separation=0.1),
                          scenario) == "defender_contact"      # safety comes before capture
+    assert failure_cause(dataclasses.replace(result, captured=True, min_arena_margin=-0.01),
+                         scenario) == "outside_arena"         # so does the arena
+    assert failure_cause(dataclasses.replace(result, min_arena_margin=-1e-7, min_defender_separation=0.1),
+                         scenario) == "defender_contact"
+    assert failure_cause(dataclasses.replace(result, captured=True, min_arena_margin=-1e-7), scenario) is None
+    assert failure_cause(dataclasses.replace(result, captured=True, min_arena_margin=None), scenario) is None
 
 
 class Scripted:
-    """Fixed velocities every step and, if given, the same capture-stage solution (say, a failed one)."""
+    """Fixed velocities every step and, if given, the same capture-stage solution (say, a failed one); every
+    defender in the approaching stage, or the capture stage if ``capture``."""
 
-    def __init__(self, velocities, solution=None):
-        self.velocities, self.solution = np.array(velocities, dtype=float), solution
+    def __init__(self, velocities, solution=None, capture=False):
+        self.velocities, self.solution, self.capture = np.array(velocities, dtype=float), solution, capture
 
     def describe(self):
         return {"controller": "scripted"}
 
     def command(self, obs):
         n = len(obs.defenders)
-        return Command(self.velocities, np.zeros(n, dtype=bool), np.full((n, 2), np.nan), self.solution,
+        return Command(self.velocities, np.full(n, self.capture), np.full((n, 2), np.nan), self.solution,
                        self.solution is not None)
 
 
-def _hunt(defenders, obstacles=(), time_limit=15.0):
+def _hunt(defenders, obstacles=(), time_limit=15.0, arena=None, omega=0.5):
     """Defenders (x, y) far from an attacker at (10, 10) who stands still: nothing is captured."""
     return Scenario(name="scripted", defenders=tuple(Defender(p, 0.08) for p in defenders),
                     attacker=Attacker((10.0, 10.0), (0.0, 0.0), 0.03, 1.0),
-                    obstacles=tuple(Obstacle(c, r) for c, r in obstacles), hunt=HuntParameters(time_limit=time_limit))
+                    obstacles=tuple(Obstacle(c, r) for c, r in obstacles), arena=arena,
+                    hunt=HuntParameters(time_limit=time_limit, omega=omega))
 
 
 @pytest.mark.parametrize("cause, scenario, controller", [
@@ -106,6 +131,8 @@ def _hunt(defenders, obstacles=(), time_limit=15.0):
     ("obstacle_collision", _hunt([(0, 0), (0, 2), (0, 4)], obstacles=[((1.0, 0.0), 0.3)]),
      Scripted([(0.08, 0), (0, 0), (0, 0)])),                                         # into the obstacle at t = 8.75 s
     ("defender_contact", _hunt([(0, 0), (2, 0), (0, 4)]), Scripted([(0.08, 0), (-0.08, 0), (0, 0)])),  # t = 11.25 s
+    ("outside_arena", _hunt([(0, 0), (0, 2), (0, 4)], arena=(-1.0, -1.0, 20.0, 20.0)),
+     Scripted([(-0.08, 0), (0, 0), (0, 0)])),                                        # out of the arena at t = 12.5 s
     ("non_finite_state", _hunt([(0, 0), (0, 2), (0, 4)]), Scripted([(np.nan, 0), (0, 0), (0, 0)])),
     ("solver_failure_streak", _hunt([(0, 0), (0, 2), (0, 4)], time_limit=FAILURE_STREAK * 0.1),
      Scripted(np.zeros((3, 2)), Solution(status=Status.ERROR))),
@@ -118,6 +145,39 @@ def test_hand_built_hunts_end_with_each_cause(cause, scenario, controller):
     # A collision, a contact or a streak is recorded, and the hunt goes on to its time limit.
     expected = "non_finite_state" if cause == "non_finite_state" else "time_limit"
     assert result.termination == expected
+
+
+def test_a_defender_beyond_an_edge_is_recorded_by_how_far():
+    scenario = _hunt([(0, 0), (0, 2), (0, 4)], arena=(-1.0, -1.0, 20.0, 20.0), time_limit=10.0)
+    inside = simulate(scenario, Scripted([(-0.08, 0), (0, 0), (0, 0)]))       # to x = -0.8 m: 0.2 m inside
+    assert inside.min_arena_margin == pytest.approx(0.2) and failure_cause(inside, scenario) == "time_limit"
+    beyond = simulate(dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=15.0)),
+                      Scripted([(-0.08, 0), (0, 0), (0, 0)]))                 # to x = -1.2 m: 0.2 m beyond
+    assert beyond.min_arena_margin == pytest.approx(-0.2)
+    assert simulate(dataclasses.replace(scenario, arena=None), Scripted(np.zeros((3, 2)))).min_arena_margin is None
+
+
+@pytest.mark.parametrize("capture, breaches", [(False, (True, False)), (True, (False, True))])
+def test_a_safety_distance_breach_is_recorded_in_its_stage(capture, breaches):
+    """Defender 0 runs to 0.06 m of an obstacle's surface (inside R_safe = 0.1 m, not touching it)."""
+    scenario = _hunt([(0, 0), (0, 2), (0, 4)], obstacles=[((1.0, 0.0), 0.3)], time_limit=8.0)
+    result = simulate(scenario, Scripted([(0.08, 0), (0, 0), (0, 0)], capture=capture))
+    assert failure_cause(result, scenario) == "time_limit"
+    assert safety_breaches(result, scenario) == breaches
+    short = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=7.5))   # to 0.1 m
+    assert safety_breaches(simulate(short, Scripted([(0.08, 0), (0, 0), (0, 0)], capture=capture)), short) \
+        == (False, False)
+
+
+def test_the_approaching_stage_keeps_r_safe_where_eq_6_alone_would_not(monkeypatch):
+    """With ω = 1, Eq. 6 is pure pursuit: defender 0 heads through the obstacle between it and the attacker."""
+    scenario = _hunt([(0, 0), (2, 8), (8, 2)], obstacles=[((4.0, 4.1), 0.5)], time_limit=90.0, omega=1.0)
+    result = simulate(scenario, EncirclingController(scenario))
+    assert result.approach_min_obstacle_clearance >= scenario.hunt.safety_distance - 1e-9
+    assert safety_breaches(result, scenario)[0] is False
+    monkeypatch.setattr("mpc_hunt.control.strategy.keep_safety_distance", lambda p, v, *rest: v)
+    unfiltered = simulate(scenario, EncirclingController(scenario))
+    assert failure_cause(unfiltered, scenario) == "obstacle_collision" and safety_breaches(unfiltered, scenario)[0]
 
 
 def test_an_exception_inside_a_hunt_is_a_row_with_its_message(monkeypatch):
@@ -134,6 +194,7 @@ def test_the_results_file_keeps_every_column_whatever_row_comes_first(tmp_path):
     task = tasks(["apf"], 2, 1, ScenarioRanges(time_limit=2.0), set())
     good = run_hunt(task[1])
     assert list(good) == list(COLUMNS)                        # the documented schema, in order
+    assert list(COLUMNS).index("comfortable") == list(COLUMNS).index("reachable") + 1
     error = {k: v for k, v in good.items() if k in ("strategy", "name", "seed", "index")}
     error |= {"index": 0, "outcome": "failed", "cause": "error", "message": "boom"}
     store = SweepStore(tmp_path / "s.db", {"sweep": 1})
@@ -143,6 +204,8 @@ def test_the_results_file_keeps_every_column_whatever_row_comes_first(tmp_path):
     rows = store.rows()
     assert len(rows) == 2 and rows[0]["termination"] is None
     assert rows[1] == good | {"capturable_by_definition": int(good["capturable_by_definition"])}
+    assert rows[1]["comfortable"] == comfortable(sweep_scenario(1, 1, ScenarioRanges(time_limit=2.0)))
+    assert {rows[1][k] for k in ("safety_breach_approach", "safety_breach_capture")} <= {0, 1}
     with pytest.raises(MpcHuntError, match="columns the results file does not"):
         store.add(good | {"surprise": 1})
     store.close()
@@ -152,7 +215,9 @@ def test_a_hunt_ends_when_the_attacker_leaves_the_arena():
     scenario = small_scenario(obstacles=())
     scenario = dataclasses.replace(scenario, arena=(9.0, 9.0, 11.0, 11.0))      # attacker starts at (10, 10)
     result = simulate(scenario, EncirclingController(scenario))
-    assert result.termination == "attacker_escaped" and failure_cause(result, scenario) == "attacker_escaped"
+    assert result.termination == "attacker_escaped"
+    assert failure_cause(result, scenario) == "outside_arena"          # the defenders start beyond its edges
+    assert failure_cause(dataclasses.replace(result, min_arena_margin=0.0), scenario) == "attacker_escaped"
 
 
 def test_strategy_specs():
@@ -180,11 +245,13 @@ def small_sweep(tmp_path_factory):
 def test_sweep_end_to_end_on_local_processes(small_sweep):
     summary, rows = small_sweep
     for s in summary["strategies"]:
-        for key in ("success_rate", "success_rate_ci95", "failures", "collisions", "capture_time_median_s"):
+        for key in ("success_rate", "success_rate_ci95", "success_rate_comfortable", "success_rate_comfortable_ci95",
+                    "failures", "collisions", "capture_time_median_s", "safety_breaches_approach",
+                    "safety_breaches_capture", "min_arena_margin_m"):
             assert key in s
         assert s["hunts"] == 3 and set(s["failures"]) >= {"time_limit", "obstacle_collision", "defender_contact",
-                                                          "attacker_escaped", "solver_failure_streak",
-                                                          "non_finite_state"}
+                                                          "outside_arena", "attacker_escaped",
+                                                          "solver_failure_streak", "non_finite_state"}
     assert len(rows) == 6 and all(r["wall_time_s"] > 0 for r in rows)
 
 
