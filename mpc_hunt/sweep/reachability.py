@@ -87,19 +87,23 @@ def obstacle_in_reach(scenario: Scenario, first: np.ndarray, path: list[np.ndarr
     return bool(np.min(gaps) - hunt.hunt_radius <= scenario.attacker.max_speed * (hunt.time_limit - k0 * hunt.time_step))
 
 
+def race_labels(scenario: Scenario) -> tuple[bool, bool]:
+    """(:func:`reachable`, :func:`comfortable`) from one run of the undisturbed path."""
+    first, path = arrival_steps(scenario)
+    reached = bool(np.any(first >= 0)) and obstacle_in_reach(scenario, first, path)
+    spare = int(round(SPARE_TIME / scenario.hunt.time_step))
+    in_time = int(np.sum((first >= 0) & (first <= len(path) - 1 - spare))) >= min(ENCLOSING, len(first))
+    return reached, reached and in_time
+
+
 def comfortable(scenario: Scenario) -> bool:
     """Can at least min(3, N_d) defenders reach the attacker's undisturbed path ``SPARE_TIME`` before it
     leaves, and an obstacle stand in where it must (see the module's docstring)? Implies :func:`reachable`."""
-    first, path = arrival_steps(scenario)
-    spare = int(round(SPARE_TIME / scenario.hunt.time_step))
-    needed = min(ENCLOSING, len(first))
-    in_time = int(np.sum((first >= 0) & (first <= len(path) - 1 - spare))) >= needed
-    return in_time and obstacle_in_reach(scenario, first, path)
+    return race_labels(scenario)[1]
 
 
 def reachable(scenario: Scenario) -> bool:
     """Can some defender, at full speed in a straight line, come within max(R_agg, R_hunt) of the
     attacker's undisturbed path in time, and, with fewer than three defenders, can an obstacle stand in
     (see the module's docstring)? False: the hunt cannot be won."""
-    first, path = arrival_steps(scenario)
-    return bool(np.any(first >= 0)) and obstacle_in_reach(scenario, first, path)
+    return race_labels(scenario)[0]

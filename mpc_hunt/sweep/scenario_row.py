@@ -10,7 +10,7 @@ import math
 from dataclasses import asdict
 
 from mpc_hunt.world.hunting_circle import MIN_MEMBERS
-from mpc_hunt.sweep.reachability import comfortable, reachable
+from mpc_hunt.sweep.reachability import race_labels
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import dumps_scenario
 
@@ -52,11 +52,12 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
     arena = scenario.arena or (None, None, None, None)
     failing = [(i, d.fails_at) for i, d in enumerate(scenario.defenders) if d.fails_at is not None]
     failed_defender, fails_at = min(failing, key=lambda f: f[1], default=(None, None))
+    reachable, comfortable = race_labels(scenario)
     row: dict[str, object] = {
         "name": scenario.name, "seed": seed, "index": index,
         "n_defenders": len(scenario.defenders), "n_obstacles": len(scenario.obstacles),
-        "capturable_by_definition": capturable_by_definition(scenario), "reachable": reachable(scenario),
-        "comfortable": comfortable(scenario),
+        "capturable_by_definition": capturable_by_definition(scenario), "reachable": reachable,
+        "comfortable": comfortable,
         "defender_speed_min": min(speeds), "defender_speed_max": max(speeds),
         "attacker_speed": a.max_speed, "speed_ratio": a.max_speed / min(speeds),
         "perception_radius": a.perception_radius,
