@@ -30,7 +30,7 @@ from mpc_hunt.cli.commands import main as mpc_hunt
 from mpc_hunt.world.ensemble import SCALE, band, outside, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
-from mpc_hunt.control.recommended import RECOMMENDED
+from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
 from mpc_hunt.sweep.plots import write_plots
 from mpc_hunt.sweep.store import SweepStore
@@ -132,13 +132,12 @@ def headline(summaries: list[dict]) -> str:
 
 
 def recommended_label() -> str:
-    return f"paper:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:{RECOMMENDED['horizon']}"
+    return f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:{RECOMMENDED['horizon']}"
 
 
-def best_paper_strategy(summaries: list[dict]) -> str:
-    """The paper strategy's solver with the highest success rate (RECOMMENDED must name it)."""
-    return max((s for s in summaries if s["strategy"].startswith("paper:")),
-               key=lambda s: s["success_rate"] or 0.0)["strategy"]
+def best_strategy(summaries: list[dict]) -> str:
+    """The strategy with the highest success rate (RECOMMENDED must name it)."""
+    return max(summaries, key=lambda s: s["success_rate"] or 0.0)["strategy"]
 
 
 def _rows() -> list[dict]:
@@ -255,7 +254,7 @@ def check() -> list[str]:
     if won:
         errors.append(f"sweep.db: unreachable hunts were captured ({', '.join(won[:3])}): "
                       "mpc_hunt/sweep/reachability.py is wrong")
-    best = best_paper_strategy(summaries)
+    best = best_strategy(summaries)
     if best != recommended_label():
         errors.append(f"mpc_hunt/control/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "
                       "most often")

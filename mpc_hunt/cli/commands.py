@@ -25,7 +25,7 @@ from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress,
                                  check_writable, count, non_negative, positive_float, seed, stop_at_once)
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.control.recommended import PAPER, RECOMMENDED
+from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario,
                                         resolve_scenario)
 
@@ -75,12 +75,12 @@ def build_parser() -> argparse.ArgumentParser:
     sim = sub.add_parser("simulate", help="run one closed-loop hunt",
                          description="Run one closed-loop hunt and report capture, path lengths and clearances. "
                                      "Progress goes to stderr (not with --json).")
-    _solver_arguments(sim, RECOMMENDED, "the recommended capture stage; the paper's is --formulation nlp "
-                                        "--horizon 1 (docs/robustness.md)")
-    sim.add_argument("--controller", default="paper", choices=sorted(controllers.CONTROLLERS),
-                     help="paper: the paper's strategy with its capture-stage optimisation (default); "
-                          "enclose: the same strategy with the enclose objective, every defender planned "
-                          "(docs/formulations.md); "
+    _solver_arguments(sim, RECOMMENDED, "the recommended capture stage; the paper's is --controller paper "
+                                        "--formulation nlp --horizon 1 (docs/robustness.md)")
+    sim.add_argument("--controller", default=RECOMMENDED_CONTROLLER, choices=sorted(controllers.CONTROLLERS),
+                     help="enclose: the paper's model and constraints with the enclose objective, every defender "
+                          "planned (docs/formulations.md; the default, the best on the committed sweep); "
+                          "paper: the paper's strategy with its capture-stage optimisation; "
                           "apf: the traditional potential-field encirclement, no optimisation; "
                           "voronoi: the Voronoi encirclement from the pursuit-evasion literature, no optimisation "
                           "(for apf and voronoi --formulation, --backend, --horizon and --time-budget do not apply)")

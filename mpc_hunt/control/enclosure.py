@@ -281,10 +281,12 @@ class Enclosure:
         return float(gaps.max()) <= MAX_GAP
 
     def _there(self, p_a, P, i, angle, radius) -> bool:
-        """Does defender ``i`` stand at its place: bearing ``angle`` on the circle of ``radius`` round ``p_a``?"""
+        """Does defender ``i`` stand at its place, bearing ``angle`` from ``p_a``, no farther out than the circle of
+        ``radius`` allows? (Nearer counts: a defender stepping in from its place is still there, so the test
+        does not flip as it moves.)"""
         offset = P[i] - p_a
         return abs(wrap(math.atan2(offset[1], offset[0]) - angle)) <= ARRIVED_ANGLE \
-            and abs(norm(offset) - radius) <= ARRIVED_RADIUS
+            and norm(offset) <= radius + ARRIVED_RADIUS
 
     def _route(self, p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
         """A defender's targets at steps 1..N: towards its place on the circle round the predicted attacker,

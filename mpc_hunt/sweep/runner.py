@@ -41,7 +41,7 @@ from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
 # (paper:nlp:ipopt:1) stalls at IPOPT's iteration limit on the field's kink in many random hunts, at up
 # to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
-DEFAULT_STRATEGIES = ("paper:ms-nlp:ipopt:1", "paper:rti:hpipm:5", "apf")
+DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
 MAX_WORKER_DEATHS = 3
 
 

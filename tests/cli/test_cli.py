@@ -179,17 +179,19 @@ def test_solve_defaults_use_the_shipped_state(capsys):
 
 
 @pytest.mark.parametrize("flags, expected", [
-    ([], ("rti", "hpipm", 5)),                                # the recommended capture stage
-    (["--formulation", "nlp"], ("nlp", "ipopt", 1)),          # the paper's
-    (["--formulation", "qp", "--backend", "daqp"], ("qp", "daqp", 1)),
-    (["--horizon", "2"], ("rti", "hpipm", 2)),
+    ([], ("enclose", "rti", "hpipm", 10)),                                 # the recommended controller
+    (["--controller", "paper"], ("paper", "rti", "hpipm", 10)),           # the paper's strategy, one flag away
+    (["--controller", "paper", "--formulation", "nlp"], ("paper", "nlp", "ipopt", 1)),   # as published
+    (["--formulation", "qp", "--backend", "daqp"], ("enclose", "qp", "daqp", 1)),
+    (["--horizon", "2"], ("enclose", "rti", "hpipm", 2)),
 ])
-def test_simulate_runs_the_recommended_capture_stage_unless_told(capsys, tmp_path, flags, expected):
+def test_simulate_runs_the_recommended_controller_unless_told(capsys, tmp_path, flags, expected):
     path = tmp_path / "tiny.toml"
     path.write_text(TINY.replace("time_limit = 5.0", "time_limit = 0.2"), encoding="utf-8")
     code, out, _ = run(capsys, "simulate", "--scenario", str(path), "--json", *flags)
     report = json.loads(out)
-    assert code == 0 and (report["formulation"], report["backend"], report["horizon"]) == expected
+    assert code == 0 and (report["controller"], report["formulation"], report["backend"],
+                          report["horizon"]) == expected
 
 
 def test_solve_runs_the_papers_problem_by_default(capsys):

@@ -102,7 +102,7 @@ def _in_capture_stage(tmp_path: Path) -> Path:
     return path
 
 
-@pytest.mark.parametrize("command", [["simulate", "--formulation", "nlp", "--json"],
+@pytest.mark.parametrize("command", [["simulate", "--controller", "paper", "--formulation", "nlp", "--json"],
                                      ["problems", "--random", "0", "--build"]])
 def test_ctrl_c_stops_a_command_inside_ipopt_at_once_with_nothing_written(command, tmp_path):
     out = tmp_path / "set.json"

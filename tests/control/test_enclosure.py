@@ -67,6 +67,16 @@ def test_a_defender_standing_on_the_escape_side_holds_the_attacker_inside_r_agg(
     assert ref.attacker[-1][0] > 10.0 + 0.9 * V_A * N * 0.1
 
 
+def test_the_holding_defender_keeps_holding_as_it_steps_in():
+    """No switch to chatter on: nearer than its place on the circle, the escape-side defender still holds."""
+    for distance in (GATHER, GATHER - 0.26, 0.95 * R, 0.9 * R):
+        starts = [(10.0 + distance, 10.0), (2.0, 18.0), (2.0, 2.0)]
+        scenario = _scenario(*starts)
+        ref = Enclosure(scenario, N).reference(_observe(scenario, starts))
+        np.testing.assert_allclose(ref.attacker, np.tile([10.0, 10.0], (N, 1)))
+        assert ref.defenders[0][0][0] <= 10.0 + max(distance, E.BLOCK * R) + 1e-12     # never sent back out
+
+
 @pytest.mark.parametrize("turn", [0.0, 40.0, 97.0])
 def test_three_defenders_round_the_attacker_close_the_circle_whichever_places_they_took(turn):
     starts = _on_circle((10.0, 10.0), GATHER, [turn, turn + 120.0, turn + 240.0])
