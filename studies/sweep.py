@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt.cli.commands import main as mpc_hunt
+from mpc_hunt.cli.sweep import typical_hunts_figure
 from mpc_hunt.world.ensemble import SCALE, band, outside, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
@@ -34,7 +35,7 @@ from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
 from mpc_hunt.sweep.plots import write_plots
 from mpc_hunt.sweep.store import SweepStore
-from mpc_hunt.sweep.summary import summarise, table
+from mpc_hunt.sweep.summary import best_strategy, summarise, table
 
 from docs_block import read_block, write_block
 from study_check import check_result
@@ -107,7 +108,8 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], 
              f"`mpc_hunt.sweep.random_scenario.sweep_scenario({SEED}, i)` from the default ranges "
              f"(docs/robustness.md): `{json.dumps(ranges)}`. The success rate counts the hunts that can be "
              "captured by definition; the next column leaves out the unreachable ones too (no defender can come within "
-             "R_agg of the attacker's undisturbed path before it leaves: lost by any controller, "
+             "R_agg of the attacker's undisturbed path before it leaves, or, with two defenders, no obstacle is within "
+             "the attacker's reach to stand in for the third: lost by any controller, "
              "`mpc_hunt/sweep/reachability.py`), and the one after counts only the comfortable ones (three defenders, "
              "or all if fewer, can arrive 20 s before the attacker leaves: not a race only a perfect controller wins). "
              "Failures are by cause (docs/robustness.md); the hunts in which a defender came inside an obstacle's "
@@ -117,6 +119,10 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], 
              "![success by defenders](success_by_n_defenders.png) "
              "![success by obstacles](success_by_n_obstacles.png)",
              "![success by speed ratio](success_by_speed_ratio.png) ![capture times](capture_times.png)", "",
+             "The best strategy's typical captured and typical lost hunt (`mpc_hunt/sweep/typical.py`: the capture "
+             "nearest its median capture time; of the reachable hunts lost by the commonest cause, the one whose "
+             "closest approach is nearest their median), rerun and zoomed on the last 60 s:", "",
+             "![typical hunts](typical_hunts.png)", "",
              "## What a nanometre changes", "", *ensemble_lines(ensemble), "",
              "## Cost", "", "| strategy | wall time, all hunts | per hunt, median | longest hunt |",
              "| --- | ---: | ---: | ---: |"]
@@ -133,11 +139,6 @@ def headline(summaries: list[dict]) -> str:
 
 def recommended_label() -> str:
     return f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:{RECOMMENDED['horizon']}"
-
-
-def best_strategy(summaries: list[dict]) -> str:
-    """The strategy with the highest success rate (RECOMMENDED must name it)."""
-    return max(summaries, key=lambda s: s["success_rate"] or 0.0)["strategy"]
 
 
 def _rows() -> list[dict]:
@@ -158,6 +159,7 @@ def write(machine: dict) -> None:
     summaries = summarise(rows)
     walls = wall_times(rows)
     write_plots(rows, OUT)
+    typical_hunts_figure(rows, summaries, OUT)
     (OUT / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(),
                                                   "strategies": summaries, "wall_time": walls}, indent=1) + "\n",
                                       encoding="utf-8")

@@ -23,6 +23,7 @@ import numpy as np
 
 from mpc_hunt.capture import registry
 from mpc_hunt.capture.accuracy import VIOLATION_TOLERANCE
+from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.bench.best_known import MultiStartNLP
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.bench.metrics import is_success
@@ -68,6 +69,7 @@ class CompareRun:
     accuracy: str
     time_limit: float | None
     starts: int
+    objective: str = "paper"
     records: list[SolveRecord] = field(default_factory=list)
     references: dict[tuple[str, int], float | None] = field(default_factory=dict)
     interrupted: bool = False
@@ -103,7 +105,7 @@ def check_pairs(asked: list[str] | None) -> list[tuple[str, str]]:
 def _solve(run: CompareRun, solver: CaptureSolver, mode: str, entry: ProblemEntry, horizon: int,
            applied: tuple | None) -> tuple[SolveRecord, tuple]:
     t0 = time.perf_counter()
-    problem = run.problem_set.problem(entry, horizon)
+    problem = run.problem_set.problem(entry, horizon, run.objective)
     warm = warm_plan(applied, problem) if mode == "closed-loop" else None
     solution = solver.solve(problem, warm)
     elapsed = time.perf_counter() - t0
@@ -124,7 +126,7 @@ def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver:
 def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:
     reference = MultiStartNLP(run.starts, run.tolerance)
     for entry in run.problem_set.problems:
-        run.references[(entry.id, horizon)] = reference.best(run.problem_set.problem(entry, horizon), rng, tick)
+        run.references[(entry.id, horizon)] = reference.best(run.problem_set.problem(entry, horizon, run.objective), rng, tick)
     if "cold" in run.modes:
         for entry in run.problem_set.problems:
             for pair in run.pairs:
@@ -142,8 +144,10 @@ def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Call
 
 def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons: list[int], modes: list[str],
                 rng: np.random.Generator, *, accuracy: str = "default", time_limit: float | None = None,
-                starts: int = 4, progress: Callable[[], None] | None = None) -> CompareRun:
-    """Run every pair over ``problem_set`` at each horizon in each mode; ``progress()`` is called per solve."""
+                starts: int = 4, objective: str = "paper",
+                progress: Callable[[], None] | None = None) -> CompareRun:
+    """Run every pair over ``problem_set`` at each horizon in each mode, each problem posed with ``objective``
+    (``paper`` or ``enclose``); ``progress()`` is called per solve."""
     if not problem_set.problems:
         raise BenchmarkError("problems: the selection is empty")
     unknown = [m for m in modes if m not in MODES]
@@ -151,13 +155,15 @@ def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons:
         raise BenchmarkError(f"modes: unknown {unknown[0]!r} (known: {', '.join(MODES)})")
     if accuracy not in VIOLATION_TOLERANCE:
         raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
+    if objective not in OBJECTIVES:
+        raise BenchmarkError(f"objective: unknown {objective!r} (known: {', '.join(OBJECTIVES)})")
     if starts < 1:
         raise BenchmarkError(f"starts: must be at least 1, got {starts}")
     untimed = [b for _, b in pairs if time_limit is not None and not registry.backend_class(b).TIME_LIMIT]
     if untimed:
         raise BenchmarkError(f"time_limit: backend {untimed[0]} takes none; leave it out of the pairs or drop the "
                              f"time limit")
-    run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts)
+    run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts, objective)
     tick = progress or (lambda: None)
     try:
         for horizon in run.horizons:

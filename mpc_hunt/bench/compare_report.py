@@ -11,7 +11,7 @@ from mpc_hunt.capture.accuracy import accuracy_table
 from mpc_hunt.bench.compare import CompareRun
 from mpc_hunt.bench.compare_plots import FIGURES, plot_compare
 from mpc_hunt.bench.compare_rows import best_known, gap, rows as score_rows
-from mpc_hunt.capture.evaluator import OBJECTIVE, VIOLATION_NAMES
+from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE, VIOLATION_NAMES
 from mpc_hunt.bench.machine import machine_lines
 
 
@@ -19,7 +19,7 @@ def settings(run: CompareRun, **extra) -> dict:
     """What was run: the problems (ids, in order), pairs, horizons, modes, accuracy and the caller's extras."""
     return {"problems": [p.id for p in run.problem_set.problems],
             "pairs": [f"{f}:{b}" for f, b in run.pairs], "horizons": run.horizons, "modes": run.modes,
-            "accuracy": run.accuracy, "violation_tolerance_m": run.tolerance, "time_limit_s": run.time_limit,
+            "objective": run.objective, "accuracy": run.accuracy, "violation_tolerance_m": run.tolerance, "time_limit_s": run.time_limit,
             "reference_starts": run.starts, **extra}
 
 
@@ -134,8 +134,9 @@ def write_report(run: CompareRun, machine: dict, folder: Path, command: str, ext
         f"- Accuracy `{run.accuracy}`: a solve succeeds with a success status and every true violation "
         f"≤ {run.tolerance:g} m; time limit: {'none' if run.time_limit is None else f'{run.time_limit:g} s'}; "
         f"reference: multi-start NLP, {run.starts} starts", "",
-        "## The score", "", "Every plan is scored by the evaluator (`mpc_hunt/capture/evaluator.py`):", "", "```",
-        OBJECTIVE, "```", "", "Accuracy levels:", "", accuracy_table(), "",
+        "## The score", "", f"Every plan is scored by the evaluator (`mpc_hunt/capture/evaluator.py`), on the "
+        f"objective it was planned for (`{run.objective}`):", "", "```",
+        ENCLOSE_OBJECTIVE if run.objective == "enclose" else OBJECTIVE, "```", "", "Accuracy levels:", "", accuracy_table(), "",
         "Metrics: see docs/benchmarks.md in the repository. Times are all-in, per solve "
         "(the state handed over to the plan returned), set-up apart; `sgm` is the shifted geometric mean "
         "(shift 10 ms); `solver`: inside the solver; `ours`: our overhead.", "",

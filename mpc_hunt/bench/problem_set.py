@@ -31,7 +31,9 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.errors import ScenarioError, UnknownNameError
 from mpc_hunt.world.scenario import Scenario, check_positions, checked_number, checked_vector, key_shown, shown
 from mpc_hunt.world.scenario_io import read_input_file, scenario_from_dict, scenario_to_dict
@@ -72,11 +74,9 @@ class ProblemSet:
     problems: tuple[ProblemEntry, ...]
     description: str = ""
 
-    def problem(self, entry: ProblemEntry, horizon: int = 1) -> CaptureProblem:
+    def problem(self, entry: ProblemEntry, horizon: int = 1, objective: str = "paper") -> CaptureProblem:
         """The capture problem the strategy poses at ``entry``'s state, over ``horizon`` steps."""
-        scenario = self.scenarios[entry.scenario]
-        return CaptureProblem.at_state(scenario, entry.state.attacker, entry.state.defenders, horizon,
-                                       active=~scenario.failed(entry.state.time))
+        return posed_problem(self.scenarios[entry.scenario], entry.state, horizon, objective)
 
     def tagged(self, tag: str) -> list[ProblemEntry]:
         return [p for p in self.problems if tag in p.tags]
@@ -137,6 +137,20 @@ class ProblemSet:
                 "scenarios": {name: scenario_to_dict(s) for name, s in self.scenarios.items()},
                 "problems": [{"id": p.id, "scenario": p.scenario, **p.state.to_dict(), "sequence": p.sequence,
                               "tags": list(p.tags)} for p in self.problems]}
+
+
+def posed_problem(scenario: Scenario, state: HuntState, horizon: int = 1, objective: str = "paper") -> CaptureProblem:
+    """The capture problem at ``state``: Eq. 12 as published (``paper``), or the enclose objective with the
+    places the enclose controller would set on its first step from this state (``enclose``)."""
+    active = ~scenario.failed(state.time)
+    reference = None
+    if objective == "enclose":
+        observation = Observation(state.time, state.attacker, None, state.defenders, ~active)
+        reference = Enclosure(scenario, horizon).reference(observation)
+    elif objective not in OBJECTIVES:
+        raise UnknownNameError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
+    return CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon, active=active,
+                                   reference=reference)
 
 
 def dumps_problem_set(problem_set: ProblemSet) -> str:

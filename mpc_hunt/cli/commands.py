@@ -159,6 +159,9 @@ def _compare_parser(sub) -> None:
                      help="handed to each solver call; a failed solve then counts at it in the shifted mean")
     cmp.add_argument("--starts", type=count(MAX_STARTS), default=4,
                      help="starts of the reference multi-start NLP (default: 4)")
+    cmp.add_argument("--objective", choices=OBJECTIVES, default="paper",
+                     help="pose every problem with this objective: paper (Eq. 12, default) or enclose (the places "
+                          "the enclose controller would set at each state); plans are scored on it")
     cmp.add_argument("--json", action="store_true", help="print one JSON object (machine, settings, rows)")
     cmp.add_argument("--csv", type=Path, metavar="FILE.csv", help="also write the rows as CSV")
     cmp.add_argument("--report", type=Path, metavar="DIR",
@@ -287,8 +290,8 @@ def _state(args, scenario):
 
 
 def _solve(args) -> int:
-    from mpc_hunt.capture.problem import CaptureProblem
     from mpc_hunt.bench.capture_state import save_state
+    from mpc_hunt.bench.problem_set import posed_problem
     from mpc_hunt.capture.solver import CaptureSolver
 
     formulation, backend, horizon = _solver_choice(args)
@@ -298,17 +301,7 @@ def _solve(args) -> int:
     scenario = resolve_scenario(args.scenario)
     with stop_at_once("solve"):
         state = _state(args, scenario)
-        active = ~scenario.failed(state.time)
-        reference = None
-        if args.objective == "enclose":
-            from mpc_hunt.control.controller import Observation
-            from mpc_hunt.control.enclosure import Enclosure
-
-            observation = Observation(state.time, state.attacker, None, state.defenders, ~active)
-            reference = Enclosure(scenario, horizon).reference(observation)
-        problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon, active=active,
-                                          reference=reference)
-        solution = solver.solve(problem)
+        solution = solver.solve(posed_problem(scenario, state, horizon, args.objective))
     if args.save_state:
         save_state(state, args.save_state)
     report = solution.to_dict()
@@ -393,7 +386,7 @@ def _compare(args) -> int:
     with Progress(total, "compare", quiet=args.json, unit="solves") as update:
         done = itertools.count(1)
         run = run_compare(problem_set, pairs, args.horizon, args.mode, rng, accuracy=args.accuracy,
-                          time_limit=args.time_limit, starts=args.starts,
+                          time_limit=args.time_limit, starts=args.starts, objective=args.objective,
                           progress=(lambda: update(next(done))) if update else None)
     machine["load_average_end"] = load_average()
     rows = score_rows(run)

@@ -38,7 +38,9 @@ def add_parsers(sub) -> None:
     rep = sub.add_parser("sweep-report", help="summarise a sweep's results file",
                          description="Recompute a sweep's summary, table and plots from its results file alone.")
     rep.add_argument("file", type=Path)
-    rep.add_argument("--plot", type=Path, metavar="DIR", help="write the figures (PNG) into this folder")
+    rep.add_argument("--plot", type=Path, metavar="DIR",
+                     help="write the figures (PNG) into this folder, with the best strategy's typical captured and "
+                          "lost hunt rerun (a few seconds each)")
     rep.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
@@ -116,10 +118,32 @@ def _report(rows: list[dict], as_json: bool, plot: Path | None) -> int:
     print(json.dumps({"strategies": summaries}) if as_json else table(summaries))
     if plot:
         from mpc_hunt.sweep.plots import write_plots
-        for path in write_plots(rows, plot):
+        for path in write_plots(rows, plot) + typical_hunts_figure(rows, summaries, plot):
             if not as_json:
                 print(f"wrote {path}")
     return 0
+
+
+def typical_hunts_figure(rows: list[dict], summaries: list[dict], folder: Path) -> list[Path]:
+    """The best strategy's typical captured and lost hunt (mpc_hunt.sweep.typical), rerun and drawn zoomed on
+    the capture region into ``folder``/typical_hunts.png; [] when it has neither."""
+    from mpc_hunt.plots.capture_region import plot_capture_regions
+    from mpc_hunt.sweep.summary import best_strategy
+    from mpc_hunt.sweep.typical import rerun, typical_rows
+
+    if not summaries:
+        return []
+    strategy = best_strategy(summaries)
+    cases = []
+    for kind, row in typical_rows(rows, strategy).items():
+        scenario, result = rerun(row)
+        how = (f"captured at {row['capture_time_s']:.0f} s" if kind == "captured"
+               else f"lost ({row['cause']}), closest approach {row['min_attacker_distance_m']:.2f} m")
+        cases.append((result, scenario, f"typical {kind}: {strategy}, {row['name']}\n{how}"))
+    if not cases:
+        return []
+    plot_capture_regions(cases, folder / "typical_hunts.png")
+    return [folder / "typical_hunts.png"]
 
 
 HANDLERS = {"sweep": sweep, "sweep-report": sweep_report}

@@ -111,15 +111,19 @@ def frame_axes(ax: Axes, result: HuntResult, scenario: Scenario, title: str) -> 
         c, r = scenario.obstacle_centres, scenario.obstacle_radii[:, None]
         lows.append((c - r).min(axis=0))
         highs.append((c + r).max(axis=0))
-    low, high = np.min(lows, axis=0) - MARGIN, np.max(highs, axis=0) + MARGIN
+    set_window(ax, np.min(lows, axis=0) - MARGIN, np.max(highs, axis=0) + MARGIN, title)
+    ax.figure.legend(loc="outside right upper", fontsize="small")
+
+
+def set_window(ax: Axes, low: np.ndarray, high: np.ndarray, title: str, fontsize: float | None = None) -> None:
+    """The axes show ``low``..``high`` (m) at equal aspect, labelled in metres, on a faint grid."""
     ax.set_xlim(low[0], high[0])
     ax.set_ylim(low[1], high[1])
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.grid(alpha=0.3)
-    ax.set_title(title)
-    ax.figure.legend(loc="outside right upper", fontsize="small")
+    ax.set_title(title, fontsize=fontsize)
 
 
 def predicted_path(result: HuntResult) -> np.ndarray | None:

@@ -16,8 +16,10 @@ scheduler reruns them; a hunt whose workers died too often (Dask's
 
 from __future__ import annotations
 
+import ctypes
 import os
 import signal
+import sys
 import time
 from collections import deque
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -43,6 +45,7 @@ from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 # to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
 DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
 MAX_WORKER_DEATHS = 3
+PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
 
 
 @dataclass(frozen=True)
@@ -173,8 +176,7 @@ def run_local(todo: list[Hunt], workers: int | None = None) -> Iterator[dict]:
 
 def _run_pool(waiting: deque, workers: int) -> Generator[dict, None, bool]:
     """Run the hunts ``waiting`` on one pool, yielding rows; True if a worker died (unfinished hunts wait again)."""
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=signal.signal,       # idle workers ignore Ctrl-C
-                               initargs=(signal.SIGINT, signal.SIG_IGN))
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(os.getpid(),))
     running: dict[Future, Hunt] = {}
     broken = False
     try:
@@ -197,6 +199,16 @@ def _run_pool(waiting: deque, workers: int) -> Generator[dict, None, bool]:
         for future in running:
             future.cancel()
         pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _start_worker(sweep_pid: int) -> None:
+    """A local worker ignores Ctrl-C while idle and, on Linux, dies with the sweep that started it: a sweep
+    killed outright (SIGKILL, out of memory) leaves no worker waiting for work that will never come."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+        if os.getppid() != sweep_pid:      # the sweep died before the request was made
+            os._exit(1)
 
 
 def _interruptible_hunt(task: Hunt) -> dict:

@@ -46,6 +46,22 @@ def _least(rows: list[dict], key: str) -> float | None:
     return min(values) if values else None
 
 
+def _by_defenders(reachable: list[dict]) -> dict[str, dict]:
+    """Success among the reachable hunts, per number of defenders (two need an obstacle as a member)."""
+    out = {}
+    for n in sorted({r["n_defenders"] for r in reachable}):
+        group = [r for r in reachable if r["n_defenders"] == n]
+        won = sum(r["outcome"] == "captured" for r in group)
+        out[str(n)] = {"hunts": len(group), "captured": won, "success_rate": won / len(group),
+                       "success_rate_ci95": list(wilson(won, len(group)))}
+    return out
+
+
+def best_strategy(summaries: list[dict]) -> str:
+    """The strategy with the highest success rate (the first listed on a tie)."""
+    return max(summaries, key=lambda s: s["success_rate"] or 0.0)["strategy"]
+
+
 def summarise(rows: list[dict]) -> list[dict]:
     """One summary per strategy, in order of first appearance."""
     out = []
@@ -70,6 +86,7 @@ def summarise(rows: list[dict]) -> list[dict]:
             "unreachable": len(counted) - len(reachable),
             "success_rate_reachable": len(won_reachable) / len(reachable) if reachable else None,
             "success_rate_reachable_ci95": list(wilson(len(won_reachable), len(reachable))),
+            "reachable_by_defenders": _by_defenders(reachable),
             "comfortable": len(comfortable),
             "success_rate_comfortable": len(won_comfortable) / len(comfortable) if comfortable else None,
             "success_rate_comfortable_ci95": list(wilson(len(won_comfortable), len(comfortable))),
@@ -119,4 +136,14 @@ def table(summaries: list[dict]) -> str:
             f"{s['safety_breaches_approach']} / {s['safety_breaches_capture']} hunts | "
             f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')} | "
             f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |")
+    groups = sorted({n for s in summaries for n in s["reachable_by_defenders"]}, key=int)
+    lines += ["", "Of the reachable hunts, by number of defenders (captured / hunts, success, 95 % CI):", "",
+              "| strategy | " + " | ".join(f"{n} defenders" for n in groups) + " |",
+              "| --- |" + " --- |" * len(groups)]
+    for s in summaries:
+        cells = []
+        for n in groups:
+            g = s["reachable_by_defenders"].get(n)
+            cells.append("–" if g is None else f"{g['captured']} / {g['hunts']}, {rate(g, 'success_rate')}")
+        lines.append(f"| {s['strategy']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)

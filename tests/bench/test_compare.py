@@ -14,7 +14,8 @@ from mpc_hunt.cli.commands import main
 from mpc_hunt.bench.compare import check_pairs, run_compare
 from mpc_hunt.bench.compare_report import write_report
 from mpc_hunt.bench.compare_rows import rows
-from mpc_hunt.capture.evaluator import OBJECTIVE
+from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE
+from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.bench.problem_set import builtin_problem_set
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -131,3 +132,28 @@ def test_the_score_and_the_accuracy_table_are_documented_as_the_code_has_them():
     benchmarks = (ROOT / "docs" / "benchmarks.md").read_text(encoding="utf-8")
     assert OBJECTIVE in formulations
     assert accuracy_table() in benchmarks
+
+
+def test_compare_poses_and_scores_the_enclose_objective_when_asked(tmp_path, capsys):
+    """Same states, other objective: the plans are scored on the objective they were planned for, and the
+    exact formulation still reaches the multi-start reference on it."""
+    shipped, keep = _tiny()
+    problem_set = type(shipped)(shipped.scenarios, tuple(keep[:2]), "tiny")
+    runs = {o: run_compare(problem_set, check_pairs(["ms-nlp:ipopt"]), [3], ["cold"], np.random.default_rng(0),
+                           starts=2, objective=o) for o in ("paper", "enclose")}
+    for entry in keep[:2]:
+        assert problem_set.problem(entry, 3, "enclose").objective == "enclose"
+    paper, enclose = ([r.objective for r in runs[o].records] for o in ("paper", "enclose"))
+    assert all(abs(a - b) > 1e-6 for a, b in zip(paper, enclose))
+    (row,) = rows(runs["enclose"])
+    assert row["success_rate"] == 1.0 and abs(row["optimality_gap_median"]) < 1e-6
+    write_report(runs["enclose"], {"cpu": "test", "cores": 1, "usable_cores": 1, "system": "s", "python": "3",
+                                   "packages": {}}, tmp_path / "report", "mpc-hunt compare (test)", {})
+    text = (tmp_path / "report" / "README.md").read_text()
+    assert "(`enclose`)" in text and ENCLOSE_OBJECTIVE in text and OBJECTIVE not in text
+    with pytest.raises(BenchmarkError, match="objective: unknown 'capture'"):
+        run_compare(problem_set, check_pairs(["sqp:daqp"]), [3], ["cold"], np.random.default_rng(0),
+                    objective="capture")
+    assert main(["compare", "--objective", "enclose", "--limit", "1", "--pair", "sqp:daqp", "--horizon", "2",
+                 "--starts", "1", "--mode", "cold", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["settings"]["objective"] == "enclose"

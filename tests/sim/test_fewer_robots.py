@@ -12,9 +12,15 @@ from mpc_hunt import CaptureProblem, builtin_scenario, simulate
 from mpc_hunt.cli.commands import main
 
 
-@pytest.mark.parametrize("name", ["two-defenders", "failed-defender"])
-def test_the_hunt_is_finished_with_fewer_working_robots(capsys, name):
-    code = main(["simulate", "--scenario", name, "--json"])
+@pytest.mark.parametrize("name, flags", [
+    ("two-defenders", []), ("failed-defender", []),                                    # the recommended controller
+    ("two-defenders", ["--controller", "paper"]), ("failed-defender", ["--controller", "paper"]),
+    ("paper-open", []), ("paper-obstacles", []),
+])
+def test_the_default_finishes_every_built_in_hunt_and_the_paper_with_fewer_robots(capsys, name, flags):
+    """The default of ``mpc-hunt simulate`` captures every built-in scenario; the paper's strategy the ones with
+    fewer working robots too (obstacles and a failed robot complete the circle)."""
+    code = main(["simulate", "--scenario", name, "--json", *flags])
     report = json.loads(capsys.readouterr().out)
     assert code == 0 and report["captured"], report["termination"]
     assert report["min_obstacle_clearance_m"] is None or report["min_obstacle_clearance_m"] > 0

@@ -50,9 +50,9 @@ def test_wilson_interval_on_known_values():
 
 def test_summary_of_hand_made_rows():
     base = {"strategy": "s", "capture_time_s": None, "path_length_m": None, "cause": None, "reachable": True,
-            "comfortable": True}
+            "comfortable": True, "n_defenders": 3}
     rows = [base | {"outcome": "captured", "capture_time_s": 100.0, "path_length_m": 30.0,
-                    "safety_breach_approach": 1, "min_arena_margin_m": 0.5},
+                    "safety_breach_approach": 1, "min_arena_margin_m": 0.5, "n_defenders": 2},
             base | {"outcome": "captured", "capture_time_s": 200.0, "path_length_m": 50.0, "comfortable": False,
                     "safety_breach_approach": 1, "safety_breach_capture": 1, "min_arena_margin_m": 0.25},
             base | {"outcome": "failed", "cause": "time_limit", "safety_breach_approach": 0},
@@ -70,8 +70,15 @@ def test_summary_of_hand_made_rows():
     assert s["min_arena_margin_m"] == 0.25
     assert s["failures"]["time_limit"] == 1 and s["failures"]["defender_contact"] == 1 and s["collisions"] == 1
     assert s["capture_time_median_s"] == 150.0 and s["capture_time_iqr_s"] == 50.0
-    header, rule, line = table([s]).splitlines()
+    assert s["reachable_by_defenders"] == {
+        "2": {"hunts": 1, "captured": 1, "success_rate": 1.0, "success_rate_ci95": list(wilson(1, 1))},
+        "3": {"hunts": 3, "captured": 1, "success_rate": 1 / 3, "success_rate_ci95": list(wilson(1, 3))}}
+    header, rule, line, _, note, _, groups, _, by_defenders = table([s]).splitlines()
     cells = dict(zip(header.strip("|").split(" | "), line.strip("|").split(" | ")))
+    assert note.startswith("Of the reachable hunts, by number of defenders")
+    assert by_defenders.split(" | ")[1:] == [f"1 / 1, 100.0 % ({100 * wilson(1, 1)[0]:.1f} %–100.0 %)",
+                                             f"1 / 3, 33.3 % ({100 * wilson(1, 3)[0]:.1f} %–"
+                                             f"{100 * wilson(1, 3)[1]:.1f} %) |"]
     assert len(rule.split("|")) == len(header.split("|")) == len(line.split("|"))
     assert cells["hunts"] == "6 (1 uncapturable, 1 unreachable, 2 comfortable)"
     assert cells["of comfortable hunts"] == f"50.0 % ({100 * wilson(1, 2)[0]:.1f} %–{100 * wilson(1, 2)[1]:.1f} %)"
@@ -282,12 +289,31 @@ def test_an_interrupted_sweep_resumes_to_the_same_rows(tmp_path):
     _wait_for_rows(killed, 2)
     process.send_signal(signal.SIGKILL)
     process.wait()
+    if Path("/proc").is_dir():      # its workers die with it
+        deadline = time.monotonic() + 5
+        while _processes_naming(killed) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert not _processes_naming(killed)
     partial = len(SweepStore(killed).rows())
     assert 2 <= partial < 6
     assert main([*argv, "--output", str(killed), "--resume"]) == 0
     whole = tmp_path / "whole.db"
     assert main([*argv, "--output", str(whole)]) == 0
     assert _outcomes(SweepStore(killed).rows()) == _outcomes(SweepStore(whole).rows())
+
+
+def _processes_naming(path: Path) -> list[int]:
+    """Live processes whose command line names ``path`` (Linux)."""
+    found = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            text = cmdline.read_bytes()
+            state = (cmdline.parent / "stat").read_text().split(") ")[-1][:1]
+        except OSError:
+            continue
+        if str(path).encode() in text and state != "Z":
+            found.append(int(cmdline.parent.name))
+    return found
 
 
 def _wait_for_rows(path: Path, count: int, seconds: float = 120) -> None:

@@ -1,0 +1,44 @@
+"""A strategy's typical captured and typical lost hunt, chosen from a sweep's rows, and a row's hunt rerun.
+
+Typical captured: the capture whose time is nearest the strategy's median capture time.
+Typical lost: among the reachable hunts it lost, those lost by the commonest cause; of them, the one whose
+closest defender–attacker approach is nearest that group's median. Ties go to the lowest hunt index.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+
+from mpc_hunt.sim.hunt_result import HuntResult
+from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.sweep.runner import Strategy
+from mpc_hunt.world.scenario import Scenario
+from mpc_hunt.world.scenario_io import loads_scenario
+
+
+def _nearest_median(rows: list[dict], key: str) -> dict:
+    median = float(np.median([r[key] for r in rows]))
+    return min(rows, key=lambda r: (abs(r[key] - median), r["index"]))
+
+
+def typical_rows(rows: list[dict], strategy: str) -> dict[str, dict]:
+    """``{"captured": row, "lost": row}`` for ``strategy``, each only if it has such a hunt."""
+    mine = sorted((r for r in rows if r["strategy"] == strategy), key=lambda r: r["index"])
+    captured = [r for r in mine if r["outcome"] == "captured"]
+    lost = [r for r in mine if r["outcome"] == "failed" and r["reachable"] and r["cause"] != "error"
+            and r["min_attacker_distance_m"] is not None]
+    typical = {}
+    if captured:
+        typical["captured"] = _nearest_median(captured, "capture_time_s")
+    if lost:
+        cause = Counter(r["cause"] for r in lost).most_common(1)[0][0]
+        typical["lost"] = _nearest_median([r for r in lost if r["cause"] == cause], "min_attacker_distance_m")
+    return typical
+
+
+def rerun(row: dict) -> tuple[Scenario, HuntResult]:
+    """The hunt of a sweep row, run again from the scenario and strategy it stores."""
+    scenario = loads_scenario(row["scenario_toml"], row["name"])
+    return scenario, simulate(scenario, Strategy.parse(row["strategy"]).controller_for(scenario))
