@@ -69,10 +69,10 @@ class CompareRun:
     accuracy: str
     time_limit: float | None
     starts: int
-    objective: str = "paper"
     records: list[SolveRecord] = field(default_factory=list)
     references: dict[tuple[str, int], float | None] = field(default_factory=dict)
     interrupted: bool = False
+    objective: str = "paper"
 
     @property
     def tolerance(self) -> float:
@@ -163,7 +163,8 @@ def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons:
     if untimed:
         raise BenchmarkError(f"time_limit: backend {untimed[0]} takes none; leave it out of the pairs or drop the "
                              f"time limit")
-    run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts, objective)
+    run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts,
+                     objective=objective)
     tick = progress or (lambda: None)
     try:
         for horizon in run.horizons:
