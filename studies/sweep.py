@@ -11,6 +11,7 @@ docs/robustness.md. About 1.5 hours on 2 cores; an interrupted sweep continues
 where it stopped.
 
     python studies/sweep.py             # run (or resume) the sweep and its ensemble, then write the report
+    python studies/sweep.py --rerun enclose:rti:hpipm:10   # one strategy again, after its controller changed
     python studies/sweep.py --check     # the committed report is the committed file's, for the code's strategies
                                         # and ranges; a few hunts whose outcome the ensemble shows robust, rerun,
                                         # keep that outcome and land inside their bands
@@ -27,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt.cli.commands import main as mpc_hunt
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.cli.sweep import typical_hunts_figure
 from mpc_hunt.world.ensemble import SCALE, band, outside, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
@@ -153,9 +155,13 @@ def write(machine: dict) -> None:
     with sqlite3.connect(DB) as db:     # one self-contained file to commit, not a write-ahead log
         db.execute("pragma journal_mode=delete")
     rows = _rows()
-    if not ENSEMBLE.exists():
-        ENSEMBLE.write_text(json.dumps(run_ensemble(rows), indent=1) + "\n", encoding="utf-8")
-    ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8"))
+    ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8")) if ENSEMBLE.exists() else \
+        {"sample": SAMPLE, "members": MEMBERS, "scale_m": SCALE, "hunts": {}}
+    missing = [s for s in arguments()["strategies"] if s not in ensemble["hunts"]]
+    if missing:
+        ensemble["hunts"] = {s: ensemble["hunts"].get(s) or run_ensemble(rows, [s])["hunts"][s]
+                             for s in arguments()["strategies"]}
+        ENSEMBLE.write_text(json.dumps(ensemble, indent=1) + "\n", encoding="utf-8")
     summaries = summarise(rows)
     walls = wall_times(rows)
     write_plots(rows, OUT)
@@ -167,12 +173,12 @@ def write(machine: dict) -> None:
     write_block("sweep", headline(summaries), DOCS)
 
 
-def run_ensemble(rows: list[dict]) -> dict:
+def run_ensemble(rows: list[dict], strategies: list[str]) -> dict:
     """The sample's hunts rerun with their starts moved by a nanometre: per strategy and hunt, what every member
     (the committed row and the reruns) shares, and each figure's band."""
-    nominal = {(r["strategy"], r["index"]): r for r in rows if r["index"] < SAMPLE}
+    nominal = {(r["strategy"], r["index"]): r for r in rows if r["index"] < SAMPLE and r["strategy"] in strategies}
     todo = [Hunt(s, SEED, i, arguments()["ranges"], member=m) for i in range(SAMPLE)
-            for s in arguments()["strategies"] for m in range(1, MEMBERS + 1)]
+            for s in strategies for m in range(1, MEMBERS + 1)]
     members: dict[tuple, list[dict]] = {key: [row] for key, row in nominal.items()}
     for row in run_local(todo):
         members[(row["strategy"], row["index"])].append(row)
@@ -274,12 +280,35 @@ def check() -> list[str]:
     return errors
 
 
+def forget(strategies: list[str]) -> None:
+    """Drop these strategies' hunts from sweep.db and their members from ensemble.json: the run redoes them."""
+    store = SweepStore(DB, arguments(), resume=True)
+    try:
+        for strategy in strategies:
+            print(f"{strategy}: {store.forget(strategy)} hunts to run again")
+    finally:
+        store.close()
+    if ENSEMBLE.exists():
+        ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8"))
+        ensemble["hunts"] = {s: h for s, h in ensemble["hunts"].items() if s not in strategies}
+        ENSEMBLE.write_text(json.dumps(ensemble, indent=1) + "\n", encoding="utf-8")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    parser.add_argument("--rerun", action="append", default=[], metavar="STRATEGY",
+                        help="run this strategy's hunts and ensemble again (its controller changed); repeatable. An "
+                             "interrupted rerun continues without it")
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(), "studies/sweep", COMMAND)
+    if args.rerun:
+        try:
+            forget(args.rerun)
+        except MpcHuntError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
     OUT.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
     code = mpc_hunt(["sweep", "--hunts", str(HUNTS), "--seed", str(SEED), "--output", str(DB), "--json"]

@@ -109,6 +109,14 @@ class SweepStore:
         with self.db:
             self.db.execute(f"insert or ignore into hunts values ({placeholders})", [row.get(c) for c in COLUMNS])
 
+    def forget(self, strategy: str) -> int:
+        """Delete one strategy's hunts (its controller changed): a resumed sweep runs them again. How many."""
+        if strategy not in self.arguments["strategies"]:
+            raise MpcHuntError(f"strategy: {strategy!r} is not one of this sweep's "
+                               f"({', '.join(self.arguments['strategies'])})")
+        with self.db:
+            return self.db.execute('delete from hunts where "strategy" = ?', (strategy,)).rowcount
+
     def done(self) -> set[tuple]:
         return set(self.db.execute('select "strategy", "seed", "index" from hunts'))
 

@@ -372,3 +372,21 @@ def test_a_file_that_is_not_a_sweep_is_one_line(capsys, tmp_path):
         assert err.count("\n") == 1 and str(path) in err
     with sqlite3.connect(other) as db:            # read, never changed
         assert [r[0] for r in db.execute("select name from sqlite_master")] == ["t"]
+
+
+def test_a_forgotten_strategy_is_run_again_on_resume_and_the_others_kept(small_sweep, tmp_path):
+    path = tmp_path / "s.db"
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["sweep", *SMALL, "--workers", "1", "--output", str(path), "--json"]) == 0
+    store = SweepStore(path, SweepStore(path).arguments, resume=True)
+    assert store.forget("apf") == 3
+    with pytest.raises(MpcHuntError, match="not one of this sweep's"):
+        store.forget("voronoi")
+    kept = [r for r in store.rows() if r["strategy"] != "apf"]
+    store.close()
+    assert len(kept) == 3
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["sweep", *SMALL, "--workers", "1", "--output", str(path), "--json", "--resume"]) == 0
+    rows = SweepStore(path).rows()
+    assert _outcomes(rows) == _outcomes(small_sweep[1])
+    assert [r for r in rows if r["strategy"] != "apf"] == kept
