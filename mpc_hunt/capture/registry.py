@@ -32,6 +32,7 @@ BACKENDS = {
     "cvxpy": "mpc_hunt.capture.backends.cvxpy:CvxpyBackend",
     "daqp": "mpc_hunt.capture.backends.daqp:DaqpBackend",
     "hpipm": "mpc_hunt.capture.backends.hpipm:HpipmBackend",
+    "hpipm-codegen": "mpc_hunt.capture.backends.hpipm_codegen:HpipmCodegenBackend",
 }
 
 

@@ -58,16 +58,25 @@ class ConicStepBackend(Backend):
                            [plan, cost, solution["lam_x"], solution["lam_a"], solution["cost"]])
 
     def run(self, step, data: StageQPData, warm: WarmStart) -> Solution:
-        nz, na = step.size1_in(len(data.args)), step.size1_in(len(data.args) + 1)
-        lam_x0 = warm.z if warm.z is not None and len(warm.z) == nz else np.zeros(nz)
-        lam_a0 = warm.y if warm.y is not None and len(warm.y) == na else np.zeros(na)
-        plan, cost, lam_x, lam_a, _ = step(*data.args, lam_x0, lam_a0)
+        outputs = call(step, data, warm)
         stats = step.stats()
         status = Status.OPTIMAL if stats.get("success") else self.failure(stats)
-        return Solution(status=status, message=str(stats.get("return_status", "")), x=np.array(plan).ravel(),
-                        formulation_objective=float(cost), iterations=int(stats.get("iter_count", 0)),
-                        duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()))
+        return as_solution(status, str(stats.get("return_status", "")), int(stats.get("iter_count", 0)), outputs)
 
     def failure(self, stats: dict) -> Status:
         """The status of a solve the plugin did not report as a success."""
         return Status.ERROR
+
+
+def call(step, data: StageQPData, warm: WarmStart) -> tuple:
+    """One step: (plan, model objective, λ_x, λ_a), from the previous duals where they fit."""
+    nz, na = step.size1_in(len(data.args)), step.size1_in(len(data.args) + 1)
+    lam_x0 = warm.z if warm.z is not None and len(warm.z) == nz else np.zeros(nz)
+    lam_a0 = warm.y if warm.y is not None and len(warm.y) == na else np.zeros(na)
+    return step(*data.args, lam_x0, lam_a0)[:4]
+
+
+def as_solution(status: Status, message: str, iterations: int, outputs: tuple) -> Solution:
+    plan, cost, lam_x, lam_a = outputs
+    return Solution(status=status, message=message, x=np.array(plan).ravel(), formulation_objective=float(cost),
+                    iterations=iterations, duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()))
