@@ -24,9 +24,10 @@ from mpc_hunt.bench.compare import CompareRun
 from mpc_hunt.bench.metrics import performance_profile
 
 FIGURES = ("performance_profile.png", "time_vs_gap.png", "time_vs_horizon.png")
-MARKERS = "osD^v<>pPX*h"
+MARKERS = "osD^v<>pPX*h8Hd1234+x"
 COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:gray",
            "tab:olive", "tab:cyan", "black", "darkgoldenrod")
+LINESTYLES = ("-", "--", ":", "-.")
 PANEL = (4.2, 3.4)
 DPI = 110
 GAP_FLOOR = 1e-12       # smaller gaps (0 or negative included) are drawn at this height
@@ -37,6 +38,13 @@ def _figure(rows: int, cols: int) -> tuple[Figure, np.ndarray]:
     fig = Figure(figsize=(PANEL[0] * cols + 1.5, PANEL[1] * rows), dpi=DPI, layout="constrained")
     FigureCanvasAgg(fig)
     return fig, np.atleast_2d(fig.subplots(rows, cols, squeeze=False))
+
+
+def pair_style(k: int) -> dict:
+    """The k-th pair's colour, marker and line style: the first 20 pairs have markers of their own (the scatter
+    tells them apart by marker alone), and no two of the first 48 share colour and line style."""
+    return {"color": COLOURS[k % len(COLOURS)], "marker": MARKERS[k % len(MARKERS)],
+            "linestyle": LINESTYLES[k // len(COLOURS) % len(LINESTYLES)]}
 
 
 def _label(pair: tuple[str, str]) -> str:
@@ -69,10 +77,10 @@ def plot_profile(run: CompareRun, path: Path) -> None:
             if times:
                 taus, profile = performance_profile({_label(p): t for p, t in times.items()})
                 top = max(2.0, float(taus[-1]) * 1.5)
-                for k, (label, rho) in enumerate(profile.items()):
+                index = {_label(p): k for k, p in enumerate(run.pairs)}
+                for label, rho in profile.items():
                     ax.step(np.append(taus, top), np.append(rho, rho[-1]), where="post", label=label,
-                            color=COLOURS[k % len(COLOURS)], marker=MARKERS[k % len(MARKERS)], markevery=[0],
-                            lw=1.3)
+                            **pair_style(index[label]), markevery=[0], lw=1.3)
                 _log_x(ax)
             ax.set(title=f"{mode}, N = {horizon}", xlabel="τ (time ÷ fastest on the problem)",
                    ylabel="share of problems solved", ylim=(-0.02, 1.02))
@@ -95,7 +103,7 @@ def plot_time_gap(run: CompareRun, rows: list[dict], path: Path) -> None:
                 k = run.pairs.index((r["formulation"], r["backend"]))
                 scatter = ax.scatter(r["solve_time_median_s"] * 1e3, max(r["optimality_gap_median"], GAP_FLOOR),
                                      c=[max(r["max_violation"] or 0.0, VIOLATION_FLOOR)], norm=norm, cmap="viridis",
-                                     marker=MARKERS[k % len(MARKERS)], s=60, edgecolors="k",
+                                     marker=pair_style(k)["marker"], s=60, edgecolors="k",
                                      label=_label(run.pairs[k]))
             _log_x(ax)
             ax.set_yscale("log")
@@ -118,8 +126,7 @@ def plot_time_horizon(run: CompareRun, rows: list[dict], path: Path) -> None:
             points = sorted((r["horizon"], r["solve_time_median_s"] * 1e3) for r in rows
                             if r["mode"] == mode and (r["formulation"], r["backend"]) == pair)
             if points:
-                ax.plot(*zip(*points), color=COLOURS[k % len(COLOURS)], marker=MARKERS[k % len(MARKERS)],
-                        label=_label(pair))
+                ax.plot(*zip(*points), **pair_style(k), label=_label(pair))
         ax.set_yscale("log")
         ax.set(title=mode, xlabel="horizon N", ylabel="median all-in time (ms)", xticks=run.horizons)
         ax.grid(alpha=0.3)

@@ -157,3 +157,12 @@ def test_compare_poses_and_scores_the_enclose_objective_when_asked(tmp_path, cap
     assert main(["compare", "--objective", "enclose", "--limit", "1", "--pair", "sqp:daqp", "--horizon", "2",
                  "--starts", "1", "--mode", "cold", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["settings"]["objective"] == "enclose"
+
+
+def test_every_pair_is_told_apart_at_a_glance():
+    """Scatter points by marker alone, lines by colour and line style: distinct for far more pairs than exist."""
+    from mpc_hunt.bench.compare_plots import pair_style
+    from mpc_hunt.capture import registry
+    styles = [pair_style(k) for k in range(max(20, len(registry.pairs(installed_only=False))))]
+    assert len({s["marker"] for s in styles}) == len(styles)
+    assert len({(s["color"], s["linestyle"]) for s in styles}) == len(styles)
