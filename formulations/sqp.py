@@ -25,24 +25,31 @@ class SQPFormulation(QPFormulation):
     max_iterations = 30
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
-        reference = problem.held_plan() if warm_plan is None else warm_plan
         theta = parameter_vector(problem)
-        solver_time = setup_time = 0.0
-        iterations = 0
-        last = None
-        for count in range(self.max_iterations):
-            result = self.solve_at(problem, backend, reference, theta, duals)
-            solver_time += result.solver_time
-            setup_time += result.setup_time
-            iterations += result.iterations
-            totals = dict(solver_time=solver_time, setup_time=setup_time, iterations=iterations)
-            if not result.status.usable:
-                return replace(result, message=f"QP {count + 1}: {result.message}",
-                               x=None if last is None else last.x, plan=None if last is None else last.plan,
-                               formulation_objective=None if last is None else last.formulation_objective,
-                               **totals)
-            if np.max(np.abs(result.plan - reference)) <= self.tolerance:
-                return replace(result, message=f"converged after {count + 1} QPs", **totals)
-            last, duals, reference = result, result.duals, result.plan
-        return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {self.max_iterations} QPs",
-                       **totals)
+        return iterate(lambda reference, duals: self.solve_at(problem, backend, reference, theta, duals),
+                       problem.held_plan() if warm_plan is None else warm_plan, duals, self.tolerance,
+                       self.max_iterations)
+
+
+def iterate(step, reference: np.ndarray, duals, tolerance: float, max_iterations: int) -> Solution:
+    """``step(reference, duals)`` (one QP linearised at ``reference``) repeated at its own plan until no defender
+    position moves by more than ``tolerance`` metres, or ``max_iterations`` QPs; times and iterations summed."""
+    solver_time = setup_time = 0.0
+    iterations = 0
+    last = None
+    for count in range(max_iterations):
+        result = step(reference, duals)
+        solver_time += result.solver_time
+        setup_time += result.setup_time
+        iterations += result.iterations
+        totals = dict(solver_time=solver_time, setup_time=setup_time, iterations=iterations)
+        if not result.status.usable:
+            return replace(result, message=f"QP {count + 1}: {result.message}",
+                           x=None if last is None else last.x, plan=None if last is None else last.plan,
+                           formulation_objective=None if last is None else last.formulation_objective,
+                           **totals)
+        if np.max(np.abs(result.plan - reference)) <= tolerance:
+            return replace(result, message=f"converged after {count + 1} QPs", **totals)
+        last, duals, reference = result, result.duals, result.plan
+    return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {max_iterations} QPs",
+                   **totals)

@@ -23,6 +23,7 @@ FORMULATIONS = {
     "socp": "formulations.socp:SOCPFormulation",
     "ms-nlp": "formulations.ms_nlp:MSNLPFormulation",
     "rti": "formulations.rti:RTIFormulation",
+    "stage-sqp": "formulations.stage_sqp:StageSQPFormulation",
 }
 
 BACKENDS = {

@@ -68,6 +68,8 @@ VIOLATION_TOL = {
     # rti: one Gauss–Newton QP of the stage-structured problem, the qp's rows: 0, 4.3e-6, 0, 0, 0.
     "rti": {"motion_limit": 1e-9, "equal_distance": LINEARISED, "obstacle_safety": 1e-9, "separation": 1e-9,
             "attacker_distance": LINEARISED},
+    # stage-sqp: rti re-linearised to its fixed point (3 to 5 QPs here), every family to HPIPM's accuracy: ≤ 6.7e-16.
+    "stage-sqp": dict.fromkeys(FAMILIES, 1e-9),
 }
 
 # How far from the family's bound the plan may stop, in metres (|margin|, both sides): the plan
@@ -87,6 +89,7 @@ BOUNDARY_TOL = {
                "attacker_distance": 2e-8},  # measured 3.0e-11, 7.9e-11, 3.0e-11, 1.8e-9
     "rti": {"motion_limit": 1e-9, "obstacle_safety": 1e-3, "separation": 6e-5,
             "attacker_distance": 5e-5},     # 3.6e-11, 8.1e-5, 5.7e-6, 4.7e-6
+    "stage-sqp": dict.fromkeys(FAMILIES, 1e-9),  # ≤ 7.2e-11: on the bound, as sqp
 }
 
 # Without the family, every pair's plan violates it by at least this (measured ≥ 4.5 mm) and by
@@ -98,7 +101,8 @@ RELAXED_VIOLATION = 1e-3
 # eps 1e-7, on the obstacle case; clarabel and cvxpy agree to 2e-8), socp 9.2e-8 and 9.8e-8,
 # sqp 4.1e-7 and 1.6e-7.
 AGREEMENT = {"qp": (1e-5, 1e-6), "socp": (1e-6, 1e-6), "sqp": (5e-6, 2e-6),
-             "rti": (1e-12, 1e-12)}     # the same step, interpreted and compiled (measured: equal to the bit)
+             "rti": (1e-12, 1e-12), "stage-sqp": (1e-12, 1e-12)}   # the same steps, interpreted and compiled
+                                                                   # (measured: equal to the bit)
 
 
 @lru_cache(maxsize=None)

@@ -1,0 +1,28 @@
+"""``stage-sqp``: the ``rti`` step iterated to convergence (sequential QP in stage form).
+
+Each iterate relinearises the multiple-shooting model at the previous QP's
+plan, as ``sqp`` does with ``qp``'s condensed one, and stops when no defender
+position moves by more than ``tolerance`` metres or after ``max_iterations``
+QPs. Every QP is one call of the backend's step, so a compiled step
+(``hpipm-codegen``) compiles the whole iteration's work. The trust region of
+each QP (|δp_d| ≤ 2 r_d round its reference) bounds every step.
+"""
+
+from __future__ import annotations
+
+from formulations.rti import RTIFormulation
+from formulations.sqp import SQPFormulation, iterate
+from mpc_hunt.capture.solution import Solution
+
+
+class StageSQPFormulation(RTIFormulation):
+    name = "stage-sqp"
+    tolerance = SQPFormulation.tolerance
+    max_iterations = SQPFormulation.max_iterations
+
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
+        def step(reference, duals):
+            return RTIFormulation.solve(self, problem, backend, reference, duals)
+
+        return iterate(step, problem.held_plan() if warm_plan is None else warm_plan, duals, self.tolerance,
+                       self.max_iterations)
