@@ -58,7 +58,7 @@ def _compiler_identity(path: str) -> str:
     return run.stdout.splitlines()[0] if run.stdout else path
 
 
-def _casadi_paths() -> tuple[str, str]:
+def casadi_paths() -> tuple[str, str]:
     """CasADi's headers and libraries (HPIPM's and BLASFEO's among them)."""
     import casadi as ca
     root = os.path.dirname(ca.__file__)
@@ -80,7 +80,7 @@ def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: s
         fcntl.flock(lock, fcntl.LOCK_EX)            # another process building the same library: wait for it
         if target.exists():
             return target
-        include, lib = _casadi_paths()
+        include, lib = casadi_paths()
         with tempfile.TemporaryDirectory(dir=target.parent) as work:
             c_file, so_file = Path(work) / "step.c", Path(work) / "step.so"
             c_file.write_text(source, encoding="utf-8")

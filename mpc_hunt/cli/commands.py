@@ -108,6 +108,21 @@ def build_parser() -> argparse.ArgumentParser:
                        help="paper: Eq. 12 as published (default); enclose: places on the hunting circle, "
                             "built at the state as the enclose controller's first step would (docs/formulations.md)")
 
+    exp = sub.add_parser(
+        "export", help="write the rti capture step as C sources for a robot's board",
+        description="Write, for the structure of the capture problem at a state (as `solve` poses it: --scenario, "
+                    "--state, --horizon, --objective), the rti step (linearisation, HPIPM, read-back) as C sources "
+                    "with a header, a Makefile (HPIPM and BLASFEO as dependencies), a program that reads a state's "
+                    "θ and reference and prints the plan, and that state's input and Python's plan "
+                    "(mpc_hunt/capture/export.py).")
+    exp.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
+                     help=f"built-in name or a TOML file (default: {DEFAULT_SCENARIO})")
+    exp.add_argument("--state", type=Path, metavar="FILE", help="JSON state to pose the problem at (as solve)")
+    exp.add_argument("--horizon", type=count(MAX_HORIZON), default=10, metavar="N", help="default: 10")
+    exp.add_argument("--objective", choices=OBJECTIVES, default="paper", help="default: paper")
+    exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write")
+    exp.set_defaults(json=False)
+
     scen = sub.add_parser("scenarios", help="list built-in scenarios, or write one out as TOML",
                           description="List the built-in scenarios, or write one out as TOML to start from.")
     scen.add_argument("--write", metavar="NAME", help="print (or with --output, save) this built-in as TOML")
@@ -323,6 +338,21 @@ def _solve(args) -> int:
     return 0 if solution.success else 1
 
 
+def _export(args) -> int:
+    from mpc_hunt.bench.problem_set import posed_problem
+    from mpc_hunt.capture.export import export_step
+
+    scenario = resolve_scenario(args.scenario)
+    if args.output.exists() and not args.output.is_dir():
+        raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
+    with stop_at_once("export"):
+        problem = posed_problem(scenario, _state(args, scenario), args.horizon, args.objective)
+        files = export_step(problem, args.output)
+    print(f"wrote {len(files)} files for structure {problem.structure} into {args.output}; build with "
+          f"make -C {shlex.quote(str(args.output))}, run with ./capture_step < input.txt")
+    return 0
+
+
 def _scenarios(args) -> int:
     if args.write is None:
         if args.output:
@@ -451,7 +481,7 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     args.argv = sys.argv[1:] if argv is None else list(argv)
     command = {"simulate": _simulate, "solve": _solve, "scenarios": _scenarios, "backends": _backends,
-               "compare": _compare, "problems": _problems, **cli_sweep.HANDLERS}[args.command]
+               "compare": _compare, "problems": _problems, "export": _export, **cli_sweep.HANDLERS}[args.command]
     try:
         return command(args)
     except MpcHuntError as exc:

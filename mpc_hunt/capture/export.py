@@ -1,0 +1,151 @@
+"""The ``rti`` capture step as C sources for a robot's board (``mpc-hunt export``).
+
+For one problem's structure (controlled and held defenders, obstacles, horizon,
+objective) the folder holds:
+
+- ``capture_step.c``, ``capture_step.h``: the step CasADi generates (linearisation,
+  HPIPM, read-back), with the rewrites of :mod:`mpc_hunt.capture.backends.hpipm_codegen`;
+- ``mpc_hunt_step.c``, ``mpc_hunt_step.h``: ``mpc_hunt_step(theta, reference, plan, objective)``,
+  the call a control loop makes: CasADi's calling convention wants argument and
+  result pointer arrays longer than the inputs and outputs (it uses them as work
+  space) and work vectors of the sizes ``capture_step_work`` gives; this wrapper
+  holds them, allocated once, so the caller hands over plain arrays;
+- ``main.c``: reads θ and the reference from standard input, prints the plan;
+- ``Makefile``: ``make`` builds ``capture_step`` against HPIPM and BLASFEO (the
+  stated dependencies; by default the copies CasADi's Python wheel ships);
+- ``input.txt`` and ``expected.txt``: the problem's θ and reference, and Python's plan.
+
+θ is :func:`formulations.capture_model.parameter_vector` followed by the field's
+smoothing; the reference is the previous plan shifted one step (or every
+defender held), as :func:`step_input` writes them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from mpc_hunt.capture import registry
+from mpc_hunt.capture.backends.base import StageQPData
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.errors import MpcHuntError
+
+NAME = "capture_step"
+
+WRAPPER_H = """\
+/* The capture step of mpc-hunt, structure {structure}: one call per control step. */
+#ifndef MPC_HUNT_STEP_H
+#define MPC_HUNT_STEP_H
+#define MPC_HUNT_THETA {n_theta}        /* θ: the parameter vector, then the field's smoothing */
+#define MPC_HUNT_REFERENCE {n_reference}    /* the reference plan, steps 1..N, defenders in order, (x, y) */
+#define MPC_HUNT_PLAN {n_plan}         /* the plan, laid out as the reference */
+/* Returns HPIPM's status: 0 solved, 1 iteration limit, 2 minimum step, 3 NaN; -1 the call failed.
+   ``objective`` may be NULL. Not reentrant: one control loop per process. */
+int mpc_hunt_step(const double *theta, const double *reference, double *plan, double *objective);
+#endif
+"""
+
+WRAPPER_C = """\
+#include "capture_step.h"
+#include "mpc_hunt_step.h"
+
+int mpc_hunt_hpipm_status(void);
+
+int mpc_hunt_step(const double *theta, const double *reference, double *plan, double *objective) {{
+  static const casadi_real *arg[{sz_arg}];
+  static casadi_real *res[{sz_res}];
+  static casadi_int iw[{sz_iw} + 1];
+  static casadi_real w[{sz_w} + 1];
+  arg[0] = theta; arg[1] = reference; arg[2] = 0; arg[3] = 0;     /* no starting duals */
+  res[0] = plan; res[1] = objective; res[2] = 0; res[3] = 0; res[4] = 0;
+  if ({name}(arg, res, iw, w, 0)) return -1;
+  return mpc_hunt_hpipm_status();
+}}
+"""
+
+MAIN_C = """\
+/* Reads MPC_HUNT_THETA then MPC_HUNT_REFERENCE numbers from standard input, prints the plan, one number a line. */
+#include <stdio.h>
+#include "mpc_hunt_step.h"
+
+int main(void) {
+  static double theta[MPC_HUNT_THETA], reference[MPC_HUNT_REFERENCE], plan[MPC_HUNT_PLAN];
+  int i, status;
+  for (i = 0; i < MPC_HUNT_THETA; ++i)
+    if (scanf("%lf", &theta[i]) != 1) { fprintf(stderr, "input: theta[%d] missing\\n", i); return 2; }
+  for (i = 0; i < MPC_HUNT_REFERENCE; ++i)
+    if (scanf("%lf", &reference[i]) != 1) { fprintf(stderr, "input: reference[%d] missing\\n", i); return 2; }
+  status = mpc_hunt_step(theta, reference, plan, 0);
+  for (i = 0; i < MPC_HUNT_PLAN; ++i) printf("%.17g\\n", plan[i]);
+  if (status != 0) { fprintf(stderr, "HPIPM status %d\\n", status); return 1; }
+  return 0;
+}
+"""
+
+MAKEFILE = """\
+# The capture step of mpc-hunt, structure {structure}.
+# Needs HPIPM and BLASFEO (headers and libraries); by default the copies in CasADi's Python wheel.
+DEPS ?= {deps}
+CC ?= gcc
+CFLAGS ?= -O2
+LDLIBS = -lhpipm -lblasfeo -lm
+
+capture_step: main.o mpc_hunt_step.o capture_step.o
+\t$(CC) $(CFLAGS) -o $@ $^ -L$(DEPS) $(LDLIBS) -Wl,-rpath,$(DEPS)
+
+%.o: %.c capture_step.h mpc_hunt_step.h
+\t$(CC) $(CFLAGS) -I$(DEPS)/include -c $<
+
+clean:
+\trm -f capture_step *.o
+"""
+
+
+def step_input(problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """θ and the reference the exported step takes at ``problem`` (from ``warm_plan``, else every defender held)."""
+    from formulations.capture_model import parameter_vector, x_from_plan
+    from formulations.rti import RTIFormulation
+
+    theta = np.append(parameter_vector(problem), RTIFormulation.smoothing)
+    return theta, x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
+
+
+def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti") -> list[Path]:
+    """Write the folder of the module docstring for ``problem``'s structure; returns the files written."""
+    import casadi as ca
+
+    from formulations.rti import linearised_stages
+    from mpc_hunt.capture.backends.hpipm import HpipmBackend
+    from mpc_hunt.capture.backends.hpipm_codegen import patch
+    from mpc_hunt.capture.compiled import casadi_paths
+    from mpc_hunt.capture.solver import CaptureSolver
+
+    if formulation != "rti":
+        raise MpcHuntError(f"formulation: only rti exports as C (one QP a step), not {formulation!r}")
+    registry.check_pair("rti", "hpipm")
+    structure = problem.structure
+    theta, reference = step_input(problem)
+    step = HpipmBackend().setup(StageQPData(("export",) + structure, lambda: linearised_stages(structure), ()))
+    plan = CaptureSolver("rti", "hpipm").solve(problem).x
+    if plan is None:
+        raise MpcHuntError("the problem's rti step failed in Python: nothing to compare the C step with")
+    folder.mkdir(parents=True, exist_ok=True)
+    generator = ca.CodeGenerator(f"{NAME}.c", {"with_header": True})
+    generator.add(step)
+    generator.generate(str(folder) + "/")
+    source = folder / f"{NAME}.c"
+    source.write_text(patch(source.read_text(encoding="utf-8")), encoding="utf-8")
+    sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
+    files = {
+        "mpc_hunt_step.h": WRAPPER_H.format(structure=structure, n_theta=len(theta), n_reference=len(reference),
+                                            n_plan=len(plan)),
+        "mpc_hunt_step.c": WRAPPER_C.format(**sizes),
+        "main.c": MAIN_C,
+        "Makefile": MAKEFILE.format(structure=structure, deps=casadi_paths()[1]),
+        "input.txt": "\n".join(f"{v:.17g}" for v in np.concatenate([theta, reference])) + "\n",
+        "expected.txt": "\n".join(f"{v:.17g}" for v in plan) + "\n",
+    }
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return [source, folder / f"{NAME}.h", *(folder / name for name in files)]

@@ -1,0 +1,37 @@
+"""``mpc-hunt export``: the rti step as C, built with the Makefile it writes, gives Python's plan."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from mpc_hunt.cli.commands import main
+
+
+@pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
+def test_the_exported_program_prints_pythons_plan(tmp_path, capsys):
+    folder = tmp_path / "board"
+    assert main(["export", "--scenario", "paper-obstacles", "--horizon", "2", "--output", str(folder)]) == 0
+    assert "capture_step" in capsys.readouterr().out
+    subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O1"], check=True, capture_output=True, timeout=300)
+    with open(folder / "input.txt") as stdin:
+        run = subprocess.run([str(folder / "capture_step")], stdin=stdin, capture_output=True, text=True,
+                             timeout=60)
+    assert run.returncode == 0, run.stderr
+    plan, expected = np.array(run.stdout.split(), dtype=float), np.loadtxt(folder / "expected.txt")
+    assert plan.shape == expected.shape and plan.size > 0
+    np.testing.assert_allclose(plan, expected, rtol=0, atol=1e-9)
+    # a state with a number missing is a one-line error, not a plan
+    short = " ".join((folder / "input.txt").read_text().split()[:-1])
+    run = subprocess.run([str(folder / "capture_step")], input=short, capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2 and "missing" in run.stderr
+
+
+def test_an_output_that_is_a_file_is_one_line(tmp_path, capsys):
+    (tmp_path / "taken").write_text("")
+    assert main(["export", "--output", str(tmp_path / "taken")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not a folder" in err
