@@ -10,7 +10,7 @@ objective) the folder holds:
   result pointer arrays longer than the inputs and outputs (it uses them as work
   space) and work vectors of the sizes ``capture_step_work`` gives; this wrapper
   holds them, allocated once, so the caller hands over plain arrays;
-- ``main.c``: reads θ and the reference from standard input, prints the plan;
+- ``main.c``: reads states (θ and the reference) from standard input, prints their plans;
 - ``Makefile``: ``make`` builds ``capture_step`` against HPIPM and BLASFEO (the
   stated dependencies; by default the copies CasADi's Python wheel ships);
 - ``input.txt`` and ``expected.txt``: the problem's θ and reference, and Python's plan.
@@ -65,21 +65,43 @@ int mpc_hunt_step(const double *theta, const double *reference, double *plan, do
 """
 
 MAIN_C = """\
-/* Reads MPC_HUNT_THETA then MPC_HUNT_REFERENCE numbers from standard input, prints the plan, one number a line. */
+/* Reads states (MPC_HUNT_THETA then MPC_HUNT_REFERENCE numbers each) from standard input until its end and
+   prints each plan, one number a line. With --time, also each step's wall time in microseconds on stderr. */
+#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
+#include <string.h>
+#include <time.h>
 #include "mpc_hunt_step.h"
 
-int main(void) {
+static int read_numbers(double *x, int n, const char *what, int state) {
+  int i;
+  for (i = 0; i < n; ++i) {
+    if (scanf("%lf", &x[i]) != 1) {
+      if (i == 0 && !strcmp(what, "theta")) return 0;           /* the end of the input */
+      fprintf(stderr, "input: state %d: %s[%d] missing\\n", state, what, i);
+      return -1;
+    }
+  }
+  return 1;
+}
+
+int main(int argc, char **argv) {
   static double theta[MPC_HUNT_THETA], reference[MPC_HUNT_REFERENCE], plan[MPC_HUNT_PLAN];
-  int i, status;
-  for (i = 0; i < MPC_HUNT_THETA; ++i)
-    if (scanf("%lf", &theta[i]) != 1) { fprintf(stderr, "input: theta[%d] missing\\n", i); return 2; }
-  for (i = 0; i < MPC_HUNT_REFERENCE; ++i)
-    if (scanf("%lf", &reference[i]) != 1) { fprintf(stderr, "input: reference[%d] missing\\n", i); return 2; }
-  status = mpc_hunt_step(theta, reference, plan, 0);
-  for (i = 0; i < MPC_HUNT_PLAN; ++i) printf("%.17g\\n", plan[i]);
-  if (status != 0) { fprintf(stderr, "HPIPM status %d\\n", status); return 1; }
-  return 0;
+  int i, read, status, state = 0, failed = 0, timed = argc > 1 && !strcmp(argv[1], "--time");
+  struct timespec start, end;
+  while ((read = read_numbers(theta, MPC_HUNT_THETA, "theta", state)) == 1) {
+    if (read_numbers(reference, MPC_HUNT_REFERENCE, "reference", state) != 1) return 2;
+    clock_gettime(CLOCK_MONOTONIC, &start);
+    status = mpc_hunt_step(theta, reference, plan, 0);
+    clock_gettime(CLOCK_MONOTONIC, &end);
+    if (timed) fprintf(stderr, "time_us %.3f\\n", (end.tv_sec - start.tv_sec) * 1e6 + (end.tv_nsec - start.tv_nsec) * 1e-3);
+    for (i = 0; i < MPC_HUNT_PLAN; ++i) printf("%.17g\\n", plan[i]);
+    if (status != 0) { fprintf(stderr, "state %d: HPIPM status %d\\n", state, status); failed = 1; }
+    ++state;
+  }
+  if (read < 0) return 2;
+  if (state == 0) { fprintf(stderr, "input: no state\\n"); return 2; }
+  return failed;
 }
 """
 

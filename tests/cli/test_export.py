@@ -24,6 +24,12 @@ def test_the_exported_program_prints_pythons_plan(tmp_path, capsys):
     plan, expected = np.array(run.stdout.split(), dtype=float), np.loadtxt(folder / "expected.txt")
     assert plan.shape == expected.shape and plan.size > 0
     np.testing.assert_allclose(plan, expected, rtol=0, atol=1e-9)
+    # states one after another, each timed on request
+    twice = (folder / "input.txt").read_text() * 2
+    run = subprocess.run([str(folder / "capture_step"), "--time"], input=twice, capture_output=True, text=True,
+                         timeout=60)
+    assert run.returncode == 0 and run.stderr.count("time_us") == 2
+    np.testing.assert_array_equal(np.array(run.stdout.split(), dtype=float), np.tile(plan, 2))
     # a state with a number missing is a one-line error, not a plan
     short = " ".join((folder / "input.txt").read_text().split()[:-1])
     run = subprocess.run([str(folder / "capture_step")], input=short, capture_output=True, text=True, timeout=60)
