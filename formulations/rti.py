@@ -133,14 +133,23 @@ class RTIFormulation(Formulation):
     # Eq. 15 and the separations are inner approximations; Eq. 13 an inscribed octagon.
     exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     smoothing = SMOOTHING
+    max_iterations = 1          # QPs a control step makes (a control loop reads it: one, linearised once)
+    tolerance = 0.0
 
     def prepare(self, structure: tuple) -> None:
         linearised_stages(structure)
 
-    def solve(self, problem, backend, warm_plan, duals) -> Solution:
-        stages = linearised_stages(problem.structure)
+    def stage_data(self, structure: tuple, args: tuple = ()) -> StageQPData:
+        """The stage QP of ``structure`` for a backend to close, with the inputs ``args`` of one solve."""
+        return StageQPData((self.name,) + structure, lambda: linearised_stages(structure), args)
+
+    def step_inputs(self, problem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
+        """The step's inputs at ``problem``: θ (the parameter vector, then the smoothing) and the reference
+        (``warm_plan``'s controlled positions, else every defender held), both flat."""
         theta = np.append(parameter_vector(problem), self.smoothing)
-        reference = x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
-        data = StageQPData((self.name,) + problem.structure, lambda: stages, (theta, reference))
+        return theta, x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
+
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
+        data = self.stage_data(problem.structure, self.step_inputs(problem, warm_plan))
         result = backend.solve(data, duals)
         return result if result.x is None else replace(result, plan=plan_from_x(problem, result.x))

@@ -2,7 +2,7 @@
 
 from importlib.metadata import PackageNotFoundError, version
 
-from mpc_hunt.capture import (CaptureProblem, CaptureSolver, CaptureWeights, Evaluation, Solution, Status,
+from mpc_hunt.capture import (CaptureLoop, CaptureProblem, CaptureSolver, CaptureWeights, Evaluation, Solution, Status,
                               WarmStart, evaluate, pairs, shift_plan, solve)
 from mpc_hunt.control import (Command, Controller, EncirclingController, HuntingStrategy, Observation,
                               make_controller)
@@ -17,7 +17,7 @@ except PackageNotFoundError:  # running from a source tree that was never instal
     __version__ = "0+unknown"
 
 __all__ = [
-    "Attacker", "CaptureProblem", "CaptureSolver", "CaptureWeights", "Command", "Controller", "Defender",
+    "Attacker", "CaptureLoop", "CaptureProblem", "CaptureSolver", "CaptureWeights", "Command", "Controller", "Defender",
     "EncirclingController", "Evaluation", "HuntParameters", "HuntResult", "HuntingStrategy", "MpcHuntError",
     "Observation", "Obstacle", "Scenario", "ScenarioError", "Solution", "SolverError", "SolverNotFoundError",
     "Status", "UnknownNameError", "WarmStart", "builtin_names", "builtin_scenario", "evaluate", "load_scenario",

@@ -49,6 +49,7 @@ from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
+from step_loop import loop_latency, loop_lines
 from step_profile import rti_profile
 from study_check import check_result
 
@@ -415,6 +416,9 @@ def main() -> int:
         entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
         result["profile"] = rti_profile([lambda e=e: problem_set.problem(e, HORIZON) for e in entries])
     result["exported_c"] = exported_c(problem_set)
+    entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
+    first = [problem_set.problem(e, HORIZON) for e in entries]
+    result["loop"] = loop_latency([p for p in first if p.structure == first[0].structure])
     result["machine"]["load_average_after"] = os.getloadavg()
     (args.out / "results.json").write_text(json.dumps(result, indent=1) + "\n")
     m = result["machine"]
@@ -430,6 +434,7 @@ def main() -> int:
             "objective*: the evaluator's, over every state.", "", latency_table(rows), "",
             peer_note(peer, args.no_peer), ""]
     text += exported_lines(result["exported_c"], rows)
+    text += loop_lines(result["loop"], rows)
     if "growth" in result:
         text += ["## Growth with the horizon N and the team N_d", "",
                  f"Median step over the first {GROWTH_STATES} states (N) or over {GROWTH_STATES} consecutive "

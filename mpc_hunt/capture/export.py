@@ -27,7 +27,6 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt.capture import registry
-from mpc_hunt.capture.backends.base import StageQPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.errors import MpcHuntError
 
@@ -126,18 +125,13 @@ clean:
 
 def step_input(problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """θ and the reference the exported step takes at ``problem`` (from ``warm_plan``, else every defender held)."""
-    from formulations.capture_model import parameter_vector, x_from_plan
-    from formulations.rti import RTIFormulation
-
-    theta = np.append(parameter_vector(problem), RTIFormulation.smoothing)
-    return theta, x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
+    return registry.formulation_class("rti")().step_inputs(problem, warm_plan)
 
 
 def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti") -> list[Path]:
     """Write the folder of the module docstring for ``problem``'s structure; returns the files written."""
     import casadi as ca
 
-    from formulations.rti import linearised_stages
     from mpc_hunt.capture.backends.hpipm import HpipmBackend
     from mpc_hunt.capture.backends.hpipm_codegen import patch
     from mpc_hunt.capture.compiled import casadi_paths
@@ -148,7 +142,7 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti")
     registry.check_pair("rti", "hpipm")
     structure = problem.structure
     theta, reference = step_input(problem)
-    step = HpipmBackend().setup(StageQPData(("export",) + structure, lambda: linearised_stages(structure), ()))
+    step = HpipmBackend().setup(registry.formulation_class("rti")().stage_data(structure))
     plan = CaptureSolver("rti", "hpipm").solve(problem).x
     if plan is None:
         raise MpcHuntError("the problem's rti step failed in Python: nothing to compare the C step with")

@@ -67,6 +67,15 @@ class ConicStepBackend(Backend):
         """The status of a solve the plugin did not report as a success."""
         return Status.ERROR
 
+    def loop_function(self, step):
+        """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.capture.loop`)."""
+        return step
+
+    def loop_status(self, step, buffer) -> tuple[Status, int]:
+        """(status, iterations) of the last evaluation of ``step`` through ``buffer``."""
+        stats = buffer.stats()
+        return (Status.OPTIMAL if stats.get("success") else self.failure(stats)), int(stats.get("iter_count", 0))
+
 
 def call(step, data: StageQPData, warm: WarmStart) -> tuple:
     """One step: (plan, model objective, λ_x, λ_a), from the previous duals where they fit."""

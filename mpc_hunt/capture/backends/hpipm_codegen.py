@@ -99,3 +99,12 @@ class HpipmCodegenBackend(HpipmBackend):
         code = int(state.status())
         status = Status.OPTIMAL if code == 0 else self.failure({"return_status": code})
         return as_solution(status, "" if code == 0 else f"HPIPM status {code}", int(state.iterations()), outputs)
+
+    def loop_function(self, step):
+        return step.function if isinstance(step, CompiledStep) else step
+
+    def loop_status(self, step, buffer) -> tuple[Status, int]:
+        if not isinstance(step, CompiledStep):
+            return super().loop_status(step, buffer)
+        code = int(step.status())
+        return (Status.OPTIMAL if code == 0 else self.failure({"return_status": code})), int(step.iterations())

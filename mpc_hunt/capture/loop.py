@@ -1,0 +1,132 @@
+"""The capture step for a control loop: built once for a structure, then called once per control step.
+
+``CaptureSolver.solve`` poses a :class:`~mpc_hunt.capture.problem.CaptureProblem`,
+builds its inputs, scores the plan with the evaluator and returns a
+:class:`~mpc_hunt.capture.solution.Solution`: what a benchmark wants, and about
+a third of the step's time. A control loop wants the plan. ``CaptureLoop``
+holds the step's inputs and outputs in arrays allocated once (``theta``, with
+named views ``parts``; ``reference``; ``plan``) and evaluates the backend's one
+step Function through CasADi's buffers, which read and write those arrays in
+place: the caller writes the state into ``parts``, calls :meth:`step`, reads
+``plan``. No evaluator runs; nothing but the status is returned.
+
+It runs the stage-form formulations (kind ``ocp-qp``: ``rti``, one QP a step;
+``stage-sqp``, that QP repeated at its own plan until no position moves by more
+than the formulation's tolerance) on the backends that close them into one
+Function (``hpipm``, ``hpipm-codegen``). Its plans are ``CaptureSolver``'s to
+the last bit from the same inputs (a test holds it): no duals are handed over,
+which HPIPM does not read.
+
+    loop = CaptureLoop(problem, "rti", "hpipm-codegen")
+    for each control step:
+        loop.parts["attacker"][:] = attacker_position
+        loop.parts["controlled"][:] = defender_positions.ravel()
+        loop.shift()                 # the reference: the last plan one step on (hold() at a new start)
+        status = loop.step()         # loop.plan[0]: every controlled defender's next position
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mpc_hunt.capture import registry
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Status
+from mpc_hunt.errors import MpcHuntError
+
+
+class CaptureLoop:
+    """One formulation × backend step for one structure, on arrays allocated once.
+
+    ``problem`` fixes the structure (controlled and held defenders, obstacles,
+    horizon, objective) and the first inputs; ``formulation`` and ``backend``
+    are registry names, ``accuracy`` and the keywords are the backend's.
+    """
+
+    def __init__(self, problem: CaptureProblem, formulation: str = "rti", backend: str | None = None, *,
+                 accuracy: str = "default", **backend_options):
+        backend = registry.check_pair(formulation, backend)
+        self.formulation = registry.formulation_class(formulation)()
+        if not hasattr(self.formulation, "stage_data"):
+            stage = [name for name in registry.FORMULATIONS if hasattr(registry.formulation_class(name), "stage_data")]
+            raise MpcHuntError(f"formulation: the control loop runs the stage-form steps ({', '.join(stage)}), "
+                               f"not {formulation!r}")
+        self.backend = registry.backend_class(backend)(accuracy=accuracy, **backend_options)
+        if not hasattr(self.backend, "loop_function"):
+            raise MpcHuntError(f"backend: {backend!r} does not close a step into one Function; use hpipm or "
+                               "hpipm-codegen")
+        self.structure = problem.structure
+        self._step = self.backend.setup(self.formulation.stage_data(self.structure))
+        function = self.backend.loop_function(self._step)
+        theta, reference = self.formulation.step_inputs(problem)
+        nc, horizon = int(problem.controlled.sum()), problem.horizon
+        self.theta = np.array(theta, dtype=float)
+        self.parts = self._views(problem)
+        self.reference = np.array(reference, dtype=float).reshape(horizon, nc, 2)
+        self.plan = np.zeros((horizon, nc, 2))
+        self.objective = np.zeros(1)             # the model's objective at the plan
+        self.iterations = 0                      # the solver's iterations in the last step (every QP's)
+        self.qps = 0                             # QPs in the last step
+        self.message = ""                        # why the last step failed ("" when it did not)
+        self._previous = np.empty_like(self.plan)
+        self._buffer, self._evaluate = function.buffer()
+        self._buffer.set_arg(0, memoryview(self.theta))
+        self._buffer.set_arg(1, memoryview(self.reference.reshape(-1)))
+        self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
+        self._buffer.set_res(1, memoryview(self.objective))
+
+    def _views(self, problem: CaptureProblem) -> dict[str, np.ndarray]:
+        """θ's named parts as views of ``theta`` (the layout of the formulation's parameter vector)."""
+        from formulations.capture_model import unpack
+
+        nc, nf, m, horizon, objective = self.structure
+        parts = unpack(self.theta, nc, nf, m, objective, horizon if objective == "enclose" else 0)
+        parts["smoothing"] = self.theta[-1:]
+        return parts
+
+    def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
+        """Write ``problem``'s inputs into the arrays (the reference from ``warm_plan``, else every defender held)."""
+        if problem.structure != self.structure:
+            raise MpcHuntError(f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
+                               "build one loop per structure")
+        theta, reference = self.formulation.step_inputs(problem, warm_plan)
+        self.theta[:] = theta
+        self.reference.reshape(-1)[:] = reference
+
+    def hold(self) -> None:
+        """The reference: every controlled defender held where ``parts["controlled"]`` puts it."""
+        self.reference[:] = self.parts["controlled"].reshape(1, -1, 2)
+
+    def shift(self) -> None:
+        """The reference: the last plan moved one step on, its last step repeated (the receding-horizon start)."""
+        self.reference[:-1] = self.plan[1:]
+        self.reference[-1] = self.plan[-1]
+
+    def step(self) -> Status:
+        """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan
+        of this step (the reference it started from, if none) and returns its status."""
+        limit, tolerance = self.formulation.max_iterations, self.formulation.tolerance
+        self.iterations = 0
+        np.copyto(self._previous, self.reference)
+        self.message = ""
+        for count in range(limit):
+            self.qps = count + 1
+            try:
+                self._evaluate()
+            except RuntimeError as exc:                  # CasADi refuses the QP (a NaN in it, say)
+                self.message = str(exc).splitlines()[0]
+                np.copyto(self.plan, self._previous)
+                return Status.ERROR
+            status, iterations = self.backend.loop_status(self._step, self._buffer)
+            self.iterations += iterations
+            if not status.usable or not np.isfinite(self.plan).all():
+                status = status if not status.usable else Status.ERROR
+                self.message = f"QP {count + 1}: {status.value}"
+                np.copyto(self.plan, self._previous)
+                return status
+            if limit == 1 or np.max(np.abs(self.plan - self.reference)) <= tolerance:
+                return status
+            np.copyto(self._previous, self.plan)
+            np.copyto(self.reference, self.plan)
+        self.message = f"no convergence in {limit} QPs"
+        return Status.ITERATION_LIMIT

@@ -1,0 +1,74 @@
+"""The control loop's step (``CaptureLoop``) timed on the latency states, beside ``CaptureSolver``'s.
+
+For each stage-form pair, ``CaptureSolver`` runs the warm-started sequence as
+the latency table does; the inputs it used at each state (θ and the reference)
+are kept. ``CaptureLoop`` then takes the same states as a control loop would:
+the inputs written into its arrays, one ``step()``, the plan read from its
+array. Its median time (the first state excluded, as in the table) and the
+largest difference from ``CaptureSolver``'s plans.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from mpc_hunt import CaptureSolver
+from mpc_hunt.capture import registry
+from mpc_hunt.capture.loop import CaptureLoop
+from mpc_hunt.capture.plan import shift_plan
+
+LOOP_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen"))
+
+
+def loop_latency(problems: list) -> list[dict]:
+    """One row per installed pair of :data:`LOOP_PAIRS` over ``problems`` (one structure's consecutive states)."""
+    rows = []
+    for formulation, backend in LOOP_PAIRS:
+        if (formulation, backend) not in registry.pairs():
+            continue
+        stage = registry.formulation_class(formulation)()
+        solver, plan, inputs, plans = CaptureSolver(formulation, backend), None, [], []
+        for problem in problems:
+            warm = None if plan is None else shift_plan(plan)
+            solution = solver.solve(problem, warm)
+            inputs.append(stage.step_inputs(problem, warm))
+            plans.append(solution.x)
+            usable = solution.plan is not None and (solution.success or solution.max_violation <= 1e-6)
+            plan = solution.plan if usable else None
+        loop = CaptureLoop(problems[0], formulation, backend)
+        times, differences = [], []
+        for (theta, reference), expected in zip(inputs, plans):
+            start = time.perf_counter()
+            loop.theta[:] = theta
+            loop.reference.reshape(-1)[:] = reference
+            status = loop.step()
+            times.append(time.perf_counter() - start)
+            if status.usable and expected is not None:
+                differences.append(float(np.max(np.abs(loop.plan.reshape(-1) - expected[:loop.plan.size]))))
+        rows.append({"formulation": formulation, "backend": backend, "median_step_ms": float(np.median(times[1:])) * 1e3,
+                     "compared": len(differences), "max_plan_difference_m": max(differences, default=float("nan"))})
+        print(f"loop {formulation}/{backend}: {rows[-1]['median_step_ms']:.3f} ms, plans within "
+              f"{rows[-1]['max_plan_difference_m']:.1e} m", flush=True)
+    return rows
+
+
+def loop_lines(loop: list[dict], rows: list[dict]) -> list[str]:
+    """The README's section: the loop's table, with each row's ratio to the interpreted ``rti`` step."""
+    by_pair = {(r["formulation"], r["backend"]): r for r in rows}
+    interpreted = by_pair.get(("rti", "hpipm"))
+    lines = ["## The control loop's step (`CaptureLoop`)", "",
+             "The same states through `mpc_hunt.capture.loop.CaptureLoop`: the inputs `CaptureSolver` used written "
+             "into the loop's arrays, one `step()`, the plan read from its array; no problem posed, no evaluator, "
+             "no solution object. *× rti/hpipm*: the interpreted `rti`/`hpipm` step of the latency table (state in "
+             "→ plan out, evaluator excluded) over this row's step; *same pair*: this pair's step in the latency "
+             "table over this row's.", "",
+             "| formulation | backend | loop step (ms) | × rti/hpipm | × same pair | plans differ by at most (m) |",
+             "| --- | --- | ---: | ---: | ---: | ---: |"]
+    for r in loop:
+        same = by_pair.get((r["formulation"], r["backend"]))
+        ratio = lambda base: "–" if base is None else f"{base['median_step_ms'] / r['median_step_ms']:.1f}"  # noqa: E731
+        lines.append(f"| {r['formulation']} | {r['backend']} | {r['median_step_ms']:.3f} | {ratio(interpreted)} "
+                     f"| {ratio(same)} | {r['max_plan_difference_m']:.1e} |")
+    return lines + [""]

@@ -1,0 +1,85 @@
+"""The control loop's step (``CaptureLoop``): ``CaptureSolver``'s plans to the bit, on arrays allocated once."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import ATTACKER, DEFENDERS, small_scenario
+from mpc_hunt import CaptureProblem, CaptureSolver, Status, shift_plan
+from mpc_hunt.capture.loop import CaptureLoop
+from mpc_hunt.errors import MpcHuntError
+
+HORIZON = 3
+PAIRS = [("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen")]
+
+
+@pytest.fixture(scope="module", autouse=True)
+def cache(tmp_path_factory):
+    """One compiled step for the module's structure, built in a cache of its own."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("MPC_HUNT_CACHE", str(tmp_path_factory.mktemp("cache")))
+        yield
+
+
+def _closed_loop(formulation: str, backend: str, steps: int = 8):
+    """(problem, warm plan, CaptureSolver's solution) along a short hunt: the defenders go to each plan's first
+    step, the attacker drifts east."""
+    scenario, solver = small_scenario(), CaptureSolver(formulation, backend)
+    attacker, defenders, warm = ATTACKER.copy(), DEFENDERS.copy(), None
+    for _ in range(steps):
+        problem = CaptureProblem.at_state(scenario, attacker, defenders, HORIZON)
+        solution = solver.solve(problem, warm)
+        yield problem, warm, solution
+        assert solution.success, solution.message
+        defenders, attacker, warm = solution.plan[0], attacker + np.array([0.02, 0.0]), shift_plan(solution.plan)
+
+
+@pytest.mark.parametrize(("formulation", "backend"), PAIRS)
+def test_the_loops_plans_are_the_solvers_to_the_bit(formulation, backend):
+    loop = None
+    for problem, warm, solution in _closed_loop(formulation, backend):
+        loop = loop or CaptureLoop(problem, formulation, backend)
+        loop.load(problem, warm)
+        assert loop.step() is solution.status
+        np.testing.assert_array_equal(loop.plan, solution.plan[:, problem.controlled])
+        assert loop.iterations == solution.iterations
+        assert loop.objective[0] == pytest.approx(solution.formulation_objective, rel=1e-12)
+
+
+def test_state_written_into_the_parts_and_the_shifted_plan_is_what_load_writes():
+    runs = list(_closed_loop("rti", "hpipm", steps=3))
+    loop = CaptureLoop(runs[0][0], "rti", "hpipm")
+    loop.step()
+    for problem, warm, solution in runs[1:]:
+        loop.parts["attacker"][:] = problem.attacker_position
+        loop.parts["controlled"][:] = problem.defender_positions[problem.controlled].ravel()
+        loop.parts["desired"][:] = problem.desired_velocity
+        loop.parts["nominal"][:] = problem.nominal_velocity
+        loop.shift()
+        np.testing.assert_array_equal(loop.reference, warm[:, problem.controlled])
+        loop.step()
+        np.testing.assert_array_equal(loop.plan, solution.plan[:, problem.controlled])
+    loop.hold()
+    np.testing.assert_array_equal(loop.reference, runs[-1][0].held_plan()[:, runs[-1][0].controlled])
+
+
+def test_a_failed_step_reports_its_status_and_leaves_the_reference_as_the_plan():
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    loop = CaptureLoop(problem, "stage-sqp", "hpipm")
+    loop.parts["attacker"][:] = np.nan
+    status = loop.step()
+    assert not status.usable and loop.message
+    np.testing.assert_array_equal(loop.plan, np.broadcast_to(DEFENDERS, loop.plan.shape))
+    loop.load(problem)                                   # the loop recovers with the next good state
+    assert loop.step() is Status.OPTIMAL
+
+
+def test_only_stage_form_steps_and_one_structure_per_loop():
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
+        CaptureLoop(problem, "sqp", "daqp")
+    loop = CaptureLoop(problem, "rti", "hpipm")
+    other = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON + 1)
+    with pytest.raises(MpcHuntError, match="problem: structure .* one loop per structure"):
+        loop.load(other)
