@@ -49,7 +49,7 @@ from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
-from step_loop import loop_latency, loop_lines
+from step_loop import loop_latency, loop_lines, loop_targets
 from step_profile import rti_profile
 from study_check import check_result
 
@@ -62,7 +62,8 @@ SCENARIO = "paper-obstacles"
 HORIZON = 10
 HORIZONS = (5, 10, 20, 30, 50)
 TEAM_SIZES = (3, 6, 9, 12)
-GROWTH_PAIRS = (("rti", "hpipm"), ("ms-nlp", "ipopt"), ("qp", "osqp"), ("qp", "clarabel"))
+GROWTH_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm-codegen"), ("ms-nlp", "ipopt"),
+                ("qp", "osqp"), ("qp", "clarabel"))
 GROWTH_STATES = 15
 BASELINE = ("nlp", "ipopt")
 PEER = ("do-mpc", "ipopt (peer)")
@@ -441,7 +442,8 @@ def main() -> int:
                  "states of a capture stage with N_d defenders evenly placed around the attacker of the first state, "
                  f"driven by `rti`/`hpipm` (N_d, at N = {HORIZON}); b from a least-squares fit of log step on "
                  "log N (log N_d).", "", growth_tables(result["growth"]), ""]
-    text += ["## Targets", "", *targets(rows, result.get("growth"), result.get("profile")), ""]
+    text += ["## Targets", "", *targets(rows, result.get("growth"), result.get("profile")),
+             *loop_targets(result["loop"], rows, result["exported_c"]), ""]
     (args.out / "README.md").write_text("\n".join(text))
     print(f"wrote {args.out / 'README.md'}")
     return 0

@@ -72,3 +72,39 @@ def loop_lines(loop: list[dict], rows: list[dict]) -> list[str]:
         lines.append(f"| {r['formulation']} | {r['backend']} | {r['median_step_ms']:.3f} | {ratio(interpreted)} "
                      f"| {ratio(same)} | {r['max_plan_difference_m']:.1e} |")
     return lines + [""]
+
+
+COMPILED_RATIO, EXPORTED_RATIO, SQP_RATIO = 10.0, 20.0, 20.0     # the compiled step's targets
+
+
+def loop_targets(loop: list[dict], rows: list[dict], exported: dict | None) -> list[str]:
+    """The compiled step's targets against this run (ratios to the interpreted ``rti``/``hpipm`` step and to
+    ``nlp``/``ipopt`` in the latency table), met or missed by how much."""
+    by_pair = {(r["formulation"], r["backend"]): r for r in rows}
+    in_loop = {(r["formulation"], r["backend"]): r for r in loop}
+    rti, nlp = by_pair.get(("rti", "hpipm")), by_pair.get(("nlp", "ipopt"))
+    lines = []
+
+    def verdict(ratio: float, target: float) -> str:
+        return "met" if ratio >= target else f"missed by {target / ratio:.1f}×"
+
+    if rti is not None:
+        for pair, what in ((("rti", "hpipm-codegen"), "`CaptureSolver`"), (("rti", "hpipm-codegen"), "`CaptureLoop`")):
+            source = by_pair if what == "`CaptureSolver`" else in_loop
+            if pair in source:
+                ratio = rti["median_step_ms"] / source[pair]["median_step_ms"]
+                lines.append(f"- **Compiled `rti` step from Python ≥ {COMPILED_RATIO:.0f}× faster than the "
+                             f"interpreted one** (through {what}): {ratio:.1f}×, {verdict(ratio, COMPILED_RATIO)}.")
+        if exported is not None:
+            ratio = rti["median_step_ms"] / exported["median_step_ms"]
+            lines.append(f"- **Exported C step ≥ {EXPORTED_RATIO:.0f}× faster than the interpreted one**: "
+                         f"{ratio:.1f}×, {verdict(ratio, EXPORTED_RATIO)}.")
+    sqp = in_loop.get(("stage-sqp", "hpipm-codegen"))
+    if nlp is not None and sqp is not None:
+        ratio = nlp["median_step_ms"] / sqp["median_step_ms"]
+        lines.append(f"- **Compiled stage SQP ≥ {SQP_RATIO:.0f}× faster than `nlp`/`ipopt`** (through "
+                     f"`CaptureLoop`): {ratio:.1f}×, {verdict(ratio, SQP_RATIO)}.")
+    if lines:
+        lines.append("  Where the time goes: HPIPM through CasADi is most of every compiled step (the profile "
+                     "above); the compiled linearisation and the loop's calls leave it as the floor.")
+    return lines
