@@ -1,4 +1,4 @@
-"""The ``rti`` capture step as C sources for a robot's board (``mpc-hunt export``).
+"""A stage-form capture step (``rti``, ``stage-sqp``) as C sources for a robot's board (``mpc-hunt export``).
 
 For one problem's structure (controlled and held defenders, obstacles, horizon,
 objective) the folder holds:
@@ -9,7 +9,8 @@ objective) the folder holds:
   the call a control loop makes: CasADi's calling convention wants argument and
   result pointer arrays longer than the inputs and outputs (it uses them as work
   space) and work vectors of the sizes ``capture_step_work`` gives; this wrapper
-  holds them, allocated once, so the caller hands over plain arrays;
+  holds them, allocated once, so the caller hands over plain arrays; for ``stage-sqp``
+  it repeats the step at its own plan as :class:`~mpc_hunt.capture.loop.CaptureLoop` does;
 - ``main.c``: reads states (θ and the reference) from standard input, prints their plans;
 - ``Makefile``: ``make`` builds ``capture_step`` against HPIPM and BLASFEO (the
   stated dependencies; by default the copies CasADi's Python wheel ships);
@@ -39,13 +40,16 @@ WRAPPER_H = """\
 #define MPC_HUNT_THETA {n_theta}        /* θ: the parameter vector, then the field's smoothing */
 #define MPC_HUNT_REFERENCE {n_reference}    /* the reference plan, steps 1..N, defenders in order, (x, y) */
 #define MPC_HUNT_PLAN {n_plan}         /* the plan, laid out as the reference */
-/* Returns HPIPM's status: 0 solved, 1 iteration limit, 2 minimum step, 3 NaN; -1 the call failed.
-   ``objective`` may be NULL. Not reentrant: one control loop per process. */
+/* {formulation}: at most {qps} QP(s) a step, each linearised at the last one's plan, until no position moves by
+   more than {tolerance!r} m. Returns 0 solved; HPIPM's status of a failed QP: 1 iteration limit, 2 minimum step,
+   3 NaN; 4 no convergence in {qps} QPs; -1 the call failed. After a failed QP ``plan`` holds the last usable plan
+   of the step (the reference, if none). ``objective`` may be NULL. Not reentrant: one control loop per process. */
 int mpc_hunt_step(const double *theta, const double *reference, double *plan, double *objective);
 #endif
 """
 
 WRAPPER_C = """\
+#include <math.h>
 #include "capture_step.h"
 #include "mpc_hunt_step.h"
 
@@ -56,10 +60,27 @@ int mpc_hunt_step(const double *theta, const double *reference, double *plan, do
   static casadi_real *res[{sz_res}];
   static casadi_int iw[{sz_iw} + 1];
   static casadi_real w[{sz_w} + 1];
-  arg[0] = theta; arg[1] = reference; arg[2] = 0; arg[3] = 0;     /* no starting duals */
+  static double start[MPC_HUNT_PLAN];           /* where the QP is linearised: the reference, then each plan */
+  int i, k, status;
+  double move;
+  for (i = 0; i < MPC_HUNT_PLAN; ++i) start[i] = reference[i];
+  arg[0] = theta; arg[1] = start; arg[2] = 0; arg[3] = 0;     /* no starting duals */
   res[0] = plan; res[1] = objective; res[2] = 0; res[3] = 0; res[4] = 0;
-  if ({name}(arg, res, iw, w, 0)) return -1;
-  return mpc_hunt_hpipm_status();
+  for (k = 0; k < {qps}; ++k) {{
+    if ({name}(arg, res, iw, w, 0)) return -1;
+    status = mpc_hunt_hpipm_status();
+    for (i = 0; i < MPC_HUNT_PLAN && status == 0; ++i) if (!isfinite(plan[i])) status = 3;
+    if (status != 0) {{
+      for (i = 0; i < MPC_HUNT_PLAN; ++i) plan[i] = start[i];
+      return status;
+    }}
+    if ({qps} == 1) return 0;
+    move = 0;
+    for (i = 0; i < MPC_HUNT_PLAN; ++i) if (fabs(plan[i] - start[i]) > move) move = fabs(plan[i] - start[i]);
+    if (move <= {tolerance!r}) return 0;
+    for (i = 0; i < MPC_HUNT_PLAN; ++i) start[i] = plan[i];
+  }}
+  return 4;
 }}
 """
 
@@ -137,26 +158,29 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti")
     from mpc_hunt.capture.compiled import casadi_paths
     from mpc_hunt.capture.solver import CaptureSolver
 
-    if formulation != "rti":
-        raise MpcHuntError(f"formulation: only rti exports as C (one QP a step), not {formulation!r}")
-    registry.check_pair("rti", "hpipm")
+    stage = registry.formulation_class(formulation)()
+    if not hasattr(stage, "stage_data"):
+        exported = [name for name in registry.FORMULATIONS if hasattr(registry.formulation_class(name), "stage_data")]
+        raise MpcHuntError(f"formulation: only the stage-form steps export as C ({', '.join(exported)}), "
+                           f"not {formulation!r}")
     structure = problem.structure
-    theta, reference = step_input(problem)
-    step = HpipmBackend().setup(registry.formulation_class("rti")().stage_data(structure))
-    plan = CaptureSolver("rti", "hpipm").solve(problem).x
+    theta, reference = stage.step_inputs(problem)
+    step = HpipmBackend().setup(stage.stage_data(structure))
+    plan = CaptureSolver(formulation, "hpipm").solve(problem).x
     if plan is None:
-        raise MpcHuntError("the problem's rti step failed in Python: nothing to compare the C step with")
+        raise MpcHuntError(f"the problem's {formulation} step failed in Python: nothing to compare the C step with")
     folder.mkdir(parents=True, exist_ok=True)
     generator = ca.CodeGenerator(f"{NAME}.c", {"with_header": True})
     generator.add(step)
     generator.generate(str(folder) + "/")
     source = folder / f"{NAME}.c"
     source.write_text(patch(source.read_text(encoding="utf-8")), encoding="utf-8")
+    iterations = dict(qps=stage.max_iterations, tolerance=float(stage.tolerance))
     sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
     files = {
         "mpc_hunt_step.h": WRAPPER_H.format(structure=structure, n_theta=len(theta), n_reference=len(reference),
-                                            n_plan=len(plan)),
-        "mpc_hunt_step.c": WRAPPER_C.format(**sizes),
+                                            n_plan=len(plan), formulation=formulation, **iterations),
+        "mpc_hunt_step.c": WRAPPER_C.format(**sizes, **iterations),
         "main.c": MAIN_C,
         "Makefile": MAKEFILE.format(structure=structure, deps=casadi_paths()[1]),
         "input.txt": "\n".join(f"{v:.17g}" for v in np.concatenate([theta, reference])) + "\n",

@@ -109,9 +109,10 @@ def build_parser() -> argparse.ArgumentParser:
                             "built at the state as the enclose controller's first step would (docs/formulations.md)")
 
     exp = sub.add_parser(
-        "export", help="write the rti capture step as C sources for a robot's board",
+        "export", help="write a stage-form capture step (rti, stage-sqp) as C sources for a robot's board",
         description="Write, for the structure of the capture problem at a state (as `solve` poses it: --scenario, "
-                    "--state, --horizon, --objective), the rti step (linearisation, HPIPM, read-back) as C sources "
+                    "--state, --horizon, --objective), the step of --formulation (linearisation, HPIPM, read-back; "
+                    "stage-sqp repeats it to convergence) as C sources "
                     "with a header, a Makefile (HPIPM and BLASFEO as dependencies), a program that reads a state's "
                     "θ and reference and prints the plan, and that state's input and Python's plan "
                     "(mpc_hunt/capture/export.py).")
@@ -120,6 +121,8 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--state", type=Path, metavar="FILE", help="JSON state to pose the problem at (as solve)")
     exp.add_argument("--horizon", type=count(MAX_HORIZON), default=10, metavar="N", help="default: 10")
     exp.add_argument("--objective", choices=OBJECTIVES, default="paper", help="default: paper")
+    exp.add_argument("--formulation", default="rti", metavar="NAME",
+                     help="a stage-form step: rti (one QP a step, the default) or stage-sqp (QPs to convergence)")
     exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write")
     exp.set_defaults(json=False)
 
@@ -347,7 +350,7 @@ def _export(args) -> int:
         raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
     with stop_at_once("export"):
         problem = posed_problem(scenario, _state(args, scenario), args.horizon, args.objective)
-        files = export_step(problem, args.output)
+        files = export_step(problem, args.output, args.formulation)
     print(f"wrote {len(files)} files for structure {problem.structure} into {args.output}; build with "
           f"make -C {shlex.quote(str(args.output))}, run with ./capture_step < input.txt")
     return 0

@@ -12,9 +12,11 @@ from mpc_hunt.cli.commands import main
 
 
 @pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
-def test_the_exported_program_prints_pythons_plan(tmp_path, capsys):
+@pytest.mark.parametrize("formulation", ["rti", "stage-sqp"])
+def test_the_exported_program_prints_pythons_plan(tmp_path, capsys, formulation):
     folder = tmp_path / "board"
-    assert main(["export", "--scenario", "paper-obstacles", "--horizon", "2", "--output", str(folder)]) == 0
+    assert main(["export", "--scenario", "paper-obstacles", "--horizon", "2", "--formulation", formulation,
+                 "--output", str(folder)]) == 0
     assert "capture_step" in capsys.readouterr().out
     subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O1"], check=True, capture_output=True, timeout=300)
     with open(folder / "input.txt") as stdin:
@@ -34,6 +36,12 @@ def test_the_exported_program_prints_pythons_plan(tmp_path, capsys):
     short = " ".join((folder / "input.txt").read_text().split()[:-1])
     run = subprocess.run([str(folder / "capture_step")], input=short, capture_output=True, text=True, timeout=60)
     assert run.returncode == 2 and "missing" in run.stderr
+
+
+def test_a_formulation_that_is_not_a_stage_step_is_one_line(tmp_path, capsys):
+    assert main(["export", "--formulation", "nlp", "--output", str(tmp_path / "board")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "formulation: only the stage-form steps" in err and "stage-sqp" in err
 
 
 def test_an_output_that_is_a_file_is_one_line(tmp_path, capsys):
