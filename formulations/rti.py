@@ -133,7 +133,9 @@ class RTIFormulation(Formulation):
     # Eq. 15 and the separations are inner approximations; Eq. 13 an inscribed octagon.
     exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     smoothing = SMOOTHING
-    max_iterations = 1          # QPs a control step makes (a control loop reads it: one, linearised once)
+    # QPs a control step makes and the move (m) that ends them, read by the control loop and the C export:
+    # one QP, linearised once (stage-sqp repeats it).
+    max_iterations = 1
     tolerance = 0.0
 
     def prepare(self, structure: tuple) -> None:

@@ -49,6 +49,7 @@ from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
+from step_exported import exported_c, exported_lines
 from step_loop import loop_latency, loop_lines, loop_targets
 from step_profile import rti_profile
 from study_check import check_result
@@ -263,54 +264,6 @@ def growth_tables(result: dict) -> str:
     return "\n".join(lines)
 
 
-def exported_c(problem_set: ProblemSet) -> dict | None:
-    """The rti step exported as C (``mpc-hunt export``), built with its Makefile at -O2 and run on the states
-    of the latency table that share the first one's structure, each from the reference Python's warm-started
-    ``rti``/``hpipm`` sequence used: its median time in pure C, and how far its plans are from Python's."""
-    import shutil
-    import subprocess
-    import tempfile
-
-    from mpc_hunt.capture.export import export_step, step_input
-
-    if shutil.which("make") is None or shutil.which("gcc") is None:
-        return None
-    entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
-    problems = [problem_set.problem(e, HORIZON) for e in entries]
-    solver, plan, inputs, plans = CaptureSolver("rti", "hpipm"), None, [], []
-    for problem in problems:                    # warm-started as solve_sequence does
-        warm = None if plan is None else shift_plan(plan)
-        solution = solver.solve(problem, warm)
-        if problem.structure == problems[0].structure and solution.x is not None:
-            inputs.append(np.concatenate(step_input(problem, warm)))
-            plans.append(solution.x)
-        usable = solution.plan is not None and (solution.success or solution.max_violation <= 1e-6)
-        plan = solution.plan if usable else None
-    with tempfile.TemporaryDirectory() as folder:
-        export_step(problems[0], Path(folder))
-        subprocess.run(["make", "-s", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True, timeout=1800)
-        run = subprocess.run([f"{folder}/capture_step", "--time"], capture_output=True, text=True, timeout=600,
-                             input="\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n")
-    times = [float(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("time_us")]
-    out = np.array(run.stdout.split(), dtype=float)
-    return {"states": len(inputs), "median_step_ms": float(np.median(times[1:])) / 1e3,
-            "max_plan_difference_m": float(np.max(np.abs(out - np.concatenate(plans)))), "exit": run.returncode}
-
-
-def exported_lines(exported: dict | None, rows: list[dict]) -> list[str]:
-    if exported is None:
-        return ["The exported C step was not measured: no `make` or `gcc` here.", ""]
-    by_pair = {(r["formulation"], r["backend"]): r for r in rows}
-    c = exported["median_step_ms"]
-    ratios = "; ".join(f"{by_pair[p]['median_step_ms'] / c:.1f}× faster than `{'/'.join(p)}`'s step"
-                       for p in (("rti", "hpipm"), ("rti", "hpipm-codegen"), BASELINE) if p in by_pair)
-    return [f"**The `rti` step exported as C** (`mpc-hunt export`, built with its Makefile at `-O2`, HPIPM and "
-            f"BLASFEO from CasADi's wheel), on the {exported['states']} states of the first one's structure, each "
-            f"from the reference Python's `rti`/`hpipm` run used: median {c:.3f} ms a step in pure C (the first "
-            f"excluded); {ratios}. Its plans differ from Python's by at most "
-            f"{exported['max_plan_difference_m']:.1e} m (exit status {exported['exit']}).", ""]
-
-
 CHECK_BELOW_MS = 100      # --check reruns the pairs whose committed step is below this (the rest take minutes)
 
 
@@ -416,9 +369,9 @@ def main() -> int:
     if ("rti", "hpipm") in pairs:
         entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
         result["profile"] = rti_profile([lambda e=e: problem_set.problem(e, HORIZON) for e in entries])
-    result["exported_c"] = exported_c(problem_set)
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
     first = [problem_set.problem(e, HORIZON) for e in entries]
+    result["exported_c"] = exported_c(first)
     result["loop"] = loop_latency([p for p in first if p.structure == first[0].structure])
     result["machine"]["load_average_after"] = os.getloadavg()
     (args.out / "results.json").write_text(json.dumps(result, indent=1) + "\n")
@@ -434,7 +387,7 @@ def main() -> int:
             "it (`Solution.solve_time` plus posing the problem); *solver call*: the backend's call alone; *median "
             "objective*: the evaluator's, over every state.", "", latency_table(rows), "",
             peer_note(peer, args.no_peer), ""]
-    text += exported_lines(result["exported_c"], rows)
+    text += exported_lines(result["exported_c"], rows, BASELINE)
     text += loop_lines(result["loop"], rows)
     if "growth" in result:
         text += ["## Growth with the horizon N and the team N_d", "",

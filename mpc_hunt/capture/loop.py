@@ -61,7 +61,7 @@ class CaptureLoop:
         theta, reference = self.formulation.step_inputs(problem)
         nc, horizon = int(problem.controlled.sum()), problem.horizon
         self.theta = np.array(theta, dtype=float)
-        self.parts = self._views(problem)
+        self.parts = self._views()
         self.reference = np.array(reference, dtype=float).reshape(horizon, nc, 2)
         self.plan = np.zeros((horizon, nc, 2))
         self.objective = np.zeros(1)             # the model's objective at the plan
@@ -75,7 +75,7 @@ class CaptureLoop:
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
 
-    def _views(self, problem: CaptureProblem) -> dict[str, np.ndarray]:
+    def _views(self) -> dict[str, np.ndarray]:
         """θ's named parts as views of ``theta`` (the layout of the formulation's parameter vector)."""
         from formulations.capture_model import unpack
 
