@@ -63,7 +63,7 @@ class CaptureLoop:
         self.theta = np.array(theta, dtype=float)
         self.parts = self._views()
         self.reference = np.array(reference, dtype=float).reshape(horizon, nc, 2)
-        self.plan = np.zeros((horizon, nc, 2))
+        self.plan = self.reference.copy()        # until a step: the reference (every defender held)
         self.objective = np.zeros(1)             # the model's objective at the plan
         self.iterations = 0                      # the solver's iterations in the last step (every QP's)
         self.qps = 0                             # QPs in the last step

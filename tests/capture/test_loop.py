@@ -64,6 +64,14 @@ def test_state_written_into_the_parts_and_the_shifted_plan_is_what_load_writes()
     np.testing.assert_array_equal(loop.reference, runs[-1][0].held_plan()[:, runs[-1][0].controlled])
 
 
+def test_before_any_step_the_plan_is_the_held_reference_so_a_shift_keeps_it():
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    loop = CaptureLoop(problem, "rti", "hpipm")
+    loop.shift()
+    np.testing.assert_array_equal(loop.reference, np.broadcast_to(DEFENDERS, loop.reference.shape))
+    assert loop.step() is Status.OPTIMAL
+
+
 def test_a_failed_step_reports_its_status_and_leaves_the_reference_as_the_plan():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
     loop = CaptureLoop(problem, "stage-sqp", "hpipm")
