@@ -151,6 +151,11 @@ class RTIFormulation(Formulation):
         theta = np.append(parameter_vector(problem), self.smoothing)
         return theta, x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
 
+    def parameter_parts(self, theta: np.ndarray, structure: tuple) -> dict[str, np.ndarray]:
+        """θ's named parts (the parameter vector's layout, then ``smoothing``) as views of the array ``theta``."""
+        nc, nf, m, N, objective = structure
+        return {**unpack(theta, nc, nf, m, objective, N if objective == "enclose" else 0), "smoothing": theta[-1:]}
+
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         data = self.stage_data(problem.structure, self.step_inputs(problem, warm_plan))
         result = backend.solve(data, duals)

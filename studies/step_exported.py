@@ -17,10 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt import CaptureSolver
-from mpc_hunt.capture import registry
 from mpc_hunt.capture.export import export_step
-from mpc_hunt.capture.plan import shift_plan
+from step_loop import reference_run
 
 EXPORTED = ("rti", "stage-sqp")
 
@@ -31,16 +29,9 @@ def exported_c(problems: list) -> list[dict] | None:
         return None
     rows = []
     for formulation in EXPORTED:
-        stage = registry.formulation_class(formulation)()
-        solver, plan, inputs, plans = CaptureSolver(formulation, "hpipm"), None, [], []
-        for problem in problems:                    # warm-started as the latency table's sequences
-            warm = None if plan is None else shift_plan(plan)
-            solution = solver.solve(problem, warm)
-            if problem.structure == problems[0].structure and solution.x is not None:
-                inputs.append(np.concatenate(stage.step_inputs(problem, warm)))
-                plans.append(solution.x)
-            usable = solution.plan is not None and (solution.success or solution.max_violation <= 1e-6)
-            plan = solution.plan if usable else None
+        steps, xs = reference_run(formulation, "hpipm", problems)
+        inputs = [np.concatenate(step) for step, x in zip(steps, xs) if x is not None]
+        plans = [x for x in xs if x is not None]
         with tempfile.TemporaryDirectory() as folder:
             export_step(problems[0], Path(folder), formulation)
             subprocess.run(["make", "-s", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True, timeout=1800)

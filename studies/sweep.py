@@ -159,8 +159,8 @@ def write(machine: dict) -> None:
         {"sample": SAMPLE, "members": MEMBERS, "scale_m": SCALE, "hunts": {}}
     missing = [s for s in arguments()["strategies"] if s not in ensemble["hunts"]]
     if missing:
-        ensemble["hunts"] = {s: ensemble["hunts"].get(s) or run_ensemble(rows, [s])["hunts"][s]
-                             for s in arguments()["strategies"]}
+        ensemble["hunts"].update(run_ensemble(rows, missing)["hunts"])
+        ensemble["hunts"] = {s: ensemble["hunts"][s] for s in arguments()["strategies"]}
         ENSEMBLE.write_text(json.dumps(ensemble, indent=1) + "\n", encoding="utf-8")
     summaries = summarise(rows)
     walls = wall_times(rows)

@@ -18,7 +18,7 @@ objective) the folder holds:
 
 θ is :func:`formulations.capture_model.parameter_vector` followed by the field's
 smoothing; the reference is the previous plan shifted one step (or every
-defender held), as :func:`step_input` writes them.
+defender held), as the formulation's ``step_inputs`` writes them.
 """
 
 from __future__ import annotations
@@ -142,11 +142,6 @@ capture_step: main.o mpc_hunt_step.o capture_step.o
 clean:
 \trm -f capture_step *.o
 """
-
-
-def step_input(problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """θ and the reference the exported step takes at ``problem`` (from ``warm_plan``, else every defender held)."""
-    return registry.formulation_class("rti")().step_inputs(problem, warm_plan)
 
 
 def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti") -> list[Path]:

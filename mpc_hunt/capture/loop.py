@@ -27,6 +27,8 @@ which HPIPM does not read.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mpc_hunt.capture import registry
@@ -47,8 +49,9 @@ class CaptureLoop:
                  accuracy: str = "default", **backend_options):
         backend = registry.check_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
-        if not hasattr(self.formulation, "stage_data"):
-            stage = [name for name in registry.FORMULATIONS if hasattr(registry.formulation_class(name), "stage_data")]
+        if not hasattr(self.formulation, "parameter_parts"):
+            stage = [name for name in registry.FORMULATIONS
+                     if hasattr(registry.formulation_class(name), "parameter_parts")]
             raise MpcHuntError(f"formulation: the control loop runs the stage-form steps ({', '.join(stage)}), "
                                f"not {formulation!r}")
         self.backend = registry.backend_class(backend)(accuracy=accuracy, **backend_options)
@@ -61,28 +64,20 @@ class CaptureLoop:
         theta, reference = self.formulation.step_inputs(problem)
         nc, horizon = int(problem.controlled.sum()), problem.horizon
         self.theta = np.array(theta, dtype=float)
-        self.parts = self._views()
+        self.parts = self.formulation.parameter_parts(self.theta, self.structure)   # views: writes go into θ
         self.reference = np.array(reference, dtype=float).reshape(horizon, nc, 2)
         self.plan = self.reference.copy()        # until a step: the reference (every defender held)
         self.objective = np.zeros(1)             # the model's objective at the plan
         self.iterations = 0                      # the solver's iterations in the last step (every QP's)
         self.qps = 0                             # QPs in the last step
         self.message = ""                        # why the last step failed ("" when it did not)
-        self._previous = np.empty_like(self.plan)
+        self._previous = np.empty_like(self.plan)   # the last usable plan of the step under way
+        self._move = np.empty_like(self.plan)       # |plan − reference|, so a step allocates nothing
         self._buffer, self._evaluate = function.buffer()
         self._buffer.set_arg(0, memoryview(self.theta))
         self._buffer.set_arg(1, memoryview(self.reference.reshape(-1)))
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
-
-    def _views(self) -> dict[str, np.ndarray]:
-        """θ's named parts as views of ``theta`` (the layout of the formulation's parameter vector)."""
-        from formulations.capture_model import unpack
-
-        nc, nf, m, horizon, objective = self.structure
-        parts = unpack(self.theta, nc, nf, m, objective, horizon if objective == "enclose" else 0)
-        parts["smoothing"] = self.theta[-1:]
-        return parts
 
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """Write ``problem``'s inputs into the arrays (the reference from ``warm_plan``, else every defender held)."""
@@ -119,12 +114,14 @@ class CaptureLoop:
                 return Status.ERROR
             status, iterations = self.backend.loop_status(self._step, self._buffer)
             self.iterations += iterations
-            if not status.usable or not np.isfinite(self.plan).all():
+            np.abs(np.subtract(self.plan, self.reference, out=self._move), out=self._move)
+            move = self._move.max()                  # NaN when the plan has one
+            if not status.usable or not math.isfinite(move):
                 status = status if not status.usable else Status.ERROR
                 self.message = f"QP {count + 1}: {status.value}"
                 np.copyto(self.plan, self._previous)
                 return status
-            if limit == 1 or np.max(np.abs(self.plan - self.reference)) <= tolerance:
+            if limit == 1 or move <= tolerance:
                 return status
             np.copyto(self._previous, self.plan)
             np.copyto(self.reference, self.plan)
