@@ -153,11 +153,10 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti")
     from mpc_hunt.capture.compiled import casadi_paths
     from mpc_hunt.capture.solver import CaptureSolver
 
+    if formulation not in registry.stage_formulations():
+        raise MpcHuntError(f"formulation: only the stage-form steps export as C "
+                           f"({', '.join(registry.stage_formulations())}), not {formulation!r}")
     stage = registry.formulation_class(formulation)()
-    if not hasattr(stage, "stage_data"):
-        exported = [name for name in registry.FORMULATIONS if hasattr(registry.formulation_class(name), "stage_data")]
-        raise MpcHuntError(f"formulation: only the stage-form steps export as C ({', '.join(exported)}), "
-                           f"not {formulation!r}")
     structure = problem.structure
     theta, reference = stage.step_inputs(problem)
     step = HpipmBackend().setup(stage.stage_data(structure))

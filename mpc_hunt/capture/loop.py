@@ -47,13 +47,11 @@ class CaptureLoop:
 
     def __init__(self, problem: CaptureProblem, formulation: str = "rti", backend: str | None = None, *,
                  accuracy: str = "default", **backend_options):
+        if formulation not in registry.stage_formulations():
+            raise MpcHuntError(f"formulation: the control loop runs the stage-form steps "
+                               f"({', '.join(registry.stage_formulations())}), not {formulation!r}")
         backend = registry.check_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
-        if not hasattr(self.formulation, "parameter_parts"):
-            stage = [name for name in registry.FORMULATIONS
-                     if hasattr(registry.formulation_class(name), "parameter_parts")]
-            raise MpcHuntError(f"formulation: the control loop runs the stage-form steps ({', '.join(stage)}), "
-                               f"not {formulation!r}")
         self.backend = registry.backend_class(backend)(accuracy=accuracy, **backend_options)
         if not hasattr(self.backend, "loop_function"):
             raise MpcHuntError(f"backend: {backend!r} does not close a step into one Function; use hpipm or "

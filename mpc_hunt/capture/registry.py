@@ -73,6 +73,12 @@ def compatible_backends(formulation: str) -> list[str]:
     return [b for b in BACKENDS if kind in backend_class(b).accepts]
 
 
+def stage_formulations() -> list[str]:
+    """The formulations whose step is one stage-form Function (kind ``ocp-qp``): what the control loop
+    (:mod:`mpc_hunt.capture.loop`) and the C export run."""
+    return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
+
+
 def pairs(installed_only: bool = True) -> list[tuple[str, str]]:
     """Every (formulation, backend) that works together (by default, only installed backends)."""
     return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)]
