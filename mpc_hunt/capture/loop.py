@@ -47,15 +47,9 @@ class CaptureLoop:
 
     def __init__(self, problem: CaptureProblem, formulation: str = "rti", backend: str | None = None, *,
                  accuracy: str = "default", **backend_options):
-        if formulation not in registry.stage_formulations():
-            raise MpcHuntError(f"formulation: the control loop runs the stage-form steps "
-                               f"({', '.join(registry.stage_formulations())}), not {formulation!r}")
-        backend = registry.check_pair(formulation, backend)
+        backend = registry.check_loop_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
         self.backend = registry.backend_class(backend)(accuracy=accuracy, **backend_options)
-        if not hasattr(self.backend, "loop_function"):
-            raise MpcHuntError(f"backend: {backend!r} does not close a step into one Function; use hpipm or "
-                               "hpipm-codegen")
         self.structure = problem.structure
         self._step = self.backend.setup(self.formulation.stage_data(self.structure))
         function = self.backend.loop_function(self._step)

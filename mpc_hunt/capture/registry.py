@@ -79,6 +79,15 @@ def stage_formulations() -> list[str]:
     return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
 
 
+def check_loop_pair(formulation: str, backend: str | None) -> str:
+    """The backend of a control loop (:mod:`mpc_hunt.capture.loop`) running ``formulation``, checked: a stage-form
+    formulation, whose backends (kind ``ocp-qp``) close its step into one Function."""
+    if formulation not in stage_formulations():
+        raise UnknownNameError(f"formulation: the control loop runs the stage-form steps "
+                               f"({', '.join(stage_formulations())}), not {formulation!r}")
+    return check_pair(formulation, backend)
+
+
 def pairs(installed_only: bool = True) -> list[tuple[str, str]]:
     """Every (formulation, backend) that works together (by default, only installed backends)."""
     return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)]

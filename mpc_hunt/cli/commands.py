@@ -83,11 +83,15 @@ def build_parser() -> argparse.ArgumentParser:
                           "paper: the paper's strategy with its capture-stage optimisation; "
                           "apf: the traditional potential-field encirclement, no optimisation; "
                           "voronoi: the Voronoi encirclement from the pursuit-evasion literature, no optimisation "
-                          "(for apf and voronoi --formulation, --backend, --horizon and --time-budget do not apply)")
+                          "(for apf and voronoi --formulation, --backend, --horizon, --time-budget and --score "
+                          "do not apply)")
     sim.add_argument("--no-prediction", action="store_true",
                      help="approach the attacker's current position instead of the predicted intercept")
     sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",
                      help="per-step limit handed to the capture-stage solver")
+    sim.add_argument("--score", action="store_true",
+                     help="score every capture-stage plan with the evaluator (rti and stage-sqp on hpipm run as a "
+                          "control loop that scores only a failed step's plan; the others always score)")
     sim.add_argument("--plot", type=Path, metavar="FILE",
                      help=f"write the trajectory figure ({', '.join(FIGURE_SUFFIXES)})")
     sim.add_argument("--animate", type=Path, metavar="FILE.gif", help="write an animation of the hunt")
@@ -227,7 +231,8 @@ def _controller(args, scenario):
     prediction = not args.no_prediction
     if args.controller not in controllers.SOLVING:
         given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
-                                          ("--horizon", args.horizon), ("--time-budget", args.time_budget))
+                                          ("--horizon", args.horizon), ("--time-budget", args.time_budget),
+                                          ("--score", args.score or None))
                  if value is not None]
         if given:
             raise MpcHuntError(f"{', '.join(given)}: only with --controller paper or enclose "
@@ -235,7 +240,7 @@ def _controller(args, scenario):
         return controllers.make_controller(args.controller, scenario, prediction=prediction)
     formulation, backend, horizon = _solver_choice(args)
     return controllers.make_controller(args.controller, scenario, prediction=prediction, formulation=formulation,
-                                       backend=backend, horizon=horizon, time_limit=args.time_budget)
+                                       backend=backend, horizon=horizon, time_limit=args.time_budget, score=args.score)
 
 
 def _simulate(args) -> int:

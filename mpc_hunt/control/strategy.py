@@ -5,8 +5,12 @@ predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions
 come from the capture-stage problem, Eqs. 12–15, solved over a receding
 horizon). The strategy keeps the one memory of the previous plan: the plan it
 applied, handed to the solver, shifted one step, as the next warm start while
-the same defenders are controlled. When a solve fails, the fallback (counted)
-is, in order: the solver's last iterate if the shared evaluator finds it
+the same defenders are controlled. A stage-form pair that closes into one
+Function (``rti``, ``stage-sqp`` on ``hpipm``, ``hpipm-codegen``) runs as a
+control loop (:class:`~mpc_hunt.capture.loop_solver.LoopSolver`), whose
+successful plans the evaluator scores only with ``score=True``; every other
+pair through ``CaptureSolver``, always scored. When a solve fails, the fallback (counted)
+is, in order: the solver's last iterate if the shared evaluator scored it
 feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
 stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not
 differentiable); else the applied plan shifted one step; else holding position,
@@ -31,7 +35,7 @@ from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 from mpc_hunt.capture.solution import Solution
-from mpc_hunt.capture.solver import CaptureSolver
+from mpc_hunt.capture.loop_solver import capture_solver
 
 FEASIBLE_TOLERANCE = 1e-6
 
@@ -66,7 +70,7 @@ def applied_plan(problem: CaptureProblem, solution: Solution, warm: np.ndarray |
     """The plan applied after a solve, and whether it is a fallback (the order in the module's docstring)."""
     if solution.success:
         return solution.plan, False
-    if solution.plan is not None and solution.max_violation <= FEASIBLE_TOLERANCE:
+    if solution.plan is not None and solution.violation is not None and solution.max_violation <= FEASIBLE_TOLERANCE:
         return solution.plan, True
     return (warm if warm is not None else problem.held_plan()), True
 
@@ -77,18 +81,19 @@ class HuntingStrategy:
     ``objective="paper"``: Eqs. 12–15 for the defenders within R_agg, Eq. 6 for the others.
     ``objective="enclose"``: every active defender planned at every step by the capture
     problem, tracking the places :class:`~mpc_hunt.control.enclosure.Enclosure` builds.
+    ``score``: the evaluator scores a control loop's plans too (the module's docstring).
     """
 
     def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",
                  backend: str | None = None, horizon: int = 1, time_limit: float | None = None,
-                 objective: str = "paper", **solver_options):
+                 objective: str = "paper", score: bool = False, **solver_options):
         if objective not in OBJECTIVES:
             raise MpcHuntError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
         self.scenario = scenario
         self.prediction = prediction
         self.horizon = horizon
         self.objective = objective
-        self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, **solver_options)
+        self.solver = capture_solver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
         self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
 

@@ -55,6 +55,19 @@ def test_simulate_json_on_a_scenario_file(capsys, tmp_path):
     assert len(report["path_lengths_m"]) == 3
 
 
+def test_simulate_scores_the_control_loops_plans_only_when_asked(capsys, tmp_path):
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    reports = []
+    for flags in ((), ("--score",)):
+        code, out, err = run(capsys, "simulate", "--scenario", str(path), "--json", *flags)
+        assert code == 0, err
+        reports.append(json.loads(out) | {"solve_time": None})
+    assert reports[0] == reports[1]                 # no failed step: the evaluator changes no decision
+    code, _, err = run(capsys, "simulate", "--controller", "voronoi", "--score")
+    assert code == 2 and "--score: only with --controller paper" in err
+
+
 def test_simulate_summary_with_qp_and_plot(capsys, tmp_path):
     path = tmp_path / "tiny.toml"
     path.write_text(TINY)

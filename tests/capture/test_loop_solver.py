@@ -1,0 +1,106 @@
+"""``LoopSolver``: CaptureSolver's interface on control loops, and which of the two a controller runs."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from conftest import ATTACKER, DEFENDERS, small_scenario
+from mpc_hunt import CaptureProblem, CaptureSolver, HuntingStrategy, Solution, Status, shift_plan, simulate
+from formulations.stage_sqp import StageSQPFormulation
+from mpc_hunt.capture.loop_solver import LoopSolver, capture_solver
+from mpc_hunt.control.strategy import applied_plan
+from mpc_hunt.errors import MpcHuntError, SolverError
+
+HORIZON = 3
+
+
+def _problems(solver, steps: int = 6):
+    """(problem, warm plan, solution) along a short hunt driven by ``solver``'s plans; the attacker drifts east."""
+    scenario = small_scenario()
+    attacker, defenders, warm = ATTACKER.copy(), DEFENDERS.copy(), None
+    for _ in range(steps):
+        problem = CaptureProblem.at_state(scenario, attacker, defenders, HORIZON)
+        solution = solver.solve(problem, warm)
+        yield problem, warm, solution
+        defenders, attacker, warm = solution.plan[0], attacker + np.array([0.02, 0.0]), shift_plan(solution.plan)
+
+
+@pytest.mark.parametrize("formulation", ["rti", "stage-sqp"])
+def test_scored_it_returns_the_capture_solvers_solution(formulation):
+    loop = LoopSolver(formulation, "hpipm", score=True)
+    for problem, warm, expected in _problems(CaptureSolver(formulation, "hpipm")):
+        got = loop.solve(problem, warm)
+        assert got.status is expected.status and got.success
+        np.testing.assert_array_equal(got.plan, expected.plan)
+        assert (got.objective, got.violation) == (expected.objective, expected.violation)
+        assert (got.iterations, got.formulation_objective) == (expected.iterations, expected.formulation_objective)
+        assert got.warm_started == (warm is not None)
+    assert len(loop._loops) == 1                       # one loop for the one structure, built once
+
+
+def test_unscored_it_runs_no_evaluator():
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    solution = LoopSolver("rti", "hpipm").solve(problem)
+    assert solution.success and solution.plan.shape == (HORIZON, 3, 2)
+    assert solution.objective is None and solution.violation is None
+    assert solution.setup_time > 0 and solution.solver_time > 0
+
+
+def test_unscored_it_still_scores_a_failed_steps_plan_as_the_capture_solver_does(monkeypatch):
+    monkeypatch.setattr(StageSQPFormulation, "max_iterations", 2)
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    got, expected = LoopSolver("stage-sqp", "hpipm").solve(problem), CaptureSolver("stage-sqp", "hpipm").solve(problem)
+    assert got.status is expected.status is Status.ITERATION_LIMIT
+    np.testing.assert_array_equal(got.plan, expected.plan)
+    assert got.violation == expected.violation and got.objective == expected.objective
+
+
+def test_a_new_structure_gets_its_own_loop_and_a_nan_start_a_status():
+    solver = LoopSolver("rti", "hpipm")
+    longer = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON + 1)
+    assert solver.solve(longer).success
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    broken = solver.solve(problem, np.full((HORIZON, 3, 2), np.nan))
+    assert not broken.success and broken.message and broken.formulation_objective is None
+    assert len(solver._loops) == 2
+    assert solver.solve(problem).success
+
+
+def test_a_controller_runs_a_loop_where_the_pair_closes_one():
+    assert isinstance(capture_solver("rti", "hpipm"), LoopSolver)
+    assert isinstance(capture_solver("stage-sqp", "hpipm-codegen"), LoopSolver)
+    assert isinstance(capture_solver("sqp", "daqp"), CaptureSolver)
+    assert isinstance(capture_solver("nlp"), CaptureSolver)
+    with pytest.raises(SolverError, match="takes no time limit"):      # as CaptureSolver refuses it
+        capture_solver("rti", "hpipm", time_limit=0.05)
+    with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
+        LoopSolver("sqp", "daqp")
+    with pytest.raises(MpcHuntError, match="backend 'osqp' does not solve formulation 'rti'"):
+        capture_solver("rti", "osqp")
+
+
+def test_a_hunt_on_the_loop_is_the_hunt_on_the_capture_solver():
+    scenario = small_scenario(obstacles=((11.0, 6.0, 0.4),))
+    scenario = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=40.0))
+    options = dict(objective="enclose", formulation="rti", backend="hpipm", horizon=5)
+    looped, solved = HuntingStrategy(scenario, **options), HuntingStrategy(scenario, **options)
+    solved.solver = CaptureSolver("rti", "hpipm")
+    assert isinstance(looped.solver, LoopSolver)
+    a, b = simulate(scenario, looped), simulate(scenario, solved)
+    assert len(a.solve_times) > 100
+    np.testing.assert_array_equal(a.defenders, b.defenders)
+    np.testing.assert_array_equal(a.solve_iterations, b.solve_iterations)
+
+
+def test_a_failed_plan_is_applied_only_when_the_evaluator_scored_it_feasible():
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    plan, warm = problem.held_plan() + 0.01, problem.held_plan() - 0.01
+    failed = Solution(status=Status.ITERATION_LIMIT, plan=plan)
+    assert applied_plan(problem, failed, warm)[0] is warm                        # not scored: not applied
+    scored = dataclasses.replace(failed, violation={"separation": 0.0})
+    assert applied_plan(problem, scored, warm) == (plan, True)
+    infeasible = dataclasses.replace(failed, violation={"separation": 1e-3})
+    assert applied_plan(problem, infeasible, warm)[0] is warm
