@@ -7,7 +7,7 @@ absolute times of a shared machine drift:
   states of ``paper-obstacles`` (N_d = 3 in the capture stage, N = 10), each
   warm-started as the controller does (the previous plan shifted one step).
   *step* is state in → plan out (the capture problem posed, the solve) without
-  the shared evaluator; *all-in* adds it (what ``Solution.solve_time`` counts).
+  the shared evaluator; *all-in* adds its scoring (``Solution.score_time``).
   Ratios are to ``nlp``/``ipopt`` on the same states.
 * **Peer.** With do-mpc installed (``pip install -e .[peers]``), one more row:
   ``nlp``'s problem written in do-mpc (``studies/do_mpc_peer.py``), solved on
@@ -101,11 +101,7 @@ def solve_sequence(formulation: str, backend: str, problems: list[CaptureProblem
         problem = make()
         solution = solver.solve(problem, None if plan is None else shift_plan(plan))
         all_in = time.perf_counter() - t0
-        t1 = time.perf_counter()
-        if solution.plan is not None:
-            evaluate(problem, solution.plan)
-        evaluator = time.perf_counter() - t1
-        rows.append({"step_s": all_in - evaluator, "all_in_s": all_in, "solver_s": solution.solver_time,
+        rows.append({"step_s": all_in - solution.score_time, "all_in_s": all_in, "solver_s": solution.solver_time,
                      "setup_s": solution.setup_time, "iterations": solution.iterations,
                      "success": solution.success, "objective": solution.objective,
                      "obstacle_violation": None if solution.violation is None
@@ -384,7 +380,7 @@ def main() -> int:
             f"## Latency at N_d = 3, N = {HORIZON}", "",
             f"{problem_set.description} Medians over {len(problem_set.problems) - 1} warm-started steps (the first, "
             "which sets up, excluded). *step*: state in → plan out, the shared evaluator excluded; *all-in*: with "
-            "it (`Solution.solve_time` plus posing the problem); *solver call*: the backend's call alone; *median "
+            "its scoring (`Solution.score_time`); *solver call*: the backend's call alone; *median "
             "objective*: the evaluator's, over every state.", "", latency_table(rows), "",
             peer_note(peer, args.no_peer), ""]
     text += exported_lines(result["exported_c"], rows, BASELINE)

@@ -5,12 +5,14 @@ each sequence of consecutive states in order, with one solver, warm-started as
 the controller does (the plan it applied, shifted one step, while the same
 defenders are controlled: :func:`mpc_hunt.control.strategy.warm_plan` and
 :func:`~mpc_hunt.control.strategy.applied_plan`). Pairs take turns on each problem (or
-sequence), so that load on the machine falls on all of them alike. A solve's
-all-in time runs from the state handed over to the plan returned, as the
-controller waits for it (posing the problem, the solver, our overhead, the
-evaluator), with any set-up it did taken out and reported apart. Every plan is
-scored by the evaluator (:data:`mpc_hunt.capture.evaluator.OBJECTIVE`). Ctrl-C stops the
-run between two solves and keeps every solve finished so far.
+sequence), so that load on the machine falls on all of them alike. Each pair
+runs as a controller runs it (:func:`~mpc_hunt.capture.loop_solver.capture_solver`:
+the stage-form steps as a control loop). A solve's all-in time runs from the
+state handed over to the plan returned, as the controller waits for it (posing
+the problem, the solver, our overhead), with any set-up it did and the
+evaluator's scoring taken out and reported apart. Every plan is scored by the
+evaluator (:data:`mpc_hunt.capture.evaluator.OBJECTIVE`). Ctrl-C stops the run
+between two solves and keeps every solve finished so far.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from mpc_hunt.bench.best_known import MultiStartNLP
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
+from mpc_hunt.capture.loop_solver import LoopSolver, capture_solver
 from mpc_hunt.capture.solver import CaptureSolver
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 
@@ -49,8 +52,9 @@ class SolveRecord:
     violation: dict[str, float] | None
     solve_time: float        # all-in, set-up excluded
     solver_time: float       # inside the solver
-    overhead_time: float     # ours: posing the problem, building data, evaluating
+    overhead_time: float     # ours: posing the problem, building data, reading back
     setup_time: float
+    score_time: float        # the evaluator's, outside the all-in time
     iterations: int
     warm_started: bool
 
@@ -102,7 +106,7 @@ def check_pairs(asked: list[str] | None) -> list[tuple[str, str]]:
     return out
 
 
-def _solve(run: CompareRun, solver: CaptureSolver, mode: str, entry: ProblemEntry, horizon: int,
+def _solve(run: CompareRun, solver: CaptureSolver | LoopSolver, mode: str, entry: ProblemEntry, horizon: int,
            applied: tuple | None) -> tuple[SolveRecord, tuple]:
     t0 = time.perf_counter()
     problem = run.problem_set.problem(entry, horizon, run.objective)
@@ -110,17 +114,17 @@ def _solve(run: CompareRun, solver: CaptureSolver, mode: str, entry: ProblemEntr
     solution = solver.solve(problem, warm)
     elapsed = time.perf_counter() - t0
     plan, _ = applied_plan(problem, solution, warm)
-    all_in = max(elapsed - solution.setup_time, 0.0)
+    all_in = max(elapsed - solution.setup_time - solution.score_time, 0.0)
     record = SolveRecord(solver.formulation.name, solver.backend.name, mode, horizon, entry.id,
                          solution.status.value, is_success(solution.success, solution.violation, run.tolerance),
                          solution.objective, solution.violation, all_in, solution.solver_time,
-                         max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.iterations,
-                         solution.warm_started)
+                         max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.score_time,
+                         solution.iterations, solution.warm_started)
     return record, (problem.signature, plan)
 
 
-def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver:
-    return CaptureSolver(*pair, time_limit=run.time_limit, accuracy=run.accuracy)
+def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver | LoopSolver:
+    return capture_solver(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True)
 
 
 def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:

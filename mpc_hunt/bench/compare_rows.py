@@ -7,7 +7,8 @@ Times, in seconds, over every solve (a failed solve is waited for too):
 a 10 ms shift, a failed solve counted at the time limit when there is one, as
 qpbenchmark does), ``solver_time_median_s`` inside the solver,
 ``overhead_time_median_s`` ours; set-up apart (``setup_time_median_s`` and
-``_max_s`` over the solves that set something up). ``optimality_gap_*``: over
+``_max_s`` over the solves that set something up) and the evaluator's scoring
+apart (``score_time_median_s``). ``optimality_gap_*``: over
 the solves with a success status, the evaluator's objective against the best
 known for that problem and horizon (the lowest objective that passes the
 success rule, over every pair, both modes and the multi-start NLP), relative;
@@ -77,6 +78,7 @@ def score(records: list[SolveRecord], best: dict[tuple[str, int], float], accura
         "overhead_time_median_s": _stat([r.overhead_time for r in records], np.median),
         "setup_time_median_s": _stat(setups, np.median),
         "setup_time_max_s": _stat(setups, np.max),
+        "score_time_median_s": _stat([r.score_time for r in records], np.median),
         "iterations_median": _stat([r.iterations for r in records], np.median),
         "optimality_gap_median": _stat(gaps, np.median),
         "optimality_gap_p95": _stat(gaps, lambda g: np.percentile(g, 95)),

@@ -8,6 +8,8 @@ and one violation per constraint family, in metres.
 
 from __future__ import annotations
 
+import time
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -74,6 +76,15 @@ def equal_distance_penalty(squared_distances: np.ndarray) -> float:
 
 def _largest(values: np.ndarray) -> float:
     return float(np.max(values)) if values.size else -np.inf
+
+
+def score_plan(problem: CaptureProblem, plan: np.ndarray) -> dict:
+    """What a solver adds to its :class:`~mpc_hunt.capture.solution.Solution` for ``plan``: the evaluator's
+    ``objective``, ``violation``, ``attacker_path`` and the time it took, ``score_time``."""
+    t0 = time.perf_counter()
+    evaluation = evaluate(problem, plan)
+    return dict(objective=evaluation.objective, violation=evaluation.violation,
+                attacker_path=evaluation.attacker_path, score_time=time.perf_counter() - t0)
 
 
 def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:

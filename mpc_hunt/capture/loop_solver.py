@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from mpc_hunt.capture import registry
-from mpc_hunt.capture.evaluator import evaluate
+from mpc_hunt.capture.evaluator import score_plan
 from mpc_hunt.capture.loop import CaptureLoop
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution
@@ -57,24 +57,20 @@ class LoopSolver:
         solver_time = time.perf_counter() - t1
         plan = problem.held_plan().copy()
         plan[:, problem.controlled] = loop.plan
-        score = {}
-        if (self.score or not status.usable) and np.all(np.isfinite(plan)):
-            evaluation = evaluate(problem, plan)
-            score = dict(objective=evaluation.objective, violation=evaluation.violation,
-                         attacker_path=evaluation.attacker_path)
-        overhead = time.perf_counter() - t0 - solver_time - setup_time
+        scores = score_plan(problem, plan) if (self.score or not status.usable) and np.all(np.isfinite(plan)) else {}
+        overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
         return Solution(status=status, message=loop.message, formulation=self.formulation.name,
                         backend=self.backend_name, x=loop.plan.reshape(-1).copy(), plan=plan,
                         formulation_objective=float(loop.objective[0]) if status.usable else None,
                         solver_time=solver_time, overhead_time=max(overhead, 0.0), setup_time=setup_time,
                         iterations=loop.iterations, warm_started=warm_plan is not None,
-                        extras={"qps": loop.qps}, **score)
+                        extras={"qps": loop.qps}, **scores)
 
 
 def capture_solver(formulation: str = "nlp", backend: str | None = None, *, time_limit: float | None = None,
                    score: bool = False, **options) -> CaptureSolver | LoopSolver:
     """The solver a controller runs: a :class:`LoopSolver` for a stage-form formulation (with no time limit:
-    its solvers take none), else a :class:`CaptureSolver` (which always scores)."""
+    its solvers take none), else a :class:`CaptureSolver`; either scores every plan only with ``score``."""
     if time_limit is None and formulation in registry.stage_formulations():
         return LoopSolver(formulation, backend, score=score, **options)
-    return CaptureSolver(formulation, backend, time_limit=time_limit, **options)
+    return CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **options)

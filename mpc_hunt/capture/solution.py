@@ -50,7 +50,8 @@ class Solution:
     nonlinear problem); ``formulation_objective`` is the formulation's own
     value, reported beside it. Times are in seconds: ``solver_time`` inside the
     solver, ``overhead_time`` our own work around it for this solve (building
-    data, evaluating), ``setup_time`` a one-off set-up done by this call (0 when
+    data, reading back), ``score_time`` the evaluator's (a benchmark's work,
+    not the step's), ``setup_time`` a one-off set-up done by this call (0 when
     the persistent solver was reused). ``warm_started``: a plan seeded this
     solve (as the starting point and, for the QP family, the linearisation
     point). ``duals`` are what the next warm start may reuse; ``extras`` holds
@@ -68,6 +69,7 @@ class Solution:
     violation: dict[str, float] | None = None
     solver_time: float = 0.0
     overhead_time: float = 0.0
+    score_time: float = 0.0
     setup_time: float = 0.0
     iterations: int = 0
     warm_started: bool = False
@@ -81,7 +83,7 @@ class Solution:
 
     @property
     def solve_time(self) -> float:
-        """Solver time plus our own overhead (set-up excluded): the time the controller waits."""
+        """Solver time plus our own overhead (set-up and scoring excluded): the time a controller waits."""
         return self.solver_time + self.overhead_time
 
     @property
@@ -107,6 +109,7 @@ class Solution:
             "solve_time_s": self.solve_time,
             "solver_time_s": self.solver_time,
             "overhead_time_s": self.overhead_time,
+            "score_time_s": self.score_time,
             "setup_time_s": self.setup_time,
             "iterations": self.iterations,
             "warm_started": self.warm_started,

@@ -17,7 +17,7 @@ import numpy as np
 
 from mpc_hunt.capture import registry
 from mpc_hunt.capture.problem import CaptureProblem
-from mpc_hunt.capture.evaluator import evaluate
+from mpc_hunt.capture.evaluator import score_plan
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 
@@ -27,17 +27,20 @@ class CaptureSolver:
     ``time_limit`` (seconds) is handed to the solver as its own limit,
     ``accuracy`` (``default``, ``high``, ``low``) picks its tolerances, other
     keywords are the backend's options. ``raise_on_failure`` turns a failed
-    status into :class:`~mpc_hunt.errors.SolverError`.
+    status into :class:`~mpc_hunt.errors.SolverError`. The evaluator scores
+    every plan, or with ``score=False`` only a failed solve's (what a
+    controller's fallback reads); its time is ``score_time``, apart.
     """
 
     def __init__(self, formulation: str = "nlp", backend: str | None = None, *,
                  time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
-                 **backend_options):
+                 score: bool = True, **backend_options):
         backend = registry.check_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
         self.backend = registry.backend_class(backend)(time_limit=time_limit, accuracy=accuracy,
                                                        **backend_options)
         self.raise_on_failure = raise_on_failure
+        self.score = score
         self._duals: tuple[tuple, WarmStart] | None = None   # (signature, duals) of the last usable solve
         self._prepared: set[tuple] = set()                     # structures whose model this solver has built
 
@@ -64,18 +67,16 @@ class CaptureSolver:
             solution = Solution(status=Status.ERROR, message=message, overhead_time=time.perf_counter() - t0,
                                 **names)
             return self._finish(solution)
-        score = {}
+        scores = {}
         if result.plan is not None:
-            if np.all(np.isfinite(result.plan)):
-                evaluation = evaluate(problem, result.plan)
-                score = dict(objective=evaluation.objective, violation=evaluation.violation,
-                             attacker_path=evaluation.attacker_path)
-            else:
+            if not np.all(np.isfinite(result.plan)):
                 result = replace(result, status=Status.ERROR, plan=None, message=f"{result.message} (non-finite plan)")
+            elif self.score or not result.status.usable:
+                scores = score_plan(problem, result.plan)
         self._duals = (problem.signature, result.duals) if result.status.usable else None
         setup_time = result.setup_time + build_time
-        overhead = time.perf_counter() - t0 - result.solver_time - setup_time
-        return self._finish(replace(result, **names, **score, setup_time=setup_time,
+        overhead = time.perf_counter() - t0 - result.solver_time - setup_time - scores.get("score_time", 0.0)
+        return self._finish(replace(result, **names, **scores, setup_time=setup_time,
                                     overhead_time=max(overhead, 0.0), warm_started=warm_plan is not None))
 
     def _finish(self, solution: Solution) -> Solution:

@@ -90,8 +90,8 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",
                      help="per-step limit handed to the capture-stage solver")
     sim.add_argument("--score", action="store_true",
-                     help="score every capture-stage plan with the evaluator (rti and stage-sqp on hpipm run as a "
-                          "control loop that scores only a failed step's plan; the others always score)")
+                     help="score every capture-stage plan with the evaluator (without it only a failed solve's "
+                          "plan is scored, for the fallback; rti and stage-sqp run as a control loop either way)")
     sim.add_argument("--plot", type=Path, metavar="FILE",
                      help=f"write the trajectory figure ({', '.join(FIGURE_SUFFIXES)})")
     sim.add_argument("--animate", type=Path, metavar="FILE.gif", help="write an animation of the hunt")

@@ -7,9 +7,9 @@ horizon). The strategy keeps the one memory of the previous plan: the plan it
 applied, handed to the solver, shifted one step, as the next warm start while
 the same defenders are controlled. A stage-form pair that closes into one
 Function (``rti``, ``stage-sqp`` on ``hpipm``, ``hpipm-codegen``) runs as a
-control loop (:class:`~mpc_hunt.capture.loop_solver.LoopSolver`), whose
-successful plans the evaluator scores only with ``score=True``; every other
-pair through ``CaptureSolver``, always scored. When a solve fails, the fallback (counted)
+control loop (:class:`~mpc_hunt.capture.loop_solver.LoopSolver`), every
+other pair through ``CaptureSolver``; either way the evaluator scores a
+successful plan only with ``score=True``, a failed one always. When a solve fails, the fallback (counted)
 is, in order: the solver's last iterate if the shared evaluator scored it
 feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
 stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not

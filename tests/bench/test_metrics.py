@@ -57,7 +57,7 @@ def test_performance_profile():
 
 def _record(problem, objective, success=True, status="optimal", time=0.01, violation=None, pair=("qp", "osqp")):
     return SolveRecord(*pair, "cold", 1, problem, status, success, objective, violation or CLEAN, time, time / 2,
-                       time / 2, 0.0, 7, False)
+                       time / 2, 0.0, 0.0, 7, False)
 
 
 def test_a_row_from_hand_made_records():

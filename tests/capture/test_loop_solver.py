@@ -1,4 +1,4 @@
-"""``LoopSolver``: CaptureSolver's interface on control loops, and which of the two a controller runs."""
+"""``LoopSolver``: CaptureSolver's interface on control loops; which of the two a controller runs, and what it scores."""
 
 from __future__ import annotations
 
@@ -67,6 +67,18 @@ def test_a_new_structure_gets_its_own_loop_and_a_nan_start_a_status():
     assert not broken.success and broken.message and broken.formulation_objective is None
     assert len(solver._loops) == 2
     assert solver.solve(problem).success
+
+
+def test_unscored_the_capture_solver_scores_only_a_failed_solve_and_scoring_is_timed_apart(monkeypatch):
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    quiet = CaptureSolver("sqp", "daqp", score=False).solve(problem)
+    assert quiet.success and quiet.violation is None and quiet.score_time == 0.0
+    scored = CaptureSolver("sqp", "daqp").solve(problem)
+    assert scored.violation is not None and scored.score_time > 0
+    np.testing.assert_array_equal(quiet.plan, scored.plan)
+    monkeypatch.setattr(StageSQPFormulation, "max_iterations", 2)
+    failed = CaptureSolver("stage-sqp", "hpipm", score=False).solve(problem)
+    assert failed.status is Status.ITERATION_LIMIT and failed.violation is not None and failed.score_time > 0
 
 
 def test_a_controller_runs_a_loop_where_the_pair_closes_one():
