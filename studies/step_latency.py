@@ -342,12 +342,17 @@ def main() -> int:
     parser.add_argument("--reuse-states", action="store_true", help="read the states from OUT/states.json")
     parser.add_argument("--no-growth", action="store_true", help="skip the growth with N and N_d")
     parser.add_argument("--no-peer", action="store_true", help="skip the do-mpc peer")
+    parser.add_argument("--blasfeo", type=Path, metavar="DIR",
+                        help="also time the exported C steps against this BLASFEO (built for this CPU, the wheel's "
+                             "version)")
     parser.add_argument("--check", action="store_true",
                         help=f"check the committed results against the code (reruns the pairs under "
                              f"{CHECK_BELOW_MS} ms a step; about a minute)")
     args = parser.parse_args()
     if args.check:
         return check_result(check(args.out), "studies/step_latency", "python studies/step_latency.py --reuse-states")
+    if args.blasfeo is not None and not (args.blasfeo / "libblasfeo.so.0").exists():
+        parser.error(f"--blasfeo {args.blasfeo}: no libblasfeo.so.0 there")
     args.out.mkdir(parents=True, exist_ok=True)
     states_file = args.out / "states.json"
     if args.reuse_states:
@@ -367,13 +372,15 @@ def main() -> int:
         result["profile"] = rti_profile([lambda e=e: problem_set.problem(e, HORIZON) for e in entries])
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
     first = [problem_set.problem(e, HORIZON) for e in entries]
-    result["exported_c"] = exported_c(first)
+    result["exported_c"] = exported_c(first, args.blasfeo)
     result["loop"] = loop_latency([p for p in first if p.structure == first[0].structure])
     result["machine"]["load_average_after"] = os.getloadavg()
     (args.out / "results.json").write_text(json.dumps(result, indent=1) + "\n")
     m = result["machine"]
     text = ["# Step latency of the capture stage", "",
-            "Regenerate with `python studies/step_latency.py` (all pairs, growth included). Measured in one run "
+            "Regenerate with `python studies/step_latency.py` (all pairs, growth included"
+            + (", `--blasfeo DIR`: a BLASFEO of the wheel's version built for this CPU" if args.blasfeo else "")
+            + "). Measured in one run "
             f"on {m['cpu'] or m['platform']} ({m['cores']} cores, shared: load average {m['load_average'][0]:.1f} "
             f"before, {m['load_average_after'][0]:.1f} after), {m['platform']}, Python {m['python']}, "
             f"CasADi {m['casadi']}. Absolute times drift on a shared machine; the ratios are from the same run.", "",

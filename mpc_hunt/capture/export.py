@@ -13,8 +13,15 @@ objective) the folder holds:
   it repeats the step at its own plan as :class:`~mpc_hunt.capture.loop.CaptureLoop` does;
 - ``main.c``: reads states (θ and the reference) from standard input, prints their plans;
 - ``Makefile``: ``make`` builds ``capture_step`` against HPIPM and BLASFEO (the
-  stated dependencies; by default the copies CasADi's Python wheel ships);
+  stated dependencies; by default the copies CasADi's Python wheel ships, whose
+  BLASFEO is its generic target: ``make BLASFEO=DIR`` links one built for the
+  board's CPU, with the same version's headers);
 - ``input.txt`` and ``expected.txt``: the problem's θ and reference, and Python's plan.
+
+HPIPM runs in ``mode`` (:data:`MODES`): ``robust``, the ``hpipm`` backend's, or
+``balance``, which factorises by Cholesky instead of LQ, the path a BLASFEO
+built for the CPU speeds up (its plans differ from ``robust``'s by up to about
+a micrometre; Python's plan in ``expected.txt`` is solved in the same mode).
 
 θ is :func:`formulations.capture_model.parameter_vector` followed by the field's
 smoothing; the reference is the previous plan shifted one step (or every
@@ -129,12 +136,15 @@ MAKEFILE = """\
 # The capture step of mpc-hunt, structure {structure}.
 # Needs HPIPM and BLASFEO (headers and libraries); by default the copies in CasADi's Python wheel.
 DEPS ?= {deps}
+# A BLASFEO built for the target CPU (same version as HPIPM's): make BLASFEO=/path/to/its/lib
+BLASFEO ?= $(DEPS)
 CC ?= gcc
 CFLAGS ?= -O2
-LDLIBS = -lhpipm -lblasfeo -lm
+# BLASFEO linked first and kept, so that HPIPM's own dependency on it resolves to that one.
+LDLIBS = -Wl,--no-as-needed -lblasfeo -Wl,--as-needed -lhpipm -lm
 
 capture_step: main.o mpc_hunt_step.o capture_step.o
-\t$(CC) $(CFLAGS) -o $@ $^ -L$(DEPS) $(LDLIBS) -Wl,-rpath,$(DEPS)
+\t$(CC) $(CFLAGS) -o $@ $^ -L$(BLASFEO) -L$(DEPS) $(LDLIBS) -Wl,-rpath,$(BLASFEO) -Wl,-rpath,$(DEPS)
 
 %.o: %.c capture_step.h mpc_hunt_step.h
 \t$(CC) $(CFLAGS) -I$(DEPS)/include -c $<
@@ -144,7 +154,10 @@ clean:
 """
 
 
-def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti") -> list[Path]:
+MODES = ("robust", "balance")
+
+
+def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti", mode: str = "robust") -> list[Path]:
     """Write the folder of the module docstring for ``problem``'s structure; returns the files written."""
     import casadi as ca
 
@@ -156,11 +169,13 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti")
     if formulation not in registry.stage_formulations():
         raise MpcHuntError(f"formulation: only the stage-form steps export as C "
                            f"({', '.join(registry.stage_formulations())}), not {formulation!r}")
+    if mode not in MODES:
+        raise MpcHuntError(f"mode: HPIPM's mode is one of {', '.join(MODES)}, not {mode!r}")
     stage = registry.formulation_class(formulation)()
     structure = problem.structure
     theta, reference = stage.step_inputs(problem)
-    step = HpipmBackend().setup(stage.stage_data(structure))
-    plan = CaptureSolver(formulation, "hpipm").solve(problem).x
+    step = HpipmBackend(mode=mode).setup(stage.stage_data(structure))
+    plan = CaptureSolver(formulation, "hpipm", mode=mode).solve(problem).x
     if plan is None:
         raise MpcHuntError(f"the problem's {formulation} step failed in Python: nothing to compare the C step with")
     folder.mkdir(parents=True, exist_ok=True)

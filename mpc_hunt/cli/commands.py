@@ -19,6 +19,7 @@ from mpc_hunt import __version__
 from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.capture import registry
+from mpc_hunt.capture.export import MODES as HPIPM_MODES
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
@@ -127,6 +128,10 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--objective", choices=OBJECTIVES, default="paper", help="default: paper")
     exp.add_argument("--formulation", default="rti", metavar="NAME",
                      help="a stage-form step: rti (one QP a step, the default) or stage-sqp (QPs to convergence)")
+    exp.add_argument("--hpipm-mode", choices=HPIPM_MODES, default="robust",
+                     help="HPIPM's mode: robust (the hpipm backend's, the default) or balance (Cholesky instead of "
+                          "LQ factorisations: faster with a BLASFEO built for the board's CPU, `make BLASFEO=DIR`; "
+                          "plans within about a micrometre of robust's)")
     exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write")
     exp.set_defaults(json=False)
 
@@ -355,7 +360,7 @@ def _export(args) -> int:
         raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
     with stop_at_once("export"):
         problem = posed_problem(scenario, _state(args, scenario), args.horizon, args.objective)
-        files = export_step(problem, args.output, args.formulation)
+        files = export_step(problem, args.output, args.formulation, args.hpipm_mode)
     print(f"wrote {len(files)} files for structure {problem.structure} into {args.output}; build with "
           f"make -C {shlex.quote(str(args.output))}, run with ./capture_step < input.txt")
     return 0

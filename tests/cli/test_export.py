@@ -38,6 +38,32 @@ def test_the_exported_program_prints_pythons_plan(tmp_path, capsys, formulation)
     assert run.returncode == 2 and "missing" in run.stderr
 
 
+@pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
+def test_the_balance_mode_and_a_blasfeo_of_ones_own(tmp_path, capsys):
+    plans = {}
+    for mode in ("robust", "balance"):
+        folder = tmp_path / mode
+        assert main(["export", "--scenario", "paper-obstacles", "--horizon", "2", "--hpipm-mode", mode,
+                     "--output", str(folder)]) == 0
+        plans[mode] = np.loadtxt(folder / "expected.txt")
+    assert "(enum hpipm_mode) 2" in (folder / "capture_step.c").read_text()      # balance, in the C step too
+    assert 0 < np.max(np.abs(plans["balance"] - plans["robust"])) < 1e-5
+    own = tmp_path / "blasfeo"                    # a BLASFEO of one's own: here the wheel's, through a link
+    own.mkdir()
+    deps = next(line.split("?=")[1].strip() for line in (folder / "Makefile").read_text().splitlines()
+                if line.startswith("DEPS ?="))
+    for name in ("libblasfeo.so", "libblasfeo.so.0"):
+        (own / name).symlink_to(f"{deps}/{name}")
+    subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O1", f"BLASFEO={own}"], check=True, capture_output=True,
+                   timeout=300)
+    loaded = subprocess.run(["ldd", str(folder / "capture_step")], capture_output=True, text=True).stdout
+    assert f"{own}/libblasfeo.so.0" in loaded                   # HPIPM runs on it, not on the wheel's
+    with open(folder / "input.txt") as stdin:
+        run = subprocess.run([str(folder / "capture_step")], stdin=stdin, capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    np.testing.assert_allclose(np.array(run.stdout.split(), dtype=float), plans["balance"], rtol=0, atol=1e-9)
+
+
 def test_a_formulation_that_is_not_a_stage_step_is_one_line(tmp_path, capsys):
     assert main(["export", "--formulation", "nlp", "--output", str(tmp_path / "board")]) == 2
     err = capsys.readouterr().err
