@@ -74,7 +74,8 @@ def exported_lines(exported: list[dict] | None, rows: list[dict], baseline: tupl
              "first one's structure, each from the reference Python run of the same formulation and mode on "
              "`hpipm`: median time a step in pure C (the first excluded), ratios to the latency table's steps, and "
              "the largest difference from Python's plans.", "",
-             "| exported step | HPIPM mode | BLASFEO | median step (ms) | speed-up over the step of | plans within (m) | exit |",
+             "| exported step | HPIPM mode | BLASFEO | median step (ms) | speed-up over the step of "
+             "| plans within (m) | exit |",
              "| --- | --- | --- | ---: | --- | ---: | ---: |"]
     for e in exported:
         f, c = e["formulation"], e["median_step_ms"]

@@ -4,9 +4,10 @@ A controller poses a :class:`~mpc_hunt.capture.problem.CaptureProblem` each
 step and wants a :class:`~mpc_hunt.capture.solution.Solution` back (status,
 plan, iterations, times), as from ``CaptureSolver.solve``. For a stage-form
 formulation (:func:`~mpc_hunt.capture.registry.stage_formulations`), whose
-backends close the step into one Function, ``LoopSolver`` does it on one ``CaptureLoop`` per structure, built on the
-structure's first problem: the inputs are written into the loop's arrays, the
-loop steps, and the plan is read back. Its plans are ``CaptureSolver``'s to the
+backends close the step into one Function, ``LoopSolver`` does it on one
+``CaptureLoop`` per structure, built on the structure's first problem: the
+inputs are written into the loop's arrays, the loop steps, and the plan is
+read back. Its plans are ``CaptureSolver``'s to the
 bit (the loop's test holds it). The evaluator scores a failed step's plan (the
 last usable one the loop kept, its reference if none), which a controller may
 apply if it is feasible, and every plan only with ``score=True``: off the hot

@@ -9,8 +9,8 @@ the same defenders are controlled. A stage-form pair that closes into one
 Function (``rti``, ``stage-sqp`` on ``hpipm``, ``hpipm-codegen``) runs as a
 control loop (:class:`~mpc_hunt.capture.loop_solver.LoopSolver`), every
 other pair through ``CaptureSolver``; either way the evaluator scores a
-successful plan only with ``score=True``, a failed one always. When a solve fails, the fallback (counted)
-is, in order: the solver's last iterate if the shared evaluator scored it
+successful plan only with ``score=True``, a failed one always. When a solve
+fails, the fallback (counted) is, in order: the solver's last iterate if the shared evaluator scored it
 feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
 stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not
 differentiable); else the applied plan shifted one step; else holding position,
@@ -81,7 +81,7 @@ class HuntingStrategy:
     ``objective="paper"``: Eqs. 12–15 for the defenders within R_agg, Eq. 6 for the others.
     ``objective="enclose"``: every active defender planned at every step by the capture
     problem, tracking the places :class:`~mpc_hunt.control.enclosure.Enclosure` builds.
-    ``score``: the evaluator scores a control loop's plans too (the module's docstring).
+    ``score``: the evaluator scores every plan, not only a failed solve's (the module's docstring).
     """
 
     def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",

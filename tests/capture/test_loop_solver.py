@@ -1,4 +1,4 @@
-"""``LoopSolver``: CaptureSolver's interface on control loops; which of the two a controller runs, and what it scores."""
+"""``LoopSolver``, CaptureSolver's interface on control loops; which of the two a controller runs; what it scores."""
 
 from __future__ import annotations
 
