@@ -20,8 +20,8 @@ objective) the folder holds:
 
 HPIPM runs in ``mode`` (:data:`MODES`): ``robust``, the ``hpipm`` backend's, or
 ``balance``, which factorises by Cholesky instead of LQ, the path a BLASFEO
-built for the CPU speeds up (its plans differ from ``robust``'s by up to about
-a micrometre; Python's plan in ``expected.txt`` is solved in the same mode).
+built for the CPU speeds up (its plans differ from ``robust``'s within HPIPM's
+tolerances; Python's plan in ``expected.txt`` is solved in the same mode).
 
 θ is :func:`formulations.capture_model.parameter_vector` followed by the field's
 smoothing; the reference is the previous plan shifted one step (or every

@@ -131,7 +131,7 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--hpipm-mode", choices=HPIPM_MODES, default="robust",
                      help="HPIPM's mode: robust (the hpipm backend's, the default) or balance (Cholesky instead of "
                           "LQ factorisations: faster with a BLASFEO built for the board's CPU, `make BLASFEO=DIR`; "
-                          "plans within about a micrometre of robust's)")
+                          "plans differ from robust's within HPIPM's tolerances)")
     exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write")
     exp.set_defaults(json=False)
 
