@@ -215,10 +215,7 @@ def capture_model(nc: int, nf: int, m: int, N: int, objective: str = "paper") ->
 def plan_from_x(problem: CaptureProblem, X: np.ndarray) -> np.ndarray:
     """Every defender's positions (N, n, 2) from the controlled defenders' decision vector."""
     nc = int(problem.controlled.sum())
-    plan = problem.held_plan().copy()
-    plan[:, problem.controlled] = np.asarray(X, dtype=float)[:problem.horizon * nc * 2].reshape(
-        problem.horizon, nc, 2)
-    return plan
+    return problem.plan_with(np.asarray(X, dtype=float)[:problem.horizon * nc * 2])
 
 
 def x_from_plan(problem: CaptureProblem, plan: np.ndarray) -> np.ndarray:

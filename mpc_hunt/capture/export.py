@@ -166,9 +166,7 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti",
     from mpc_hunt.capture.compiled import casadi_paths
     from mpc_hunt.capture.solver import CaptureSolver
 
-    if formulation not in registry.stage_formulations():
-        raise MpcHuntError(f"formulation: only the stage-form steps export as C "
-                           f"({', '.join(registry.stage_formulations())}), not {formulation!r}")
+    registry.check_stage_pair(formulation, "hpipm")
     if mode not in MODES:
         raise MpcHuntError(f"mode: HPIPM's mode is one of {', '.join(MODES)}, not {mode!r}")
     stage = registry.formulation_class(formulation)()

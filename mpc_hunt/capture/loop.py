@@ -47,7 +47,7 @@ class CaptureLoop:
 
     def __init__(self, problem: CaptureProblem, formulation: str = "rti", backend: str | None = None, *,
                  accuracy: str = "default", **backend_options):
-        backend = registry.check_loop_pair(formulation, backend)
+        backend = registry.check_stage_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
         self.backend = registry.backend_class(backend)(accuracy=accuracy, **backend_options)
         self.structure = problem.structure

@@ -36,9 +36,8 @@ class LoopSolver:
 
     def __init__(self, formulation: str = "rti", backend: str | None = None, *, accuracy: str = "default",
                  score: bool = False, **backend_options):
-        self.backend_name = registry.check_loop_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
-        self.backend = registry.backend_class(self.backend_name)
+        self.backend = registry.backend_class(registry.check_stage_pair(formulation, backend))   # built per loop
         self.score = score
         self._options = dict(accuracy=accuracy, **backend_options)
         self._loops: dict[tuple, CaptureLoop] = {}
@@ -49,19 +48,18 @@ class LoopSolver:
         loop = self._loops.get(problem.structure)
         setup_time = 0.0
         if loop is None:
-            loop = self._loops[problem.structure] = CaptureLoop(problem, self.formulation.name, self.backend_name,
+            loop = self._loops[problem.structure] = CaptureLoop(problem, self.formulation.name, self.backend.name,
                                                                 **self._options)
             setup_time = time.perf_counter() - t0
         loop.load(problem, warm_plan)
         t1 = time.perf_counter()
         status = loop.step()
         solver_time = time.perf_counter() - t1
-        plan = problem.held_plan().copy()
-        plan[:, problem.controlled] = loop.plan
+        plan = problem.plan_with(loop.plan)
         scores = score_plan(problem, plan) if (self.score or not status.usable) and np.all(np.isfinite(plan)) else {}
         overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
         return Solution(status=status, message=loop.message, formulation=self.formulation.name,
-                        backend=self.backend_name, x=loop.plan.reshape(-1).copy(), plan=plan,
+                        backend=self.backend.name, x=loop.plan.reshape(-1).copy(), plan=plan,
                         formulation_objective=float(loop.objective[0]) if status.usable else None,
                         solver_time=solver_time, overhead_time=max(overhead, 0.0), setup_time=setup_time,
                         iterations=loop.iterations, warm_started=warm_plan is not None,

@@ -196,3 +196,11 @@ class CaptureProblem:
     def held_plan(self) -> np.ndarray:
         """Every defender held where it is for the whole horizon: shape (N, n, 2)."""
         return np.repeat(self.defender_positions[None], self.horizon, axis=0)
+
+    def plan_with(self, controlled: np.ndarray) -> np.ndarray:
+        """Every defender's positions (N, n, 2): the controlled defenders' from ``controlled`` (N·n_c·2 numbers,
+        step by step), the others held."""
+        plan = self.held_plan()
+        plan[:, self.controlled] = np.asarray(controlled, dtype=float).reshape(
+            self.horizon, int(self.controlled.sum()), 2)
+        return plan

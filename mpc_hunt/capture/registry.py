@@ -79,12 +79,13 @@ def stage_formulations() -> list[str]:
     return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
 
 
-def check_loop_pair(formulation: str, backend: str | None) -> str:
-    """The backend of a control loop (:mod:`mpc_hunt.capture.loop`) running ``formulation``, checked: a stage-form
-    formulation, whose backends (kind ``ocp-qp``) close its step into one Function."""
+def check_stage_pair(formulation: str, backend: str | None) -> str:
+    """The backend of a stage-form step run as one Function (the control loop, :mod:`mpc_hunt.capture.loop`, and
+    the C export), checked: a stage-form formulation, whose backends (kind ``ocp-qp``) close its step into one
+    Function."""
     if formulation not in stage_formulations():
-        raise UnknownNameError(f"formulation: the control loop runs the stage-form steps "
-                               f"({', '.join(stage_formulations())}), not {formulation!r}")
+        raise UnknownNameError(f"formulation: only the stage-form steps ({', '.join(stage_formulations())}) run as "
+                               f"one Function (a control loop, the C export), not {formulation!r}")
     return check_pair(formulation, backend)
 
 
