@@ -65,7 +65,8 @@ class StageModel:
         self.residual = ca.Function("residual", [x, theta], [ca.vertcat(*residual)])
         reach = ca.vertcat(*[p["step_limits"][i] for i in range(nc) for _ in range(2)])
         self.move = ca.Function("move", [u, theta], [ca.sqrt(p["w_move"]) * u / reach])
-        # Eq. 14's squared distances; with ``enclose`` none (its rows then pin their slacks at zero).
+        # Eq. 14's squared distances; with ``enclose`` none (ms-nlp's rows then pin their slacks at zero; the
+        # stage QP of rti leaves rows and slacks out).
         squared = [ca.dot(d - a, d - a) if objective == "paper" else ca.SX.zeros(1, 1) for d in defenders]
         self.squared_distance = ca.Function("squared_distance", [x], [ca.vertcat(*squared)])
 

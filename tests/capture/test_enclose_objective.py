@@ -11,6 +11,7 @@ import pytest
 
 from conftest import small_scenario
 from formulations.capture_model import capture_model, parameter_vector, x_from_plan
+from formulations.stage_linearisation import stage_linearisation
 from mpc_hunt import CaptureProblem, CaptureSolver, evaluate
 from mpc_hunt.capture.evaluator import ENCLOSE_TERM_NAMES
 from mpc_hunt.capture.problem import EncloseWeights, ProblemError, Reference
@@ -108,3 +109,18 @@ def test_a_reference_of_the_wrong_shape_is_a_one_line_error():
                                                                                np.zeros((4, 2)), np.ones(4)))
     with pytest.raises(ProblemError, match="needs a Reference"):
         CaptureProblem(scenario, ATTACKER, FAR, np.ones(3, bool), np.zeros(2), 1, objective="enclose")
+
+
+
+def test_the_stage_qp_leaves_eq14_out_and_keeps_eq13():
+    """Under ``enclose`` rti's stage QP has neither Eq. 14's slacks nor its rows (4 of 10 controls and 6 rows fewer
+    a stage at N_d = 3), and keeps Eq. 13's octagon: defenders sent 1.5 steps along a diagonal stop on its
+    diagonal side (at r_d cos(π/8) along the diagonal), which only its rows hold."""
+    assert (stage_linearisation(3, 0, 0, "paper").nu, stage_linearisation(3, 0, 0, "enclose").nu) == (10, 6)
+    diagonal = np.array([1.0, 1.0]) / np.sqrt(2.0)
+    problem = _problem(_scenario(), FAR, FAR + 0.012 * diagonal, horizon=3)
+    solution = CaptureSolver("rti", "hpipm").solve(problem)
+    assert solution.success, solution.message
+    along = (solution.plan[0] - FAR) @ diagonal
+    np.testing.assert_allclose(along, np.cos(np.pi / 8) * problem.step_limits, rtol=1e-9)   # achieved: 1e-13
+    assert solution.violation["motion_limit"] <= 1e-9
