@@ -15,6 +15,9 @@ absolute times of a shared machine drift:
 * **Growth.** The step of the stage-structured pairs (and ``qp`` for contrast)
   for N = 5…50 on the same states, and for N_d = 3…12 defenders evenly placed
   around the attacker of the first state; the fitted exponent b of step ∝ N^b.
+* **Floor.** What one QP costs at best, whichever solver and start
+  (``step_floor.py``): DAQP from its solution's own working set, HPIPM with
+  the obstacles removed.
 * **Targets.** Each target of the capture stage, met or missed by how much;
   for the recommended step, where its time goes (``step_profile.py``).
 
@@ -50,6 +53,7 @@ from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_se
 from mpc_hunt.world.scenario import Defender
 
 from step_exported import exported_c, exported_lines
+from step_floor import floor_lines, qp_floor
 from step_loop import loop_latency, loop_lines, loop_targets
 from step_profile import rti_profile
 from study_check import check_result
@@ -369,7 +373,10 @@ def main() -> int:
         result["growth"] = growth(problem_set, [p for p in GROWTH_PAIRS if p in pairs])
     if ("rti", "hpipm") in pairs:
         entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
-        result["profile"] = rti_profile([lambda e=e: problem_set.problem(e, HORIZON) for e in entries])
+        posed = [lambda e=e: problem_set.problem(e, HORIZON) for e in entries]
+        result["profile"] = rti_profile(posed)
+        if registry.installed("daqp"):
+            result["floor"] = qp_floor(posed)
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
     first = [problem_set.problem(e, HORIZON) for e in entries]
     result["exported_c"] = exported_c(first, args.blasfeo)
@@ -392,6 +399,10 @@ def main() -> int:
             peer_note(peer, args.no_peer), ""]
     text += exported_lines(result["exported_c"], rows, BASELINE)
     text += loop_lines(result["loop"], rows)
+    if result.get("floor") is not None:
+        interpreted = next(r for r in rows if (r["formulation"], r["backend"]) == ("rti", "hpipm"))
+        text += floor_lines(result["floor"], result["profile"], interpreted["median_step_ms"],
+                            len(first[0].scenario.obstacles), result["exported_c"])
     if "growth" in result:
         text += ["## Growth with the horizon N and the team N_d", "",
                  f"Median step over the first {GROWTH_STATES} states (N) or over {GROWTH_STATES} consecutive "

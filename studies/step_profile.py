@@ -5,8 +5,8 @@ linearises the stage-structured problem, solves the QP with HPIPM and reads
 the plan back (mpc_hunt/capture/backends/conic_step.py), plus the Python that poses
 the problem and hands the call its arguments. On the same states, warm-started
 as the controller does, this times the linearisation alone and HPIPM alone on
-the same numeric QP (same options); the rest of the call is the read-back and
-CasADi's own overhead.
+the same numeric QP (same options), and counts HPIPM's iterations; the rest of the
+call is the read-back and CasADi's own overhead.
 """
 
 from __future__ import annotations
@@ -37,10 +37,11 @@ def _fastest(call) -> tuple[float, object]:
 
 
 def rti_profile(problems: list) -> dict:
-    """Median ms of the linearisation and of HPIPM alone over the warm-started states ``problems``
-    (callables that pose each state), the first (set-up) excluded."""
+    """Median ms of the linearisation and of HPIPM alone, and HPIPM's median iterations, over the warm-started
+    states ``problems`` (callables that pose each state), the first (set-up) excluded."""
     solver = CaptureSolver("rti", "hpipm")
-    graph, pieces, plan = None, {"linearise_ms": [], "hpipm_ms": []}, None
+    graph = linearise = hpipm = plan = None
+    pieces = {"linearise_ms": [], "hpipm_ms": [], "hpipm_iterations": []}
     for make in problems:
         problem: CaptureProblem = make()
         warm = None if plan is None else shift_plan(plan)
@@ -52,6 +53,7 @@ def rti_profile(problems: list) -> dict:
             data = dict(zip(QP_KEYS, qp))
             seconds, _ = _fastest(lambda: hpipm(**data))
             pieces["hpipm_ms"].append(1e3 * seconds)
+            pieces["hpipm_iterations"].append(hpipm.stats()["iter_count"])
         else:
             graph = linearised_stages(problem.structure)
             qp = [graph.qp[key] for key in QP_KEYS]
