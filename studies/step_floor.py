@@ -26,7 +26,7 @@ from formulations.capture_model import parameter_vector, x_from_plan
 from formulations.qp import linearised_capture
 from mpc_hunt import CaptureProblem, CaptureSolver
 from mpc_hunt.capture import registry
-from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.capture.solution import WarmStart
 
 from step_profile import rti_profile
@@ -37,10 +37,10 @@ def perfect_warm_start(problems: list) -> dict | None:
     set-up) excluded: median solve ms and iterations cold and from the solution's own working set, the sizes, and
     the largest difference between the two solutions; None if no state was solved both ways."""
     solver, backend = CaptureSolver("rti", "hpipm"), registry.backend_class("daqp")()
-    rows, plan = [], None
+    rows, applied = [], None
     for k, make in enumerate(problems):
         problem: CaptureProblem = make()
-        warm = None if plan is None else shift_plan(plan)
+        warm = warm_plan(applied, problem)
         if k:
             reference = problem.held_plan() if warm is None else warm
             data = linearised_capture(problem.structure).data(("qp",) + problem.structure, parameter_vector(problem),
@@ -51,7 +51,7 @@ def perfect_warm_start(problems: list) -> dict | None:
                 rows.append((cold.extras["reported_solve_time_s"], cold.iterations,
                              again.extras["reported_solve_time_s"], again.iterations,
                              int(np.count_nonzero(cold.duals.y)), float(np.max(np.abs(cold.x - again.x)))))
-        plan = solver.solve(problem, warm).plan
+        applied = (problem.signature, applied_plan(problem, solver.solve(problem, warm), warm)[0])
     if not rows:
         return None
     r = np.array(rows)

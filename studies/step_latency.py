@@ -48,7 +48,7 @@ import numpy as np
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
 
 from mpc_hunt.capture import registry
-from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
@@ -99,11 +99,12 @@ def closed_loop_states(count: int) -> ProblemSet:
 def solve_sequence(formulation: str, backend: str, problems: list[CaptureProblem]) -> list[dict]:
     """Each problem in turn, warm-started as the controller does; per-step times and figures."""
     solver = CaptureSolver(formulation, backend)
-    plan, rows = None, []
+    applied, rows = None, []
     for make in problems:
         t0 = time.perf_counter()
         problem = make()
-        solution = solver.solve(problem, None if plan is None else shift_plan(plan))
+        warm = warm_plan(applied, problem)
+        solution = solver.solve(problem, warm)
         all_in = time.perf_counter() - t0
         rows.append({"step_s": all_in - solution.score_time, "all_in_s": all_in, "solver_s": solution.solver_time,
                      "setup_s": solution.setup_time, "iterations": solution.iterations,
@@ -111,8 +112,7 @@ def solve_sequence(formulation: str, backend: str, problems: list[CaptureProblem
                      "obstacle_violation": None if solution.violation is None
                      else solution.violation["obstacle_safety"],
                      "max_violation": solution.max_violation})
-        usable = solution.plan is not None and (solution.success or solution.max_violation <= 1e-6)
-        plan = solution.plan if usable else None
+        applied = (problem.signature, applied_plan(problem, solution, warm)[0])
     return rows
 
 
@@ -212,12 +212,13 @@ def growth(problem_set: ProblemSet, pairs: list[tuple[str, str]]) -> dict:
 def _team_sequence(scenario, attacker, defenders) -> list:
     """GROWTH_STATES consecutive states of a capture stage driven by ``rti``/``hpipm`` (the same for every pair)."""
     solver = CaptureSolver("rti", "hpipm")
-    states, plan = [], None
+    states, applied = [], None
     for _ in range(GROWTH_STATES):
         states.append((attacker.copy(), defenders.copy()))
         problem = CaptureProblem.at_state(scenario, attacker, defenders, HORIZON)
-        solution = solver.solve(problem, None if plan is None else shift_plan(plan))
-        plan = solution.plan
+        warm = warm_plan(applied, problem)
+        plan = applied_plan(problem, solver.solve(problem, warm), warm)[0]
+        applied = (problem.signature, plan)
         attacker = problem.attacker_step(attacker, defenders)
         defenders = plan[0]
     return [lambda a=a, d=d: CaptureProblem.at_state(scenario, a, d, HORIZON) for a, d in states]

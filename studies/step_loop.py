@@ -17,7 +17,7 @@ import numpy as np
 from mpc_hunt import CaptureSolver
 from mpc_hunt.capture import registry
 from mpc_hunt.capture.loop import CaptureLoop
-from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 LOOP_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen"))
 
@@ -27,15 +27,14 @@ def reference_run(formulation: str, backend: str, problems: list, **options) -> 
     backend's): at each state of the first one's structure, the step's inputs (θ, reference) and the solver's x
     (None where it gave none)."""
     stage = registry.formulation_class(formulation)()
-    solver, plan, inputs, plans = CaptureSolver(formulation, backend, **options), None, [], []
+    solver, applied, inputs, plans = CaptureSolver(formulation, backend, **options), None, [], []
     for problem in problems:
-        warm = None if plan is None else shift_plan(plan)
+        warm = warm_plan(applied, problem)
         solution = solver.solve(problem, warm)
         if problem.structure == problems[0].structure:
             inputs.append(stage.step_inputs(problem, warm))
             plans.append(solution.x)
-        usable = solution.plan is not None and (solution.success or solution.max_violation <= 1e-6)
-        plan = solution.plan if usable else None
+        applied = (problem.signature, applied_plan(problem, solution, warm)[0])
     return inputs, plans
 
 

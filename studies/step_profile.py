@@ -22,7 +22,7 @@ from formulations.stage_model import SMOOTHING
 from mpc_hunt import CaptureProblem, CaptureSolver
 from mpc_hunt.capture.backends.conic_step import QP_KEYS
 from mpc_hunt.capture.backends.hpipm import HpipmBackend
-from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 REPEATS = 5     # each piece is timed this many times per state; the fastest counts (the least disturbed)
 
@@ -40,11 +40,11 @@ def rti_profile(problems: list) -> dict:
     """Median ms of the linearisation and of HPIPM alone, and HPIPM's median iterations, over the warm-started
     states ``problems`` (callables that pose each state), the first (set-up) excluded."""
     solver = CaptureSolver("rti", "hpipm")
-    graph = linearise = hpipm = plan = None
+    graph = linearise = hpipm = applied = None
     pieces = {"linearise_ms": [], "hpipm_ms": [], "hpipm_iterations": []}
     for make in problems:
         problem: CaptureProblem = make()
-        warm = None if plan is None else shift_plan(plan)
+        warm = warm_plan(applied, problem)
         if graph is not None:
             theta = np.append(parameter_vector(problem), SMOOTHING)
             reference = x_from_plan(problem, problem.held_plan() if warm is None else warm)
@@ -60,5 +60,5 @@ def rti_profile(problems: list) -> dict:
             linearise = ca.Function("linearise", graph.inputs, qp)
             hpipm = ca.conic("capture", "hpipm", {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
                              {"error_on_fail": False, **HpipmBackend().conic_options(graph)})
-        plan = solver.solve(problem, warm).plan
+        applied = (problem.signature, applied_plan(problem, solver.solve(problem, warm), warm)[0])
     return {"repeats": REPEATS, **{k: float(np.median(v)) for k, v in pieces.items()}}

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Status
 from mpc_hunt.world.geometry import norm, saturate
 
 VIOLATION_NAMES = ("motion_limit", "equal_distance", "obstacle_safety", "separation", "attacker_distance")
@@ -85,6 +86,14 @@ def score_plan(problem: CaptureProblem, plan: np.ndarray) -> dict:
     evaluation = evaluate(problem, plan)
     return dict(objective=evaluation.objective, violation=evaluation.violation,
                 attacker_path=evaluation.attacker_path, score_time=time.perf_counter() - t0)
+
+
+def solve_scores(problem: CaptureProblem, plan: np.ndarray | None, status: Status, score: bool) -> dict:
+    """What a solver scores of its answer: with ``score`` every finite plan, else only a failed solve's (the plan a
+    controller's fallback reads, :func:`mpc_hunt.control.strategy.applied_plan`); ``{}`` for none."""
+    if plan is None or not np.all(np.isfinite(plan)) or (status.usable and not score):
+        return {}
+    return score_plan(problem, plan)
 
 
 def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:

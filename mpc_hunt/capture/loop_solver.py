@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from mpc_hunt.capture import registry
-from mpc_hunt.capture.evaluator import score_plan
+from mpc_hunt.capture.evaluator import solve_scores
 from mpc_hunt.capture.loop import CaptureLoop
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution
@@ -56,7 +56,7 @@ class LoopSolver:
         status = loop.step()
         solver_time = time.perf_counter() - t1
         plan = problem.plan_with(loop.plan)
-        scores = score_plan(problem, plan) if (self.score or not status.usable) and np.all(np.isfinite(plan)) else {}
+        scores = solve_scores(problem, plan, status, self.score)
         overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
         return Solution(status=status, message=loop.message, formulation=self.formulation.name,
                         backend=self.backend.name, x=loop.plan.reshape(-1).copy(), plan=plan,

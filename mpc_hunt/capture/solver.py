@@ -17,7 +17,7 @@ import numpy as np
 
 from mpc_hunt.capture import registry
 from mpc_hunt.capture.problem import CaptureProblem
-from mpc_hunt.capture.evaluator import score_plan
+from mpc_hunt.capture.evaluator import solve_scores
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 
@@ -67,12 +67,9 @@ class CaptureSolver:
             solution = Solution(status=Status.ERROR, message=message, overhead_time=time.perf_counter() - t0,
                                 **names)
             return self._finish(solution)
-        scores = {}
-        if result.plan is not None:
-            if not np.all(np.isfinite(result.plan)):
-                result = replace(result, status=Status.ERROR, plan=None, message=f"{result.message} (non-finite plan)")
-            elif self.score or not result.status.usable:
-                scores = score_plan(problem, result.plan)
+        if result.plan is not None and not np.all(np.isfinite(result.plan)):
+            result = replace(result, status=Status.ERROR, plan=None, message=f"{result.message} (non-finite plan)")
+        scores = solve_scores(problem, result.plan, result.status, self.score)
         self._duals = (problem.signature, result.duals) if result.status.usable else None
         setup_time = result.setup_time + build_time
         overhead = time.perf_counter() - t0 - result.solver_time - setup_time - scores.get("score_time", 0.0)
