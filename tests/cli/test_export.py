@@ -1,4 +1,4 @@
-"""``mpc-hunt export``: the rti step as C, built with the Makefile it writes, gives Python's plan."""
+"""``mpc-hunt export``: the stage-form steps as C, built with the Makefile they come with, give Python's plan."""
 
 from __future__ import annotations
 
@@ -12,11 +12,12 @@ from mpc_hunt.cli.commands import main
 
 
 @pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
-@pytest.mark.parametrize("formulation", ["rti", "stage-sqp"])
-def test_the_exported_program_prints_pythons_plan(tmp_path, capsys, formulation):
+@pytest.mark.parametrize("formulation, objective", [("rti", "paper"), ("stage-sqp", "paper"), ("rti", "enclose")])
+def test_the_exported_program_prints_pythons_plan(tmp_path, capsys, formulation, objective):
+    """Each stage form, and the default controller's step (enclose: no Eq. 14 in its stages)."""
     folder = tmp_path / "board"
     assert main(["export", "--scenario", "paper-obstacles", "--horizon", "2", "--formulation", formulation,
-                 "--output", str(folder)]) == 0
+                 "--objective", objective, "--output", str(folder)]) == 0
     assert "capture_step" in capsys.readouterr().out
     subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O1"], check=True, capture_output=True, timeout=300)
     with open(folder / "input.txt") as stdin:
