@@ -97,7 +97,8 @@ def floor_lines(floor: dict, profile: dict, interpreted_ms: float, obstacles: in
              f"| `qp`, condensed | DAQP | cold | {d['cold_ms']:.3f} | {d['cold_iterations']:.0f} |",
              f"| `qp`, condensed | DAQP | its own optimal working set | {d['warm_ms']:.3f} | "
              f"{d['warm_iterations']:.0f} |",
-             f"| `rti`, stage form | HPIPM | as posed | {profile['hpipm_ms']:.3f} | {profile['hpipm_iterations']:.0f} |",
+             f"| `rti`, stage form | HPIPM | as posed | {profile['hpipm_ms']:.3f} | "
+             f"{profile['hpipm_iterations']:.0f} |",
              f"| `rti`, stage form | HPIPM | obstacles removed | {bare['hpipm_ms']:.3f} | "
              f"{bare['hpipm_iterations']:.0f} |", ""]
     best = min(d["warm_ms"], profile["hpipm_ms"], bare["hpipm_ms"])
