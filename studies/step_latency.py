@@ -5,7 +5,9 @@ absolute times of a shared machine drift:
 
 * **Latency.** Every installed pair solves the same consecutive closed-loop
   states of ``paper-obstacles`` (N_d = 3 in the capture stage, N = 10), each
-  warm-started as the controller does (the previous plan shifted one step).
+  warm-started as the controller does (the previous plan shifted one step),
+  the pairs taking turns on each state so that load on the machine falls on
+  all of them alike (the growth tables too).
   *step* is state in → plan out (the capture problem posed, the solve) without
   the shared evaluator; *all-in* adds its scoring (``Solution.score_time``).
   Ratios are to ``nlp``/``ipopt`` on the same states.
@@ -96,48 +98,68 @@ def closed_loop_states(count: int) -> ProblemSet:
                       "with the hunting circle formed. Rebuild with `python studies/step_latency.py`.")
 
 
-def solve_sequence(formulation: str, backend: str, problems: list[CaptureProblem]) -> list[dict]:
-    """Each problem in turn, warm-started as the controller does; per-step times and figures."""
-    solver = CaptureSolver(formulation, backend)
-    applied, rows = None, []
-    for make in problems:
+class Sequence:
+    """One pair's run over consecutive states, a state at a time, warm-started as the controller does."""
+
+    def __init__(self, formulation: str, backend: str):
+        self.solver, self.applied, self.rows = CaptureSolver(formulation, backend), None, []
+
+    def step(self, make) -> None:
+        """Pose the state (``make()``), solve it, and keep its times and figures."""
         t0 = time.perf_counter()
         problem = make()
-        warm = warm_plan(applied, problem)
-        solution = solver.solve(problem, warm)
+        warm = warm_plan(self.applied, problem)
+        solution = self.solver.solve(problem, warm)
         all_in = time.perf_counter() - t0
-        rows.append({"step_s": all_in - solution.score_time, "all_in_s": all_in, "solver_s": solution.solver_time,
-                     "setup_s": solution.setup_time, "iterations": solution.iterations,
-                     "success": solution.success, "objective": solution.objective,
-                     "obstacle_violation": None if solution.violation is None
-                     else solution.violation["obstacle_safety"],
-                     "max_violation": solution.max_violation})
-        applied = (problem.signature, applied_plan(problem, solution, warm)[0])
-    return rows
+        self.rows.append({"step_s": all_in - solution.score_time, "all_in_s": all_in,
+                          "solver_s": solution.solver_time, "setup_s": solution.setup_time,
+                          "iterations": solution.iterations, "success": solution.success,
+                          "objective": solution.objective,
+                          "obstacle_violation": None if solution.violation is None
+                          else solution.violation["obstacle_safety"],
+                          "max_violation": solution.max_violation})
+        self.applied = (problem.signature, applied_plan(problem, solution, warm)[0])
 
 
-def peer_sequence(problems: list) -> list[dict]:
-    """:func:`solve_sequence`'s rows for the do-mpc peer: set up once per structure, warm-started as do-mpc does."""
-    peers, rows = {}, []
-    for make in problems:
+class PeerSequence:
+    """:class:`Sequence` for the do-mpc peer: set up once per structure, warm-started as do-mpc does."""
+
+    def __init__(self):
+        self.peers, self.rows = {}, []
+
+    def step(self, make) -> None:
         t0 = time.perf_counter()
         problem = make()
         setup = 0.0
-        if problem.structure not in peers:
-            peers[problem.structure] = DoMPCPeer(problem)
-            setup = peers[problem.structure].setup_time
-        peer = peers[problem.structure]
+        if problem.structure not in self.peers:
+            self.peers[problem.structure] = DoMPCPeer(problem)
+            setup = self.peers[problem.structure].setup_time
+        peer = self.peers[problem.structure]
         plan = peer.solve(problem)
         step = time.perf_counter() - t0
         t1 = time.perf_counter()
         evaluation = evaluate(problem, plan)
         evaluator = time.perf_counter() - t1
         stats = peer.mpc.solver_stats
-        rows.append({"step_s": step, "all_in_s": step + evaluator, "solver_s": peer.solver_time, "setup_s": setup,
-                     "iterations": stats["iter_count"], "success": bool(stats["success"]),
-                     "objective": evaluation.objective, "obstacle_violation": evaluation.violation["obstacle_safety"],
-                     "max_violation": evaluation.max_violation})
-    return rows
+        self.rows.append({"step_s": step, "all_in_s": step + evaluator, "solver_s": peer.solver_time,
+                          "setup_s": setup, "iterations": stats["iter_count"], "success": bool(stats["success"]),
+                          "objective": evaluation.objective,
+                          "obstacle_violation": evaluation.violation["obstacle_safety"],
+                          "max_violation": evaluation.max_violation})
+
+
+def in_turns(sequences: list, problems: list) -> list[list[dict]]:
+    """Every sequence over ``problems`` (callables posing each state), taking turns on each state, so that load on
+    the machine falls on all alike; each one's rows."""
+    for make in problems:
+        for sequence in sequences:
+            sequence.step(make)
+    return [sequence.rows for sequence in sequences]
+
+
+def solve_sequence(formulation: str, backend: str, problems: list) -> list[dict]:
+    """One pair alone over ``problems``: its rows."""
+    return in_turns([Sequence(formulation, backend)], problems)[0]
 
 
 def summarise(rows: list[dict]) -> dict:
@@ -153,12 +175,11 @@ def summarise(rows: list[dict]) -> dict:
 def latency(problem_set: ProblemSet, pairs: list[tuple[str, str]], peer: bool = False) -> list[dict]:
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
     problems = [lambda e=e: problem_set.problem(e, HORIZON) for e in entries]
-    runs = [(f, b, lambda f=f, b=b: solve_sequence(f, b, problems)) for f, b in pairs]
-    if peer:
-        runs.append((*PEER, lambda: peer_sequence(problems)))
+    names = pairs + ([PEER] if peer else [])
+    sequences = [Sequence(f, b) for f, b in pairs] + ([PeerSequence()] if peer else [])
     out = []
-    for formulation, backend, run in runs:
-        row = {"formulation": formulation, "backend": backend, **summarise(run())}
+    for (formulation, backend), rows in zip(names, in_turns(sequences, problems)):
+        row = {"formulation": formulation, "backend": backend, **summarise(rows)}
         out.append(row)
         print(f"{formulation}/{backend}: step {row['median_step_ms']:.3f} ms, all-in {row['median_all_in_ms']:.3f} ms, "
               f"{row['median_iterations']:.0f} iterations, {row['failed']} failed", flush=True)
@@ -183,29 +204,23 @@ def fit(sizes, times) -> float:
 
 
 def growth(problem_set: ProblemSet, pairs: list[tuple[str, str]]) -> dict:
+    """The step of each pair for each N and each N_d, the pairs taking turns on each state."""
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"][:GROWTH_STATES]
+    first, base = entries[0].state, problem_set.scenarios[SCENARIO]
+    cases = [("horizon", "N", N, [lambda e=e, N=N: problem_set.problem(e, N) for e in entries]) for N in HORIZONS]
+    for size in TEAM_SIZES:
+        scenario, positions = team(base, first.attacker, size)
+        cases.append(("team", "N_d", size, _team_sequence(scenario, first.attacker, positions)))
     result = {"horizon": [], "team": []}
-    for formulation, backend in pairs:
-        times = []
-        for N in HORIZONS:
-            rows = solve_sequence(formulation, backend, [lambda e=e: problem_set.problem(e, N) for e in entries])
-            times.append(summarise(rows)["median_step_ms"])
-            result["horizon"].append({"formulation": formulation, "backend": backend, "N": N,
-                                      **summarise(rows)})
-            print(f"growth {formulation}/{backend} N={N}: {times[-1]:.3f} ms", flush=True)
-        result.setdefault("horizon_exponent", {})[f"{formulation}/{backend}"] = fit(HORIZONS, times)
-    first = entries[0].state
-    base = problem_set.scenarios[SCENARIO]
-    for formulation, backend in pairs:
-        times = []
-        for size in TEAM_SIZES:
-            scenario, positions = team(base, first.attacker, size)
-            problems = _team_sequence(scenario, first.attacker, positions)
-            rows = solve_sequence(formulation, backend, problems)
-            times.append(summarise(rows)["median_step_ms"])
-            result["team"].append({"formulation": formulation, "backend": backend, "N_d": size, **summarise(rows)})
-            print(f"growth {formulation}/{backend} N_d={size}: {times[-1]:.3f} ms", flush=True)
-        result.setdefault("team_exponent", {})[f"{formulation}/{backend}"] = fit(TEAM_SIZES, times)
+    for table, key, value, problems in cases:
+        for (formulation, backend), rows in zip(pairs, in_turns([Sequence(f, b) for f, b in pairs], problems)):
+            result[table].append({"formulation": formulation, "backend": backend, key: value, **summarise(rows)})
+            print(f"growth {formulation}/{backend} {key}={value}: {result[table][-1]['median_step_ms']:.3f} ms",
+                  flush=True)
+    for table, sizes in (("horizon", HORIZONS), ("team", TEAM_SIZES)):
+        steps = {pair: [r["median_step_ms"] for r in result[table] if (r["formulation"], r["backend"]) == pair]
+                 for pair in pairs}
+        result[f"{table}_exponent"] = {f"{f}/{b}": fit(sizes, steps[f, b]) for f, b in pairs}
     return result
 
 
