@@ -19,7 +19,7 @@ from mpc_hunt.cli.commands import main
 ])
 def test_the_default_captures_every_built_in_hunt_and_the_paper_two_defenders(capsys, name, flags):
     """The default of ``mpc-hunt simulate`` captures every built-in scenario, and the paper's strategy captures
-    ``two-defenders`` (obstacles complete the circle): in each, every start moved by a nanometre captures too."""
+    ``two-defenders`` (obstacles complete the circle); in each, starts moved by a nanometre capture too."""
     code = main(["simulate", "--scenario", name, "--json", *flags])
     report = json.loads(capsys.readouterr().out)
     assert code == 0 and report["captured"], report["termination"]
@@ -28,9 +28,9 @@ def test_the_default_captures_every_built_in_hunt_and_the_paper_two_defenders(ca
 
 def test_the_paper_strategy_with_a_failed_robot_keeps_the_attacker_in_and_clear_of_obstacles(capsys):
     """Whether the paper's strategy captures ``failed-defender`` before the time limit is not a property of the
-    hunt: the nominal run and five starts moved by a nanometre captured in 4 of 6 on one CPU, and the nominal run
-    captures on some CPUs and not on others. What holds on every member: it runs to the end, the attacker never
-    escapes, and no robot enters an obstacle."""
+    hunt: of starts a nanometre apart some capture and the others reach the time limit, and the nominal run
+    captures on some CPUs and not on others. What they share: it runs to the end, the attacker never escapes, and
+    no robot enters an obstacle."""
     code = main(["simulate", "--scenario", "failed-defender", "--controller", "paper", "--json"])
     report = json.loads(capsys.readouterr().out)
     assert code == 0 and report["termination"] in ("captured", "time_limit"), report["termination"]
