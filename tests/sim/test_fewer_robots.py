@@ -26,15 +26,16 @@ def test_the_default_captures_every_built_in_hunt_and_the_paper_two_defenders(ca
     assert report["min_obstacle_clearance_m"] is None or report["min_obstacle_clearance_m"] > 0
 
 
-def test_the_paper_strategy_with_a_failed_robot_keeps_the_attacker_in_and_clear_of_obstacles(capsys):
+def test_the_paper_strategy_with_a_failed_robot_holds_the_attacker_inside_its_perception_radius(capsys):
     """Whether the paper's strategy captures ``failed-defender`` before the time limit is not a property of the
     hunt: of starts a nanometre apart some capture and the others reach the time limit, and the nominal run
-    captures on some CPUs and not on others. What they share: it runs to the end, the attacker never escapes, and
-    no robot enters an obstacle."""
+    captures on some CPUs and not on others. What they share: the attacker never escapes, and the hunt ends with it
+    inside a hunting circle smaller than its perception radius (a team that stopped hunting when the robot failed
+    ends with a radius of metres)."""
     code = main(["simulate", "--scenario", "failed-defender", "--controller", "paper", "--json"])
     report = json.loads(capsys.readouterr().out)
     assert code == 0 and report["termination"] in ("captured", "time_limit"), report["termination"]
-    assert report["min_obstacle_clearance_m"] is None or report["min_obstacle_clearance_m"] > 0
+    assert report["final_hunting_radius_m"] < builtin_scenario("failed-defender").attacker.perception_radius
 
 
 def test_a_failed_robot_stands_still_and_is_never_controlled():
