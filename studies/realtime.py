@@ -25,6 +25,8 @@ from pathlib import Path
 from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.capture import registry
+from mpc_hunt.capture.problem import MAX_HORIZON
+from mpc_hunt.cli.common import count
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
 from docs_block import read_block, write_block
@@ -138,7 +140,7 @@ def check(rerun: bool) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--horizons", type=int, nargs="+", default=HORIZONS)
+    parser.add_argument("--horizons", type=count(MAX_HORIZON), nargs="+", default=HORIZONS)
     parser.add_argument("--check", action="store_true", help="check the committed inputs against the code")
     parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")
     args = parser.parse_args(argv)

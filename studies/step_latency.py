@@ -50,6 +50,8 @@ import numpy as np
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
 
 from mpc_hunt.capture import registry
+from mpc_hunt.cli.common import count, stop_at_once
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
@@ -72,6 +74,7 @@ TEAM_SIZES = (3, 6, 9, 12)
 GROWTH_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm-codegen"), ("ms-nlp", "ipopt"),
                 ("qp", "osqp"), ("qp", "clarabel"))
 GROWTH_STATES = 15
+MAX_STATES = 1_000      # --states: every pair solves each of them
 BASELINE = ("nlp", "ipopt")
 PEER = ("do-mpc", "ipopt (peer)")
 
@@ -354,11 +357,24 @@ def targets(rows: list[dict], growth_result: dict | None, profile: dict | None) 
     return lines
 
 
+def pair(text: str) -> tuple[str, str]:
+    """An argument type: an installed ``FORMULATION/BACKEND`` pair."""
+    formulation, slash, backend = text.partition("/")
+    if not slash or not backend:
+        raise argparse.ArgumentTypeError(f"expected FORMULATION/BACKEND (such as rti/hpipm), got {text!r}")
+    try:
+        registry.check_pair(formulation, backend)
+    except MpcHuntError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return formulation, backend
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "step_latency")
-    parser.add_argument("--states", type=int, default=60)
-    parser.add_argument("--pairs", nargs="+", metavar="FORMULATION/BACKEND")
+    parser.add_argument("--states", type=count(MAX_STATES), default=60,
+                        help=f"consecutive closed-loop states, 2 to {MAX_STATES}")
+    parser.add_argument("--pairs", nargs="+", type=pair, metavar="FORMULATION/BACKEND")
     parser.add_argument("--reuse-states", action="store_true", help="read the states from OUT/states.json")
     parser.add_argument("--no-growth", action="store_true", help="skip the growth with N and N_d")
     parser.add_argument("--no-peer", action="store_true", help="skip the do-mpc peer")
@@ -373,14 +389,31 @@ def main() -> int:
         return check_result(check(args.out), "studies/step_latency", "python studies/step_latency.py --reuse-states")
     if args.blasfeo is not None and not (args.blasfeo / "libblasfeo.so.0").exists():
         parser.error(f"--blasfeo {args.blasfeo}: no libblasfeo.so.0 there")
-    args.out.mkdir(parents=True, exist_ok=True)
-    states_file = args.out / "states.json"
+    if args.states < 2:
+        parser.error(f"--states: at least 2 (the first sets up and is not timed), got {args.states}")
+    try:
+        args.out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        parser.error(f"--out {args.out}: cannot create ({exc.strerror or exc})")
+    try:
+        with stop_at_once("step_latency"):            # Ctrl-C: nothing written, the committed files kept
+            problem_set, result = run(args)
+    except MpcHuntError as exc:
+        print(f"step_latency.py: error: {exc}", file=sys.stderr)
+        return 2
+    if not args.reuse_states:
+        save_problem_set(problem_set, args.out / "states.json")
+    write_report(args, problem_set, result)
+    return 0
+
+
+def run(args) -> tuple[ProblemSet, dict]:
+    """The study's measurements: the states (read or built) and every section's figures."""
     if args.reuse_states:
-        problem_set = load_problem_set(states_file)
+        problem_set = load_problem_set(args.out / "states.json")
     else:
         problem_set = closed_loop_states(args.states)
-        save_problem_set(problem_set, states_file)
-    pairs = [tuple(p.split("/")) for p in args.pairs] if args.pairs else registry.pairs()
+    pairs = args.pairs or registry.pairs()
     before = machine()
     peer = DoMPCPeer is not None and not args.no_peer
     rows = latency(problem_set, pairs, peer)
@@ -398,6 +431,13 @@ def main() -> int:
     result["exported_c"] = exported_c(first, args.blasfeo)
     result["loop"] = loop_latency([p for p in first if p.structure == first[0].structure])
     result["machine"]["load_average_after"] = os.getloadavg()
+    return problem_set, result
+
+
+def write_report(args, problem_set: ProblemSet, result: dict) -> None:
+    """``results.json`` and the README of ``args.out``."""
+    rows = result["latency"]
+    peer = any((r["formulation"], r["backend"]) == PEER for r in rows)
     (args.out / "results.json").write_text(json.dumps(result, indent=1) + "\n")
     m = result["machine"]
     text = ["# Step latency of the capture stage", "",
@@ -418,7 +458,7 @@ def main() -> int:
     if result.get("floor") is not None:
         interpreted = next(r for r in rows if (r["formulation"], r["backend"]) == ("rti", "hpipm"))
         text += floor_lines(result["floor"], result["profile"], interpreted["median_step_ms"],
-                            len(first[0].scenario.obstacles), result["exported_c"])
+                            len(problem_set.scenarios[SCENARIO].obstacles), result["exported_c"])
     if "growth" in result:
         text += ["## Growth with the horizon N and the team N_d", "",
                  f"Median step over the first {GROWTH_STATES} states (N) or over {GROWTH_STATES} consecutive "
@@ -429,7 +469,6 @@ def main() -> int:
              *loop_targets(result["loop"], rows, result["exported_c"]), ""]
     (args.out / "README.md").write_text("\n".join(text))
     print(f"wrote {args.out / 'README.md'}")
-    return 0
 
 
 if __name__ == "__main__":
