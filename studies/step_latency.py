@@ -90,14 +90,14 @@ def machine() -> dict:
             "numpy": np.__version__}
 
 
-def closed_loop_states(count: int) -> ProblemSet:
+def closed_loop_states(size: int) -> ProblemSet:
     from mpc_hunt.bench.capture_state import formed_circle_states
     scenario = builtin_scenario(SCENARIO)
-    states = formed_circle_states(scenario, count)
+    states = formed_circle_states(scenario, size)
     entries = tuple(ProblemEntry(f"{SCENARIO}/{i}", SCENARIO, s, f"{SCENARIO}/closed-loop")
                     for i, s in enumerate(states))
     return ProblemSet({SCENARIO: scenario}, entries,
-                      f"{count} consecutive closed-loop states of {SCENARIO} (the paper's strategy), from the first "
+                      f"{size} consecutive closed-loop states of {SCENARIO} (the paper's strategy), from the first "
                       "with the hunting circle formed. Rebuild with `python studies/step_latency.py`.")
 
 
