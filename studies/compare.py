@@ -28,6 +28,7 @@ from mpc_hunt.bench.compare_report import write_report
 from mpc_hunt.bench.compare_rows import best_known, gap
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.bench.problem_set import builtin_problem_set
+from mpc_hunt.cli.common import stop_at_once
 
 from docs_block import read_block, write_block
 from study_check import check_result
@@ -116,11 +117,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="check the committed run instead of running")
     args = parser.parse_args(argv)
-    if args.check:
-        return check_result(check(), "studies/compare", COMMAND)
-    machine = describe_machine()
-    result = run(HORIZONS)
-    machine["load_average_end"] = load_average()
+    with stop_at_once("compare study"):          # Ctrl-C: at once, nothing written
+        if args.check:
+            return check_result(check(), "studies/compare", COMMAND)
+        machine = describe_machine()
+        result = run(HORIZONS)
+        machine["load_average_end"] = load_average()
     for path in write_report(result, machine, OUT, COMMAND, extra()):
         print(f"wrote {path}")
     write_docs()

@@ -42,6 +42,7 @@ from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.bench.problem_set import ProblemSet, dumps_problem_set, load_problem_set
 from mpc_hunt.bench.random_states import random_entries
+from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.world.scenario_io import scenario_to_dict
 
 from study_check import check_result
@@ -158,12 +159,13 @@ def main(argv: list[str] | None = None) -> int:
     mode.add_argument("--check", action="store_true", help="check the shipped file instead of writing it")
     mode.add_argument("--spread", action="store_true", help="print how far a nanometre moves each default state")
     args = parser.parse_args(argv)
-    if args.spread:
-        print("\n".join(spread()))
-        return 0
-    if args.check:
-        return check_result(check(), TARGET.name, "python studies/default_problems.py")
-    text = dumps_problem_set(build())
+    with stop_at_once("problem-set study"):      # Ctrl-C: at once, nothing written
+        if args.spread:
+            print("\n".join(spread()))
+            return 0
+        if args.check:
+            return check_result(check(), TARGET.name, "python studies/default_problems.py")
+        text = dumps_problem_set(build())
     TARGET.write_text(text, encoding="utf-8")
     print(f"wrote {TARGET}")
     return 0

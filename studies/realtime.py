@@ -26,7 +26,7 @@ from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.capture import registry
 from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.cli.common import count
+from mpc_hunt.cli.common import count, stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
 from docs_block import read_block, write_block
@@ -144,11 +144,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--check", action="store_true", help="check the committed inputs against the code")
     parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")
     args = parser.parse_args(argv)
-    if args.check or args.check_runs:
-        return check_result(check(args.check_runs), "studies/realtime", COMMAND)
-    machine = describe_machine()
-    rows = run(args.horizons)
-    machine["load_average_end"] = load_average()
+    with stop_at_once("realtime study"):         # Ctrl-C: at once, nothing written
+        if args.check or args.check_runs:
+            return check_result(check(args.check_runs), "studies/realtime", COMMAND)
+        machine = describe_machine()
+        rows = run(args.horizons)
+        machine["load_average_end"] = load_average()
     write(rows, machine, args.horizons)
     print(f"wrote {OUT / 'README.md'}")
     write_block("realtime", headline(json.loads((OUT / "results.json").read_text(encoding="utf-8"))))

@@ -33,6 +33,7 @@ import numpy as np
 
 from mpc_hunt import builtin_scenario, simulate
 from mpc_hunt.world.ensemble import SCALE, band, outside, perturbed, widened
+from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
 from mpc_hunt.plots.hunt import plot_hunt
 
@@ -358,12 +359,13 @@ def main(argv: list[str] | None = None) -> int:
     mode.add_argument("--nominal", action="store_true", help="print the nominal runs' reports as JSON")
     args = parser.parse_args(argv)
     workers = min(2, os.cpu_count() or 1)
-    if args.nominal:
-        print(json.dumps(nominal_reports(1)))
-        return 0
-    if args.check:
-        return check_result(check(args.out, workers), str(args.out), COMMAND)
-    results, nominal = study(workers)
+    with stop_at_once("reproduction study"):     # Ctrl-C: at once, nothing written
+        if args.nominal:
+            print(json.dumps(nominal_reports(1)))
+            return 0
+        if args.check:
+            return check_result(check(args.out, workers), str(args.out), COMMAND)
+        results, nominal = study(workers)
     args.out.mkdir(parents=True, exist_ok=True)
     for key in KEYS:
         plot_hunt(nominal[run_name(*key)], builtin_scenario(key[0]), args.out / f"{run_name(*key)}.png")

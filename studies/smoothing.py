@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, simulate
+from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.world.attacker import perceives
 
 SCENARIOS = ("paper-open", "paper-obstacles")
@@ -97,7 +98,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "smoothing")
     args = parser.parse_args()
-    rows = run()
+    with stop_at_once("smoothing study"):        # Ctrl-C: at once, nothing written
+        rows = run()
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "results.json").write_text(json.dumps(rows, indent=1) + "\n")
     text = ["# Rounding the field's kink: effect on the NLP's solves", "",

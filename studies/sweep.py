@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt.cli.commands import main as mpc_hunt
+from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.cli.sweep import typical_hunts_figure
 from mpc_hunt.world.ensemble import SCALE, band, outside, widened
@@ -302,7 +303,8 @@ def main(argv: list[str] | None = None) -> int:
                              "interrupted rerun continues without it")
     args = parser.parse_args(argv)
     if args.check:
-        return check_result(check(), "studies/sweep", COMMAND)
+        with stop_at_once("sweep study"):        # Ctrl-C: at once (the check writes nothing)
+            return check_result(check(), "studies/sweep", COMMAND)
     if args.rerun:
         try:
             forget(args.rerun)
