@@ -10,11 +10,11 @@ unavailable with its install hint.
 
 from __future__ import annotations
 
-import importlib
 import importlib.util
 from functools import cache
 
 from mpc_hunt.errors import SolverNotFoundError, UnknownNameError
+from mpc_hunt.world.names import load_class
 
 FORMULATIONS = {
     "nlp": "formulations.nlp:NLPFormulation",
@@ -35,14 +35,6 @@ BACKENDS = {
     "hpipm": "mpc_hunt.capture.backends.hpipm:HpipmBackend",
     "hpipm-codegen": "mpc_hunt.capture.backends.hpipm_codegen:HpipmCodegenBackend",
 }
-
-
-def load_class(table: dict[str, str], what: str, name: str) -> type:
-    """The class a table line names as ``"module:Class"``, imported now; an unknown name lists the table's."""
-    if name not in table:
-        raise UnknownNameError(f"unknown {what} {name!r} (available: {', '.join(table)})")
-    module, cls = table[name].split(":")
-    return getattr(importlib.import_module(module), cls)
 
 
 @cache

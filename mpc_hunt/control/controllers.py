@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from mpc_hunt.capture.registry import load_class
+from mpc_hunt.world.belief import Belief, believed
+from mpc_hunt.world.names import load_class
 
 CONTROLLERS = {
     "paper": "mpc_hunt.control.strategy:HuntingStrategy",
@@ -13,8 +14,11 @@ CONTROLLERS = {
 SOLVING = ("paper", "enclose")     # the controllers that solve a capture problem (take solver settings)
 
 
-def make_controller(name: str, scenario, **options):
+def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):
     """A fresh controller for ``scenario`` by name: ``paper``, the strategy with the paper's capture
     objective; ``enclose``, the same strategy with the enclose objective; ``apf``, the potential-field
-    encirclement, and ``voronoi``, the Voronoi encirclement, with no optimisation."""
-    return load_class(CONTROLLERS, "controller", name)(scenario, **options)
+    encirclement, and ``voronoi``, the Voronoi encirclement, with no optimisation.
+
+    The controller is built on the defenders' ``belief`` of the attacker (:func:`mpc_hunt.world.belief.believed`;
+    ``rng`` draws its heading error), never on the world's behaviour."""
+    return load_class(CONTROLLERS, "controller", name)(believed(scenario, belief, rng), **options)

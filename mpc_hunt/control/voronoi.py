@@ -1,6 +1,6 @@
 """Voronoi encirclement: a baseline from the pursuit–evasion literature, with no optimisation.
 
-Each step builds the attacker's bounded Voronoi cell (:mod:`mpc_hunt.control.voronoi_cell`: the
+Each step builds the attacker's bounded Voronoi cell (:mod:`mpc_hunt.world.voronoi_cell`: the
 arena cut by the bisectors to the defenders and by the obstacles' tangents). A defender that
 shares an edge with it aims at a distance from the attacker equal to that of the edge's
 midpoint, the area-minimising pursuit rule (Huang et al. 2011; Zhou et al. 2016, "Cooperative
@@ -32,7 +32,7 @@ import math
 import numpy as np
 
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
-from mpc_hunt.control.voronoi_cell import Cell, attacker_cell
+from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target
 from mpc_hunt.world.geometry import dot2, encloses, norm, saturate, unit

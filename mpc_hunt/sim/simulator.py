@@ -2,8 +2,10 @@
 
 Each step of length T: the controller sees the state at t; every defender moves
 at its commanded velocity capped at its max speed (Eq. 1); the attacker moves
-at its resultant (Eq. 9 plus its nominal intent) capped at its max speed
-(Eq. 2), both evaluated at the state at t (explicit Euler). A hunt ends when
+as its scenario's behaviour says (:mod:`mpc_hunt.world.behaviours`; the
+paper's, its resultant of Eq. 9 plus its nominal intent capped at its max
+speed, Eq. 2, by default), both evaluated at the state at t (explicit Euler).
+The controller never learns the behaviour: it was built on a belief. A hunt ends when
 the success test (Eqs. 4–5) has held for ``hold_time``, at ``time_limit``, or
 if the state stops being finite, when the attacker leaves the scenario's arena
 (if it has one), or when ``until`` (if given) says so of an observation. The
@@ -17,7 +19,8 @@ from typing import Callable
 
 import numpy as np
 
-from mpc_hunt.world import attacker
+from mpc_hunt.world.behaviours import make_behaviour
+from mpc_hunt.world.belief import believed
 from mpc_hunt.world.geometry import norm, saturate
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.world.hunting_circle import success_test
@@ -26,17 +29,25 @@ from mpc_hunt.world.arena import attacker_escaped, margin
 from mpc_hunt.control.controller import Controller, Observation
 from mpc_hunt.control.strategy import HuntingStrategy
 
+DEFAULT_SEED = 0
+
 
 def simulate(scenario: Scenario, controller: Controller | None = None, *, prediction: bool = True,
              until: Callable[[Observation], bool] | None = None,
-             progress: Callable[[float], None] | None = None) -> HuntResult:
-    """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT).
+             progress: Callable[[float], None] | None = None,
+             rng: np.random.Generator | None = None) -> HuntResult:
+    """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT) built on the
+    defenders' default belief (:func:`mpc_hunt.world.belief.believed`), never on the world's behaviour.
+
+    ``rng`` draws whatever the attacker's behaviour draws (``noisy``); without one, a generator seeded
+    with ``DEFAULT_SEED``, so the same scenario always gives the same hunt.
 
     ``until`` stops the run (termination ``"stopped"``) before the first
     observation it returns true for; that observation is the last recorded state.
     ``progress``, if given, is called with the simulated time after each step.
     """
-    controller = controller or HuntingStrategy(scenario, prediction=prediction)
+    controller = controller or HuntingStrategy(believed(scenario), prediction=prediction)
+    behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)
     hunt = scenario.hunt
     T = hunt.time_step
     max_steps = int(math.ceil(hunt.time_limit / T - 1e-9))
@@ -65,7 +76,7 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
             streak = 0 if cmd.solution.success else streak + 1
             longest_streak = max(longest_streak, streak)
         fallbacks += cmd.fallback
-        velocity = attacker.velocity(scenario, p_a, p_d)
+        velocity = behaviour.velocity(p_a, p_d)
         previous = p_a.copy()
         p_d = p_d + T * saturate(np.where(stopped[:, None], 0.0, cmd.velocities), speeds)
         p_a = p_a + T * velocity

@@ -1,16 +1,23 @@
-"""The attacker of a scenario: what it perceives and how it moves (Eqs. 2 and 9).
+"""The paper's attacker: what it perceives and how it moves (Eqs. 2 and 9).
 
-One place for the rules that the world (the simulator) and the defenders'
-model of it (the capture problem, the strategy) share.
+The world moves the attacker by its scenario's behaviour
+(:mod:`mpc_hunt.world.behaviours`; ``apf``, the default, is these rules); the
+defenders predict it with these rules applied to their belief
+(:mod:`mpc_hunt.world.belief`), which may differ from the world in every
+parameter and in the behaviour itself.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from typing import TYPE_CHECKING
+
 from mpc_hunt.world.field import attacker_resultant, nominal_intent
 from mpc_hunt.world.geometry import norm, saturate
-from mpc_hunt.world.scenario import Scenario
+
+if TYPE_CHECKING:
+    from mpc_hunt.world.scenario import Scenario
 
 
 def perceives(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from mpc_hunt.world.arena import Arena, outside
+from mpc_hunt.world.behaviours import BEHAVIOURS
 from mpc_hunt.errors import ScenarioError
 
 Vector = tuple[float, float]
@@ -27,6 +28,7 @@ MAX_SPEED = 1e3            # m/s, a robot's max_speed
 MAX_STEPS = 10_000_000     # time_limit / time_step: simulator steps in one hunt
 MAX_DEFENDERS = 20
 MAX_OBSTACLES = 100
+MAX_DISTURBANCE = 10.0   # of the attacker's max_speed: the noisy attacker's largest disturbance
 
 
 def shown(value: object, width: int = 60) -> str:
@@ -131,20 +133,41 @@ class Defender:
 
 @dataclass(frozen=True)
 class Attacker:
-    """The attacker (Eq. 2): nominal velocity, speed limit and perception radius R_agg."""
+    """The attacker (Eq. 2): nominal velocity, speed limit and perception radius R_agg, and how the world moves
+    it: ``behaviour`` (:mod:`mpc_hunt.world.behaviours`; the paper's ``apf`` by default), the radius within
+    which an evader senses defenders (``sensing_radius``; ``apf`` senses at R_agg) and the ``noisy``
+    attacker's ``disturbance`` (a fraction of ``max_speed``)."""
 
     start: Vector
     nominal_velocity: Vector
     max_speed: float
     perception_radius: float
+    behaviour: str = "apf"
+    sensing_radius: float | None = None
+    disturbance: float | None = None
 
     def validated(self, where: str) -> "Attacker":
+        if not isinstance(self.behaviour, str) or self.behaviour not in BEHAVIOURS:
+            raise ScenarioError(f"{where}.behaviour: unknown {shown(self.behaviour)} "
+                                f"(available: {', '.join(BEHAVIOURS)})")
+        sensing = disturbance = None
+        if self.sensing_radius is not None:
+            if self.behaviour == "apf" or self.behaviour == "noisy":
+                raise ScenarioError(f"{where}.sensing_radius: the {self.behaviour} attacker senses at its "
+                                    "perception_radius; set that instead")
+            sensing = checked_number(self.sensing_radius, f"{where}.sensing_radius", positive=True, unit=" m")
+        if self.disturbance is not None:
+            if self.behaviour != "noisy":
+                raise ScenarioError(f"{where}.disturbance: only the noisy attacker takes one, not {self.behaviour}")
+            disturbance = checked_number(self.disturbance, f"{where}.disturbance", non_negative=True,
+                                         limit=MAX_DISTURBANCE)
         return Attacker(checked_vector(self.start, f"{where}.start"),
                         checked_vector(self.nominal_velocity, f"{where}.nominal_velocity", unit=" m/s"),
                         checked_number(self.max_speed, f"{where}.max_speed", positive=True,
                                        limit=MAX_SPEED, unit=" m/s"),
                         checked_number(self.perception_radius, f"{where}.perception_radius", positive=True,
-                                       unit=" m"))
+                                       unit=" m"),
+                        self.behaviour, sensing, disturbance)
 
 
 @dataclass(frozen=True)

@@ -9,7 +9,7 @@ from mpc_hunt import Attacker, Defender, HuntParameters, Obstacle, Scenario, sim
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.control.voronoi import VoronoiController
-from mpc_hunt.control.voronoi_cell import attacker_cell
+from mpc_hunt.world.voronoi_cell import attacker_cell
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Strategy
 from mpc_hunt.world.geometry import norm

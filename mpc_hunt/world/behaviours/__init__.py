@@ -1,0 +1,36 @@
+"""How the world moves the attacker: behaviours by name, one file and one line each, imported on first use.
+
+``apf`` is the paper's attacker (Eqs. 2 and 9; :mod:`mpc_hunt.world.attacker`),
+the default, which every scenario without a ``behaviour`` keeps. The others are
+evaders from the pursuit–evasion literature (docs/model.md, "Attacker
+behaviours"): ``flee``, ``gap``, ``voronoi`` and ``noisy``. Every behaviour
+senses defenders within a radius, moves at most v_a, is repelled by obstacles
+(Eq. 3) and never steps into one (:mod:`mpc_hunt.world.behaviours.base`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mpc_hunt.world.names import load_class
+
+if TYPE_CHECKING:
+    from mpc_hunt.world.behaviours.base import Behaviour
+    from mpc_hunt.world.scenario import Scenario
+
+BEHAVIOURS = {
+    "apf": "mpc_hunt.world.behaviours.apf:ApfAttacker",
+    "flee": "mpc_hunt.world.behaviours.flee:FleeingAttacker",
+    "gap": "mpc_hunt.world.behaviours.gap:GapAttacker",
+    "voronoi": "mpc_hunt.world.behaviours.voronoi:VoronoiAttacker",
+    "noisy": "mpc_hunt.world.behaviours.noisy:NoisyAttacker",
+}
+DEFAULT_BEHAVIOUR = "apf"
+
+
+def make_behaviour(scenario: Scenario, rng: np.random.Generator) -> Behaviour:
+    """A fresh behaviour for the attacker of ``scenario`` (``scenario.attacker.behaviour``); ``rng`` draws any
+    randomness it has, so the same scenario and seed give the same hunt."""
+    return load_class(BEHAVIOURS, "attacker behaviour", scenario.attacker.behaviour)(scenario, rng)
