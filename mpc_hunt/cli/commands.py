@@ -23,10 +23,12 @@ from mpc_hunt.capture.export import MODES as HPIPM_MODES
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress,
+from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
                                  check_writable, count, non_negative, positive_float, seed, stop_at_once)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.world.behaviours import BEHAVIOURS
+from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario,
                                         resolve_scenario)
 
@@ -86,6 +88,16 @@ def build_parser() -> argparse.ArgumentParser:
                           "voronoi: the Voronoi encirclement from the pursuit-evasion literature, no optimisation "
                           "(for apf and voronoi --formulation, --backend, --horizon, --time-budget and --score "
                           "do not apply)")
+    sim.add_argument("--attacker", choices=list(BEHAVIOURS), metavar="NAME",
+                     help=f"how the world moves the attacker, instead of the scenario's behaviour: "
+                          f"{', '.join(BEHAVIOURS)} (mpc_hunt/world/behaviours/)")
+    sim.add_argument("--belief", type=belief, default=Belief(), metavar="SPEC",
+                     help="the defenders' model of the attacker, as errors against the world: "
+                          "perception_radius=1.3x,eta=3x,intent_heading=60 (degrees), or exact (the default)")
+    sim.add_argument("--seed", type=seed, metavar="S",
+                     help="seed of the world's random generator, numpy.random.default_rng(S) (what the attacker's "
+                          "behaviour draws), and of the belief's heading error, child 0 of SeedSequence(S) "
+                          "(default: 0)")
     sim.add_argument("--no-prediction", action="store_true",
                      help="approach the attacker's current position instead of the predicted intercept")
     sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",
@@ -232,8 +244,10 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
     check_writable(path.parent, option, path)
 
 
-def _controller(args, scenario):
+def _controller(args, scenario, belief_rng):
+    """The controller the flags name, built on the belief of --belief (``belief_rng`` draws its errors)."""
     prediction = not args.no_prediction
+    believed = {"belief": args.belief, "rng": belief_rng}
     if args.controller not in controllers.SOLVING:
         given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
                                           ("--horizon", args.horizon), ("--time-budget", args.time_budget),
@@ -242,10 +256,28 @@ def _controller(args, scenario):
         if given:
             raise MpcHuntError(f"{', '.join(given)}: only with --controller paper or enclose "
                                f"(controller {args.controller!r} solves no capture problem)")
-        return controllers.make_controller(args.controller, scenario, prediction=prediction)
+        return controllers.make_controller(args.controller, scenario, prediction=prediction, **believed)
     formulation, backend, horizon = _solver_choice(args)
     return controllers.make_controller(args.controller, scenario, prediction=prediction, formulation=formulation,
-                                       backend=backend, horizon=horizon, time_limit=args.time_budget, score=args.score)
+                                       backend=backend, horizon=horizon, time_limit=args.time_budget, score=args.score,
+                                       **believed)
+
+
+def _world(args, scenario):
+    """The scenario with --attacker's behaviour, the world's random generator and the belief's (--seed)."""
+    import numpy as np
+
+    from mpc_hunt.sim.simulator import DEFAULT_SEED
+    from mpc_hunt.sweep.runner import with_behaviour
+
+    if args.attacker is not None:
+        try:
+            scenario = with_behaviour(scenario, args.attacker)
+        except MpcHuntError as exc:
+            raise MpcHuntError(f"--attacker {args.attacker} on {args.scenario}: {exc}") from None
+    world_seed = DEFAULT_SEED if args.seed is None else args.seed
+    belief_seed = np.random.SeedSequence(world_seed).spawn(1)[0]
+    return scenario, np.random.default_rng(world_seed), np.random.default_rng(belief_seed)
 
 
 def _simulate(args) -> int:
@@ -255,10 +287,10 @@ def _simulate(args) -> int:
         registry.check_pair(*_solver_choice(args)[:2])
     check_output(args.plot, FIGURE_SUFFIXES, "--plot")
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
-    scenario = resolve_scenario(args.scenario)
-    controller = _controller(args, scenario)
+    scenario, world, belief_rng = _world(args, resolve_scenario(args.scenario))
+    controller = _controller(args, scenario, belief_rng)
     with stop_at_once("simulate"), Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
-        result = simulate(scenario, controller, progress=update)
+        result = simulate(scenario, controller, progress=update, rng=world)
     report = result.to_dict()
     # The report goes out before any figure is written, so a failed write loses nothing computed.
     print(json.dumps(report) if args.json else _summary(result, report, scenario))

@@ -11,6 +11,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.world.belief import Belief, parse_belief
 
 # Every count the command line takes has an upper bound (docs/robustness.md, "Limits"), so that no value forks
 # processes without end, asks for more memory than a machine has, or overflows the results file.
@@ -57,6 +58,15 @@ def non_negative(most: int):
 
 def seed(text: str) -> int:
     return _whole(text, 0, MAX_SEED, "must not be negative")
+
+
+def belief(text: str) -> Belief:
+    """An argument type: the defenders' belief of the attacker (``perception_radius=1.3x,eta=3x,intent_heading=60``
+    or ``exact``; :func:`mpc_hunt.world.belief.parse_belief`)."""
+    try:
+        return parse_belief(text)
+    except MpcHuntError as exc:      # a ValueError too, which argparse would report without the message
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def check_writable(folder: Path, option: str, path: Path) -> None:

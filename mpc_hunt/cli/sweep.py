@@ -6,8 +6,10 @@ import json
 import sys
 from pathlib import Path
 
-from mpc_hunt.cli.common import MAX_HUNTS, Progress, check_writable, cores_count, count, seed
+from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count, count, seed
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.world.behaviours import BEHAVIOURS, DEFAULT_BEHAVIOUR
+from mpc_hunt.world.belief import Belief
 
 
 def add_parsers(sub) -> None:
@@ -16,14 +18,22 @@ def add_parsers(sub) -> None:
     sw = sub.add_parser(
         "sweep", help="run many random hunts for one or more strategies",
         description="Run --hunts random hunts (mpc_hunt.sweep.random_scenario; ranges from --ranges FILE and --set) "
-                    "for each strategy, on local worker processes or a Dask cluster, streaming one row per hunt into "
-                    "an SQLite file; then print the summary per strategy. A strategy is "
-                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
-                    "paper:qp:daqp:5, apf. "
+                    "for each strategy against each attacker with each belief, on local worker processes or a Dask "
+                    "cluster, streaming one row per hunt into an SQLite file; then print the summary per strategy, "
+                    "attacker and belief. A strategy is controller[:formulation[:backend[:horizon]]], e.g. "
+                    "paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf. "
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
-    sw.add_argument("--hunts", type=count(MAX_HUNTS), default=100, help="hunts per strategy (default: 100)")
+    sw.add_argument("--attacker", action="append", choices=list(BEHAVIOURS), metavar="NAME",
+                    help=f"how the world moves the attacker: {', '.join(BEHAVIOURS)}; repeatable (default: "
+                         f"{DEFAULT_BEHAVIOUR}, the paper's). Hunt i's scenario is the same for every attacker, its "
+                         "behaviour replaced")
+    sw.add_argument("--belief", action="append", type=belief, metavar="SPEC",
+                    help="the defenders' model of the attacker, as errors against the world: "
+                         "perception_radius=1.3x,eta=3x,intent_heading=60 (degrees), or exact; repeatable "
+                         "(default: exact). Stored and run as its label (values to 6 significant digits)")
+    sw.add_argument("--hunts", type=count(MAX_HUNTS), default=100, help="hunts per strategy, attacker and belief (default: 100)")
     sw.add_argument("--seed", type=seed, default=0,
                     help="the sweep's seed (≥ 0); hunt i uses scenario (seed, i)")
     sw.add_argument("--ranges", type=Path, metavar="FILE", help="TOML file of scenario ranges ([ranges] table)")
@@ -40,7 +50,8 @@ def add_parsers(sub) -> None:
     rep.add_argument("file", type=Path)
     rep.add_argument("--plot", type=Path, metavar="DIR",
                      help="write the figures (PNG) into this folder, with the best strategy's typical captured and "
-                          "lost hunt rerun (a few seconds each)")
+                          "lost hunt (of every attacker and belief) rerun with their own attacker and belief "
+                          "(a few seconds each)")
     rep.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
@@ -68,14 +79,17 @@ def sweep(args) -> int:
     from mpc_hunt.sweep.random_scenario import ranges_to_dict
 
     strategies = [Strategy.parse(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
+    attackers = list(dict.fromkeys(args.attacker or [DEFAULT_BEHAVIOUR]))
+    beliefs = list(dict.fromkeys(b.label() for b in (args.belief or [Belief()])))   # eta=3 and eta=3x are one
     ranges = _ranges(args)
     if args.output.is_dir() or not args.output.parent.is_dir():
         raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
     check_writable(args.output.parent, "--output", args.output)
-    arguments = {"strategies": strategies, "hunts": args.hunts, "seed": args.seed, "ranges": ranges_to_dict(ranges)}
+    arguments = {"strategies": strategies, "attackers": attackers, "beliefs": beliefs, "hunts": args.hunts,
+                 "seed": args.seed, "ranges": ranges_to_dict(ranges)}
     client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None    # before any file is written
     store = SweepStore(args.output, arguments, resume=args.resume)
-    todo = tasks(strategies, args.hunts, args.seed, ranges, store.done())
+    todo = tasks(strategies, args.hunts, args.seed, ranges, store.done(), attackers, beliefs)
     rows = run_dask(todo, client) if client else run_local(todo, args.workers)
     stopped = None
     with Progress(len(todo), "sweep", quiet=args.json, unit="hunts") as update:
@@ -139,7 +153,9 @@ def typical_hunts_figure(rows: list[dict], summaries: list[dict], folder: Path) 
         scenario, result = rerun(row)
         how = (f"captured at {row['capture_time_s']:.0f} s" if kind == "captured"
                else f"lost ({row['cause']}), closest approach {row['min_attacker_distance_m']:.2f} m")
-        cases.append((result, scenario, f"typical {kind}: {strategy}, {row['name']}\n{how}"))
+        against = "" if (row["attacker"], row["belief"]) == (DEFAULT_BEHAVIOUR, Belief().label()) else \
+            f" vs {row['attacker']}, belief {row['belief']}"
+        cases.append((result, scenario, f"typical {kind}: {strategy}{against}, {row['name']}\n{how}"))
     if not cases:
         return []
     plot_capture_regions(cases, folder / "typical_hunts.png")

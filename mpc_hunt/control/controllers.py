@@ -10,8 +10,9 @@ CONTROLLERS = {
     "enclose": "mpc_hunt.control.strategy:EnclosingStrategy",
     "apf": "mpc_hunt.control.encircling:EncirclingController",
     "voronoi": "mpc_hunt.control.voronoi:VoronoiController",
+    "contain": "mpc_hunt.control.strategy:ContainingStrategy",
 }
-SOLVING = ("paper", "enclose")     # the controllers that solve a capture problem (take solver settings)
+SOLVING = ("paper", "enclose", "contain")     # the controllers that solve a capture problem (take solver settings)
 
 
 def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):

@@ -27,6 +27,7 @@ import numpy as np
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target, approach_velocity
 from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
+from mpc_hunt.control.containment import Containment
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
@@ -145,3 +146,15 @@ class EnclosingStrategy(HuntingStrategy):
 
     def __init__(self, scenario: Scenario, **options):
         super().__init__(scenario, objective="enclose", **options)
+
+
+class ContainingStrategy(HuntingStrategy):
+    """The capture problem with the enclose objective tracking the model-free places of
+    :class:`~mpc_hunt.control.containment.Containment` (CLI ``--controller contain``)."""
+
+    def __init__(self, scenario: Scenario, **options):
+        super().__init__(scenario, objective="enclose", **options)
+        self.enclosure = Containment(scenario, self.horizon)
+
+    def describe(self) -> dict:
+        return super().describe() | {"controller": "contain"}

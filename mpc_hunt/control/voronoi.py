@@ -101,7 +101,9 @@ class VoronoiController:
     def describe(self) -> dict:
         return {"controller": "voronoi", "prediction": self.prediction}
 
-    def command(self, obs: Observation) -> Command:
+    def aims(self, obs: Observation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
+        """(the movers, each one's circle centre (k, 2), bearing (k,) and radius (k,), whether the attacker is
+        enclosed): where the module's rule sends each mover, before routing round the circle."""
         s, hunt = self.scenario, self.scenario.hunt
         p_a, P = obs.attacker, obs.defenders
         movers = np.flatnonzero(obs.active)
@@ -115,11 +117,19 @@ class VoronoiController:
         shift = self._centring(p_a, places, stationary) if enclosed else np.zeros(2)
         v_a = attacker_velocity_estimate(obs, hunt.time_step)
         speeds = s.defender_max_speeds
+        centres = np.array([p_a + shift if enclosed else approach_target(p_a, v_a, P[i], speeds[i], self.prediction)
+                            for i in movers]).reshape(-1, 2)
+        return movers, centres, angles, radii, enclosed
+
+    def command(self, obs: Observation) -> Command:
+        s, hunt = self.scenario, self.scenario.hunt
+        p_a, P = obs.attacker, obs.defenders
+        movers, centres, angles, radii, _ = self.aims(obs)
+        speeds = s.defender_max_speeds
         velocities = np.zeros_like(P)
         intercepts = np.full_like(P, np.nan)
-        for i, angle, radius in zip(movers, angles, radii):
-            centre = p_a + shift if enclosed else approach_target(p_a, v_a, P[i], speeds[i], self.prediction)
-            target = self._allowed(route(P[i], centre, angle, radius, speeds[i] * hunt.time_step))
+        for i, centre, angle, radius in zip(movers, centres, angles, radii):
+            target = self.allowed(route(P[i], centre, angle, radius, speeds[i] * hunt.time_step))
             intercepts[i] = target
             velocities[i] = self._safe(P[i], saturate((target - P[i]) / hunt.time_step, speeds[i]))
         capture = attacker.perceives(s, p_a, P) & obs.active
@@ -148,7 +158,7 @@ class VoronoiController:
         half = float(np.max(norm(P - p_a))) + self.scenario.attacker.perception_radius
         return (p_a[0] - half, p_a[1] - half, p_a[0] + half, p_a[1] + half)
 
-    def _allowed(self, target: np.ndarray) -> np.ndarray:
+    def allowed(self, target: np.ndarray) -> np.ndarray:
         """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe."""
         s = self.scenario
         safe = s.hunt.safety_distance

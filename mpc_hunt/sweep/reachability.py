@@ -107,3 +107,30 @@ def reachable(scenario: Scenario) -> bool:
     attacker's undisturbed path in time, and, with fewer than three defenders, can an obstacle stand in
     (see the module's docstring)? False: the hunt cannot be won."""
     return race_labels(scenario)[0]
+
+
+EDGE_SPACING = 0.05   # m: the arena's edges are checked at points this far apart
+
+
+def edge_race_lost(scenario: Scenario) -> bool:
+    """Could an attacker that runs straight for the arena's edge at v_a reach some edge point before every
+    defender can come within R_hunt of it (each at its top speed, in a straight line)? False without an arena.
+
+    A hunt whose attacker wins this race is lost against an evader that runs for that point from the start,
+    whatever the defenders do: no defender can stand in its way in time. The paper's attacker does not run (it
+    follows its intent until it perceives a defender), so such a hunt may still be reachable and comfortable;
+    the label is what an evader needs beside them (docs/robustness.md). Obstacles are ignored: they lengthen
+    the attacker's way as well as the defenders'.
+    """
+    if scenario.arena is None:
+        return False
+    x_min, y_min, x_max, y_max = scenario.arena
+    xs = np.linspace(x_min, x_max, max(2, int(math.ceil((x_max - x_min) / EDGE_SPACING)) + 1))
+    ys = np.linspace(y_min, y_max, max(2, int(math.ceil((y_max - y_min) / EDGE_SPACING)) + 1))
+    edge = np.vstack([np.column_stack([xs, np.full_like(xs, y_min)]), np.column_stack([xs, np.full_like(xs, y_max)]),
+                      np.column_stack([np.full_like(ys, x_min), ys]), np.column_stack([np.full_like(ys, x_max), ys])])
+    attacker_time = norm(edge - np.array(scenario.attacker.start)) / scenario.attacker.max_speed
+    gaps = np.maximum(norm(edge[:, None, :] - scenario.defender_starts[None]) - scenario.hunt.hunt_radius, 0.0)
+    defender_time = np.min(gaps / scenario.defender_max_speeds, axis=1)
+    return bool(np.any(attacker_time < defender_time))
+

@@ -1,11 +1,16 @@
 """Monte Carlo sweeps: many random hunts for one or more strategies, on local processes or a Dask cluster.
 
 A strategy is written ``controller[:formulation[:backend[:horizon]]]``, e.g.
-``paper:nlp:ipopt:1`` (the paper's), ``paper:qp:daqp:5`` or ``apf``. Hunt i of
-a sweep with seed s uses the scenario ``random_scenario.sweep_scenario(s, i,
-ranges)`` for every strategy, so strategies meet the same hunts. Each finished
-hunt is one row (:func:`run_hunt`), stored at once (:mod:`mpc_hunt.sweep.store`),
-so an interrupted sweep loses nothing finished and resumes where it stopped.
+``paper:nlp:ipopt:1`` (the paper's), ``paper:qp:daqp:5`` or ``apf``. Every
+strategy runs against every attacker behaviour
+(:data:`mpc_hunt.world.behaviours.BEHAVIOURS`) with every belief of the
+defenders (:mod:`mpc_hunt.world.belief`, written as its label). Hunt i of a
+sweep with seed s uses the scenario ``random_scenario.sweep_scenario(s, i,
+ranges)`` with its attacker's behaviour replaced, and the random generators of
+:func:`hunt_rngs`, for every strategy, so strategies meet the same hunts and the
+same belief errors. Each finished hunt is one row (:func:`run_hunt`), stored at
+once (:mod:`mpc_hunt.sweep.store`), so an interrupted sweep loses nothing
+finished and resumes where it stopped.
 
 A worker that dies loses only the hunts it was running. On local processes a
 death breaks the whole pool: the hunts then running go to a new pool, and after
@@ -17,6 +22,7 @@ scheduler reruns them; a hunt whose workers died too often (Dask's
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import os
 import signal
 import sys
@@ -25,7 +31,7 @@ from collections import deque
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from typing import Generator, Iterator
+from typing import Generator, Iterator, Sequence
 
 import numpy as np
 
@@ -38,6 +44,9 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ran
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
+from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
+from mpc_hunt.world.belief import Belief, parse_belief
+from mpc_hunt.world.scenario import Scenario
 
 # The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
@@ -46,6 +55,8 @@ from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
 MAX_WORKER_DEATHS = 3
 PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
+EXACT = Belief().label()
+WORLD, BELIEF = 0, 1     # hunt_rngs' streams: the attacker's behaviour, the belief's errors
 
 
 @dataclass(frozen=True)
@@ -86,16 +97,39 @@ class Strategy:
             return self.controller
         return f"{self.controller}:{self.formulation}:{self.backend}:{self.horizon}"
 
-    def controller_for(self, scenario):
+    def controller_for(self, scenario, belief: Belief = Belief(), rng: np.random.Generator | None = None):
+        """The strategy's controller, built on the defenders' ``belief`` of the attacker (``rng`` draws its
+        errors), never on the world's behaviour."""
         if self.controller not in controllers.SOLVING:
-            return controllers.make_controller(self.controller, scenario)
-        return controllers.make_controller(self.controller, scenario, formulation=self.formulation,
-                                           backend=self.backend, horizon=self.horizon)
+            return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng)
+        return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng,
+                                           formulation=self.formulation, backend=self.backend, horizon=self.horizon)
+
+
+def with_behaviour(scenario: Scenario, behaviour: str) -> Scenario:
+    """``scenario`` with its attacker moved by ``behaviour`` in the world (a ``ScenarioError`` if it is unknown,
+    or takes none of the attacker's ``sensing_radius`` or ``disturbance``)."""
+    return dataclasses.replace(scenario, attacker=dataclasses.replace(scenario.attacker, behaviour=behaviour))
+
+
+def hunt_rngs(seed: int, index: int, member: int = 0) -> tuple[np.random.Generator, np.random.Generator]:
+    """The world's generator (the attacker's behaviour) and the belief's (its heading error) for hunt ``index``
+    of the sweep ``seed``, ensemble member ``member``: children ``WORLD`` and ``BELIEF`` of child ``member`` of
+    child ``index`` of ``SeedSequence(seed)``, i.e. ``SeedSequence(seed, spawn_key=(index, member, k))``.
+
+    Spawned as the scenario's own generator is (``random_scenario.sweep_rng``, spawn key ``(index,)``), apart
+    from it and from each other; the same for every strategy. Not ``default_rng([seed, index, member, k])``:
+    numpy pads a short seed list with zeros, so ``[seed, index, member, 0]`` is the stream of
+    ``[seed, index, member]``, which moves an ensemble member's starts (``_drawn``).
+    """
+    return tuple(np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, member, k)))
+                 for k in (WORLD, BELIEF))
 
 
 @dataclass(frozen=True)
 class Hunt:
-    """One task of a sweep: a strategy on the scenario (seed, index) drawn from ``ranges``.
+    """One task of a sweep: a strategy on the scenario (seed, index) drawn from ``ranges``, whose attacker moves
+    by the behaviour ``attacker``, with the defenders' belief ``belief`` (a :meth:`Belief.label`).
 
     ``member`` 0 is the scenario as drawn; member k > 0 moves each start by at most a nanometre
     (:func:`mpc_hunt.world.ensemble.perturbed`, its RNG seeded by seed, index and k), to measure a row's spread.
@@ -106,15 +140,19 @@ class Hunt:
     index: int
     ranges: dict
     member: int = 0
+    attacker: str = DEFAULT_BEHAVIOUR
+    belief: str = EXACT
 
 
 def run_hunt(task: Hunt) -> dict:
     """Run one hunt; its row (plain data). An unexpected exception is a row with cause ``error``."""
     strategy = Strategy.parse(task.strategy)
+    belief = parse_belief(task.belief)
     scenario, row = _drawn(task)
+    world, belief_rng = hunt_rngs(task.seed, task.index, task.member)
     start = time.perf_counter()
     try:
-        result = simulate(scenario, strategy.controller_for(scenario))
+        result = simulate(scenario, strategy.controller_for(scenario, belief, belief_rng), rng=world)
     except Exception as exc:  # noqa: BLE001 - one hunt's crash is its row, never the sweep's end
         return row | _error(exc, time.perf_counter() - start)
     cause = failure_cause(result, scenario)
@@ -141,11 +179,13 @@ def run_hunt(task: Hunt) -> dict:
 
 
 def _drawn(task: Hunt) -> tuple:
-    """The task's scenario, and the start of its row: the strategy and the scenario's parameters."""
-    scenario = sweep_scenario(task.seed, task.index, ranges_from_dict(task.ranges))
+    """The task's scenario, its attacker moving by the task's behaviour, and the start of its row: the strategy,
+    attacker, belief and the scenario's parameters."""
+    scenario = with_behaviour(sweep_scenario(task.seed, task.index, ranges_from_dict(task.ranges)), task.attacker)
     if task.member:
         scenario = perturbed(scenario, np.random.default_rng([task.seed, task.index, task.member]))
-    return scenario, {"strategy": task.strategy, **scenario_row(scenario, seed=task.seed, index=task.index)}
+    return scenario, {"strategy": task.strategy, "attacker": task.attacker, "belief": task.belief,
+                      **scenario_row(scenario, seed=task.seed, index=task.index)}
 
 
 def _error(exc: BaseException, wall_time: float | None) -> dict:
@@ -158,10 +198,13 @@ def one_line(exc: BaseException) -> str:
     return " ".join(f"{type(exc).__name__}: {exc}".split())[:500]
 
 
-def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, done: set) -> list[Hunt]:
-    """Every (strategy, hunt) not yet in ``done`` (keys (strategy, seed, index)), hunt-major order."""
+def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, done: set,
+          attackers: Sequence[str] = (DEFAULT_BEHAVIOUR,), beliefs: Sequence[str] = (EXACT,)) -> list[Hunt]:
+    """Every (strategy, attacker, belief, hunt) not yet in ``done`` (keys (strategy, attacker, belief, seed,
+    index)), hunt-major order; ``beliefs`` are labels (:meth:`Belief.label`)."""
     plain = ranges_to_dict(ranges)
-    return [Hunt(s, seed, i, plain) for i in range(hunts) for s in strategies if (s, seed, i) not in done]
+    return [Hunt(s, seed, i, plain, attacker=a, belief=b) for i in range(hunts) for s in strategies
+            for a in attackers for b in beliefs if (s, a, b, seed, i) not in done]
 
 
 def run_local(todo: list[Hunt], workers: int | None = None) -> Iterator[dict]:

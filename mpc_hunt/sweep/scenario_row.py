@@ -10,7 +10,7 @@ import math
 from dataclasses import asdict
 
 from mpc_hunt.world.hunting_circle import MIN_MEMBERS
-from mpc_hunt.sweep.reachability import race_labels
+from mpc_hunt.sweep.reachability import edge_race_lost, race_labels
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import dumps_scenario
 
@@ -34,6 +34,7 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
     scenario's index in it), ``n_defenders``, ``n_obstacles``,
     ``capturable_by_definition``, ``reachable`` and ``comfortable``
     (:func:`mpc_hunt.sweep.reachability.reachable` and ``comfortable``),
+    ``edge_race_lost`` (:func:`mpc_hunt.sweep.reachability.edge_race_lost`),
     ``defender_speed_min`` and ``_max`` (m/s),
     ``attacker_speed`` (m/s), ``speed_ratio`` (attacker / slowest defender),
     ``perception_radius`` (R_agg, m), ``attacker_heading`` (rad, of the nominal
@@ -57,7 +58,7 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
         "name": scenario.name, "seed": seed, "index": index,
         "n_defenders": len(scenario.defenders), "n_obstacles": len(scenario.obstacles),
         "capturable_by_definition": capturable_by_definition(scenario), "reachable": reachable,
-        "comfortable": comfortable,
+        "comfortable": comfortable, "edge_race_lost": edge_race_lost(scenario),
         "defender_speed_min": min(speeds), "defender_speed_max": max(speeds),
         "attacker_speed": a.max_speed, "speed_ratio": a.max_speed / min(speeds),
         "perception_radius": a.perception_radius,

@@ -1,4 +1,4 @@
-"""A sweep's summary per strategy, recomputed from its rows alone (``mpc-hunt sweep-report``).
+"""A sweep's summary per strategy, attacker and belief, recomputed from its rows alone (``mpc-hunt sweep-report``).
 
 The success rate counts the hunts that can be captured by definition
 (:func:`mpc_hunt.sweep.scenario_row.capturable_by_definition`); the others are
@@ -7,7 +7,11 @@ the attacker before it leaves: :mod:`mpc_hunt.sweep.reachability`) are lost by
 every controller; ``success_rate_reachable`` leaves them out too.
 ``success_rate_comfortable`` counts only the comfortable ones (enough
 defenders can arrive with time to spare: not a race only a perfect controller
-wins). Each 95 % interval is Wilson's score interval. ``safety_breaches_approach``
+wins). ``success_rate_comfortable_without_edge_race`` leaves out, among those,
+the hunts whose attacker could reach some edge of the arena before every
+defender (:func:`mpc_hunt.sweep.reachability.edge_race_lost`): lost against an
+evader that runs for that edge (a previous version's rows, which lack the
+label, count in neither). Each 95 % interval is Wilson's score interval. ``safety_breaches_approach``
 and ``_capture`` count the hunts in which a defender came inside an obstacle's
 safety distance R_safe in that stage (:func:`mpc_hunt.sweep.outcome.safety_breaches`).
 """
@@ -20,6 +24,8 @@ from collections import Counter
 import numpy as np
 
 from mpc_hunt.sweep.outcome import CAUSES
+from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
+from mpc_hunt.world.belief import Belief
 
 Z95 = 1.959963984540054
 
@@ -57,22 +63,35 @@ def _by_defenders(reachable: list[dict]) -> dict[str, dict]:
     return out
 
 
+def combination(row: dict) -> tuple[str, str, str]:
+    """A row's (strategy, attacker, belief); a row without the last two ran the paper's attacker, believed
+    exactly."""
+    return row["strategy"], row.get("attacker", DEFAULT_BEHAVIOUR), row.get("belief", Belief().label())
+
+
 def best_strategy(summaries: list[dict]) -> str:
-    """The strategy with the highest success rate (the first listed on a tie)."""
-    return max(summaries, key=lambda s: s["success_rate"] or 0.0)["strategy"]
+    """The strategy with the highest success rate over all its hunts, every attacker and belief pooled (the
+    first listed on a tie)."""
+    pooled: dict[str, tuple[int, int]] = {}
+    for s in summaries:
+        won, counted = pooled.get(s["strategy"], (0, 0))
+        pooled[s["strategy"]] = (won + s["captured"], counted + s["hunts"] - s["uncapturable_by_definition"])
+    return max(pooled, key=lambda k: pooled[k][0] / pooled[k][1] if pooled[k][1] else 0.0)
 
 
 def summarise(rows: list[dict]) -> list[dict]:
-    """One summary per strategy, in order of first appearance."""
+    """One summary per strategy, attacker and belief, in order of first appearance."""
     out = []
-    for strategy in dict.fromkeys(r["strategy"] for r in rows):
-        mine = [r for r in rows if r["strategy"] == strategy]
+    for strategy, attacker, belief in dict.fromkeys(combination(r) for r in rows):
+        mine = [r for r in rows if combination(r) == (strategy, attacker, belief)]
         counted = [r for r in mine if r["outcome"] != "uncapturable"]
         won = [r for r in counted if r["outcome"] == "captured"]
         reachable = [r for r in counted if r["reachable"]]
         won_reachable = [r for r in reachable if r["outcome"] == "captured"]
         comfortable = [r for r in counted if r["comfortable"]]
         won_comfortable = [r for r in comfortable if r["outcome"] == "captured"]
+        held = [r for r in comfortable if r.get("edge_race_lost") is not None and not r["edge_race_lost"]]
+        won_held = [r for r in held if r["outcome"] == "captured"]
         causes = Counter(r["cause"] for r in counted if r["outcome"] == "failed")
         capture_median, capture_iqr = _median_iqr([r["capture_time_s"] for r in won])
         path_median, path_iqr = _median_iqr([r["path_length_m"] for r in won])
@@ -80,7 +99,8 @@ def summarise(rows: list[dict]) -> list[dict]:
         p50 = [r["solve_time_p50_s"] for r in mine if r.get("solve_time_p50_s") is not None]
         p95 = [r["solve_time_p95_s"] for r in mine if r.get("solve_time_p95_s") is not None]
         out.append({
-            "strategy": strategy, "hunts": len(mine), "uncapturable_by_definition": len(mine) - len(counted),
+            "strategy": strategy, "attacker": attacker, "belief": belief, "hunts": len(mine),
+            "uncapturable_by_definition": len(mine) - len(counted),
             "captured": len(won), "success_rate": len(won) / len(counted) if counted else None,
             "success_rate_ci95": list(wilson(len(won), len(counted))),
             "unreachable": len(counted) - len(reachable),
@@ -90,6 +110,9 @@ def summarise(rows: list[dict]) -> list[dict]:
             "comfortable": len(comfortable),
             "success_rate_comfortable": len(won_comfortable) / len(comfortable) if comfortable else None,
             "success_rate_comfortable_ci95": list(wilson(len(won_comfortable), len(comfortable))),
+            "comfortable_without_edge_race": len(held),
+            "success_rate_comfortable_without_edge_race": len(won_held) / len(held) if held else None,
+            "success_rate_comfortable_without_edge_race_ci95": list(wilson(len(won_held), len(held))),
             "failures": {c: causes.get(c, 0) for c in CAUSES},
             "collisions": causes.get("obstacle_collision", 0) + causes.get("defender_contact", 0),
             "capture_time_median_s": capture_median, "capture_time_iqr_s": capture_iqr,
@@ -121,16 +144,19 @@ def table(summaries: list[dict]) -> str:
         lo, hi = s[f"{key}_ci95"]
         return f"{pct(s[key])} ({pct(lo)}–{pct(hi)})"
 
-    lines = ["| strategy | hunts | success (95 % CI) | of reachable hunts | of comfortable hunts | failures by cause | "
-             "capture time median (IQR) | min clearance / separation | inside R_safe approaching / capturing | "
-             "solve p50 / p95 | failed solves | solves over T |",
-             "| --- | ---: | --- | --- | --- | --- | --- | --- | ---: | --- | ---: | ---: |"]
+    lines = ["| strategy | attacker | belief | hunts | success (95 % CI) | of reachable hunts | of comfortable hunts | "
+             "of comfortable hunts without an edge race | "
+             "failures by cause | capture time median (IQR) | min clearance / separation | "
+             "inside R_safe approaching / capturing | solve p50 / p95 | failed solves | solves over T |",
+             "| --- | --- | --- | ---: | --- | --- | --- | --- | --- | --- | --- | ---: | --- | ---: | ---: |"]
     for s in summaries:
         causes = ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none"
         lines.append(
-            f"| {s['strategy']} | {s['hunts']} ({s['uncapturable_by_definition']} uncapturable, "
+            f"| {s['strategy']} | {s['attacker']} | {s['belief']} | {s['hunts']} "
+            f"({s['uncapturable_by_definition']} uncapturable, "
             f"{s['unreachable']} unreachable, {s['comfortable']} comfortable) | {rate(s, 'success_rate')} | "
-            f"{rate(s, 'success_rate_reachable')} | {rate(s, 'success_rate_comfortable')} | {causes} | "
+            f"{rate(s, 'success_rate_reachable')} | {rate(s, 'success_rate_comfortable')} | "
+            f"{rate(s, 'success_rate_comfortable_without_edge_race')} | {causes} | "
             f"{num(s['capture_time_median_s'], unit=' s')} ({num(s['capture_time_iqr_s'], unit=' s')}) | "
             f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')} | "
             f"{s['safety_breaches_approach']} / {s['safety_breaches_capture']} hunts | "
@@ -138,12 +164,12 @@ def table(summaries: list[dict]) -> str:
             f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |")
     groups = sorted({n for s in summaries for n in s["reachable_by_defenders"]}, key=int)
     lines += ["", "Of the reachable hunts, by number of defenders (captured / hunts, success, 95 % CI):", "",
-              "| strategy | " + " | ".join(f"{n} defenders" for n in groups) + " |",
-              "| --- |" + " --- |" * len(groups)]
+              "| strategy | attacker | belief | " + " | ".join(f"{n} defenders" for n in groups) + " |",
+              "| --- | --- | --- |" + " --- |" * len(groups)]
     for s in summaries:
         cells = []
         for n in groups:
             g = s["reachable_by_defenders"].get(n)
             cells.append("–" if g is None else f"{g['captured']} / {g['hunts']}, {rate(g, 'success_rate')}")
-        lines.append(f"| {s['strategy']} | " + " | ".join(cells) + " |")
+        lines.append(f"| {s['strategy']} | {s['attacker']} | {s['belief']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)

@@ -2,7 +2,8 @@
 
 Typical captured: the capture whose time is nearest the strategy's median capture time.
 Typical lost: among the reachable hunts it lost, those lost by the commonest cause; of them, the one whose
-closest defender–attacker approach is nearest that group's median. Ties go to the lowest hunt index.
+closest defender–attacker approach is nearest that group's median. Ties go to the lowest hunt index, then to
+the first row. A strategy's rows of every attacker and belief count together; a rerun runs the row's own.
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ import numpy as np
 
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.sweep.runner import Strategy
+from mpc_hunt.sweep.runner import Strategy, hunt_rngs, with_behaviour
+from mpc_hunt.world.belief import parse_belief
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import loads_scenario
 
@@ -39,6 +41,9 @@ def typical_rows(rows: list[dict], strategy: str) -> dict[str, dict]:
 
 
 def rerun(row: dict) -> tuple[Scenario, HuntResult]:
-    """The hunt of a sweep row, run again from the scenario and strategy it stores."""
-    scenario = loads_scenario(row["scenario_toml"], row["name"])
-    return scenario, simulate(scenario, Strategy.parse(row["strategy"]).controller_for(scenario))
+    """The hunt of a sweep row, run again from the scenario, strategy, attacker and belief it stores, with the
+    random generators the sweep gave it (:func:`mpc_hunt.sweep.runner.hunt_rngs`)."""
+    scenario = with_behaviour(loads_scenario(row["scenario_toml"], row["name"]), row["attacker"])
+    world, belief_rng = hunt_rngs(row["seed"], row["index"])
+    controller = Strategy.parse(row["strategy"]).controller_for(scenario, parse_belief(row["belief"]), belief_rng)
+    return scenario, simulate(scenario, controller, rng=world)

@@ -312,6 +312,16 @@ def test_bad_state_file(capsys, tmp_path, scenario_file, content, expected):
         assert text in err, err
 
 
+@pytest.mark.parametrize("attacker", ["apf", "noisy"])
+def test_an_attacker_that_takes_none_of_the_files_settings_is_one_line(capsys, tmp_path, attacker):
+    """A flee attacker's sensing_radius, which --attacker apf or noisy (sensing at R_agg) cannot take."""
+    path = write(tmp_path / "flee.toml", edit("perception_radius = 1.0", 'perception_radius = 1.0\nbehaviour = "flee"\n'
+                                                                       "sensing_radius = 2.0"))
+    err = one_line_error(capsys, ["simulate", "--scenario", str(path), "--attacker", attacker], path)
+    assert f"--attacker {attacker} on {path}: attacker.sensing_radius: the {attacker} attacker senses at its " \
+           "perception_radius" in err
+
+
 # --- paths that are not readable files ------------------------------------------------------------
 
 def _unreadable(tmp_path, name: str):

@@ -8,8 +8,14 @@ import sys
 
 import pytest
 
+import numpy as np
+
 from mpc_hunt.cli.commands import main
 from mpc_hunt.bench.problem_set import builtin_problem_set
+from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.sweep.runner import with_behaviour
+from mpc_hunt.world.belief import parse_belief
 from mpc_hunt.world.scenario_io import builtin_scenario, load_scenario
 from scenario_text import scenario_toml
 
@@ -53,6 +59,30 @@ def test_simulate_json_on_a_scenario_file(capsys, tmp_path):
     assert report["captured"] is False and report["capture_time_s"] is None
     assert report["min_obstacle_clearance_m"] is None and report["steps"] == 50
     assert len(report["path_lengths_m"]) == 3
+
+
+@pytest.mark.parametrize("controller, attacker, belief, seed, other", [
+    ("apf", "gap", "exact", None, []),                                        # other: the scenario's own attacker
+    ("enclose", "noisy", "intent_heading=60,eta=2x", 3, ["--seed", "4"]),     # other: another seed
+])
+def test_simulate_runs_the_attacker_and_belief_it_is_given(capsys, tmp_path, controller, attacker, belief, seed,
+                                                           other):
+    """As the Python API with the world's generator default_rng(seed), the belief's child 0 of SeedSequence(seed)."""
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY)
+    base = ["simulate", "--scenario", str(path), "--json", "--controller", controller]
+    flags = ["--attacker", attacker, "--belief", belief] + ([] if seed is None else ["--seed", str(seed)])
+    code, out, err = run(capsys, *base, *flags)
+    assert code == 0, err
+    scenario = with_behaviour(load_scenario(path), attacker)
+    seed = seed or 0
+    solver = {} if controller == "apf" else {"formulation": "rti", "backend": "hpipm", "horizon": 10}
+    controller = make_controller(controller, scenario, belief=parse_belief(belief),
+                                 rng=np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0]), **solver)
+    expected = json.loads(json.dumps(simulate(scenario, controller, rng=np.random.default_rng(seed)).to_dict()))
+    assert json.loads(out) | {"solve_time": None} == expected | {"solve_time": None}
+    _, out, _ = run(capsys, *base, *(flags[:4] + other if other else []))
+    assert json.loads(out)["path_lengths_m"] != expected["path_lengths_m"]
 
 
 def test_simulate_scores_the_control_loops_plans_only_when_asked(capsys, tmp_path):
@@ -106,6 +136,17 @@ def test_solve_at_a_state_file(capsys, tmp_path):
     (["compare", "--pair", "rti:hpipm", "--time-limit", "0.1"], "backend hpipm takes none"),
     (["compare", "--seed", "-1"], "--seed: must not be negative"),
     (["problems", "--build", "x.json", "--seed", "-1"], "--seed: must not be negative"),
+    (["simulate", "--attacker", "nobody"], "invalid choice: 'nobody' (choose from 'apf', 'flee', 'gap', 'voronoi', "
+                                           "'noisy')"),
+    (["sweep", "--attacker", "apf", "--attacker", "gapp"], "invalid choice: 'gapp' (choose from 'apf', 'flee', "),
+    (["simulate", "--belief", "colour=2x"], "--belief: belief 'colour=2x': expected NAME=VALUE with NAME one of eta, "
+                                            "intent_heading, perception_radius"),
+    (["sweep", "--belief", "exact", "--belief", "eta=fast"], "--belief: belief 'eta=fast': eta's value 'fast' is "
+                                                              "not a number"),
+    (["sweep", "--belief", "eta=0x"], "--belief: belief.eta: must be positive"),
+    (["simulate", "--belief", "intent_heading=200"], "--belief: belief.intent_heading"),
+    (["simulate", "--seed", "-1"], "--seed: must not be negative"),
+    (["simulate", "--seed", str(2**63)], "--seed: at most 9223372036854775807"),
 ])
 def test_bad_arguments_are_one_line(capsys, argv, message):
     try:

@@ -10,7 +10,7 @@ import pytest
 from mpc_hunt.control.controller import Command, Observation
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
-from mpc_hunt.sweep.reachability import arrival_steps, comfortable, reachable, undisturbed_path
+from mpc_hunt.sweep.reachability import arrival_steps, comfortable, edge_race_lost, reachable, undisturbed_path
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.sim.simulator import simulate
 
@@ -122,3 +122,23 @@ def test_on_an_unreachable_hunt_pursuit_never_disturbs_the_attacker(index):
     assert not result.captured and result.termination in ("attacker_escaped", "time_limit")
     np.testing.assert_array_equal(result.attacker, np.array(list(undisturbed_path(scenario))))
     assert result.min_attacker_distance > scenario.attacker.perception_radius
+
+
+def _standing(attacker: tuple[float, float], *starts: tuple[float, float]) -> Scenario:
+    """An attacker at 0.03 m/s among defenders at 0.08 m/s in the 20 m arena."""
+    return Scenario(name="race", defenders=tuple(Defender(start=s, max_speed=0.08) for s in starts),
+                    attacker=Attacker(start=attacker, nominal_velocity=(0.0, 0.03), max_speed=0.03,
+                                      perception_radius=1.0),
+                    hunt=HuntParameters(), arena=(0.0, 0.0, 20.0, 20.0))
+
+
+def test_an_attacker_next_to_an_edge_wins_the_race_to_it_and_one_ringed_in_the_middle_does_not():
+    # 0.5 m from the right edge, it reaches (20, 10) in 16.7 s; the nearest defender, 4 m inside, needs
+    # (4.5 − R_hunt) / 0.08 = 50 s to come within R_hunt of that point.
+    assert edge_race_lost(_standing((19.5, 10.0), (15.5, 10.0), (15.0, 14.0), (15.0, 6.0)))
+    # At the centre it needs 333 s to any edge; a defender 1.5 m from it needs at most 175 s to any edge point.
+    ring = _standing((10.0, 10.0), (11.5, 10.0), (9.25, 11.3), (9.25, 8.7))
+    assert not edge_race_lost(ring)
+    assert not edge_race_lost(dataclasses.replace(ring, arena=None))
+    # The race is decided at the edge point nearest the attacker's way out: one defender standing there is enough.
+    assert not edge_race_lost(_standing((19.5, 10.0), (19.9, 10.0), (19.9, 8.5), (19.9, 11.5)))

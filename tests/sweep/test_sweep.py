@@ -8,6 +8,7 @@ import io
 import json
 import multiprocessing
 import os
+import shutil
 import signal
 import sqlite3
 import subprocess
@@ -23,12 +24,12 @@ from mpc_hunt import Attacker, Command, Defender, HuntParameters, Obstacle, Scen
 from mpc_hunt.cli.commands import main
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.sweep.random_scenario import ScenarioRanges
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.sweep.runner import Hunt, Strategy, connect_dask, run_dask, run_hunt, run_local, tasks
 from mpc_hunt.sweep.outcome import FAILURE_STREAK, failure_cause, safety_breaches
 from mpc_hunt.sweep.random_scenario import sweep_scenario
 from mpc_hunt.sweep.reachability import comfortable
-from mpc_hunt.sweep.store import COLUMNS, SweepStore
+from mpc_hunt.sweep.store import COLUMNS, LEGACY_COLUMNS, SweepStore
 from mpc_hunt.sweep.summary import summarise, table, wilson
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -73,13 +74,16 @@ def test_summary_of_hand_made_rows():
     assert s["reachable_by_defenders"] == {
         "2": {"hunts": 1, "captured": 1, "success_rate": 1.0, "success_rate_ci95": list(wilson(1, 1))},
         "3": {"hunts": 3, "captured": 1, "success_rate": 1 / 3, "success_rate_ci95": list(wilson(1, 3))}}
+    assert (s["strategy"], s["attacker"], s["belief"]) == ("s", "apf", "exact")    # rows without them: the defaults
     header, rule, line, _, note, _, groups, _, by_defenders = table([s]).splitlines()
     cells = dict(zip(header.strip("|").split(" | "), line.strip("|").split(" | ")))
     assert note.startswith("Of the reachable hunts, by number of defenders")
-    assert by_defenders.split(" | ")[1:] == [f"1 / 1, 100.0 % ({100 * wilson(1, 1)[0]:.1f} %–100.0 %)",
+    assert by_defenders.split(" | ")[1:3] == ["apf", "exact"]
+    assert by_defenders.split(" | ")[3:] == [f"1 / 1, 100.0 % ({100 * wilson(1, 1)[0]:.1f} %–100.0 %)",
                                              f"1 / 3, 33.3 % ({100 * wilson(1, 3)[0]:.1f} %–"
                                              f"{100 * wilson(1, 3)[1]:.1f} %) |"]
     assert len(rule.split("|")) == len(header.split("|")) == len(line.split("|"))
+    assert line.startswith("| s | apf | exact | 6 (") and header.startswith("| strategy | attacker | belief | hunts |")
     assert cells["hunts"] == "6 (1 uncapturable, 1 unreachable, 2 comfortable)"
     assert cells["of comfortable hunts"] == f"50.0 % ({100 * wilson(1, 2)[0]:.1f} %–{100 * wilson(1, 2)[1]:.1f} %)"
     assert cells["inside R_safe approaching / capturing"] == "2 / 2 hunts"
@@ -202,7 +206,7 @@ def test_the_results_file_keeps_every_column_whatever_row_comes_first(tmp_path):
     good = run_hunt(task[1])
     assert list(good) == list(COLUMNS)                        # the documented schema, in order
     assert list(COLUMNS).index("comfortable") == list(COLUMNS).index("reachable") + 1
-    error = {k: v for k, v in good.items() if k in ("strategy", "name", "seed", "index")}
+    error = {k: v for k, v in good.items() if k in ("strategy", "attacker", "belief", "name", "seed", "index")}
     error |= {"index": 0, "outcome": "failed", "cause": "error", "message": "boom"}
     store = SweepStore(tmp_path / "s.db", {"sweep": 1})
     store.add(error)                                          # an error row first, with few columns
@@ -390,3 +394,155 @@ def test_a_forgotten_strategy_is_run_again_on_resume_and_the_others_kept(small_s
     rows = SweepStore(path).rows()
     assert _outcomes(rows) == _outcomes(small_sweep[1])
     assert [r for r in rows if r["strategy"] != "apf"] == kept
+
+
+# --- attackers and beliefs ------------------------------------------------------------------------------------
+
+TWO_BY_TWO = ["sweep", "--hunts", "2", "--seed", "4", "--strategy", "apf", "--strategy", "voronoi",
+              "--attacker", "apf", "--attacker", "noisy", "--belief", "exact", "--belief", "eta=3,intent_heading=60",
+              "--set", "time_limit=20", "--set", "arena=[0, 0, 6, 6]", "--set", "n_obstacles=0", "--json"]
+BELIEFS = ["exact", "eta=3x,intent_heading=60"]     # as stored: the labels
+
+
+def _sweep(argv: list[str]) -> dict:
+    """``mpc-hunt argv``'s JSON summary."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(argv) == 0
+    return json.loads(out.getvalue())
+
+
+@pytest.fixture(scope="module")
+def two_by_two(tmp_path_factory):
+    """Two strategies against two attackers with two beliefs, on 2 hunts of 20 s: the file and its summary."""
+    path = tmp_path_factory.mktemp("sweep") / "s.db"
+    return path, _sweep([*TWO_BY_TWO, "--workers", "2", "--output", str(path)])
+
+
+def test_every_strategy_meets_every_attacker_and_belief_on_the_same_hunts(two_by_two, tmp_path):
+    path, summary = two_by_two
+    store = SweepStore(path)
+    rows, arguments = store.rows(), store.arguments
+    store.close()
+    assert arguments["attackers"] == ["apf", "noisy"] and arguments["beliefs"] == BELIEFS
+    keys = [(r["strategy"], r["attacker"], r["belief"], r["index"]) for r in rows]
+    assert sorted(keys) == sorted((s, a, b, i) for s in ("apf", "voronoi") for a in ("apf", "noisy")
+                                  for b in BELIEFS for i in (0, 1))
+    assert [(s["strategy"], s["attacker"], s["belief"]) for s in summary["strategies"]] == \
+        list(dict.fromkeys(k[:3] for k in keys)) and all(s["hunts"] == 2 for s in summary["strategies"])
+    for a in ("apf", "noisy"):         # every strategy and belief meets one scenario, its behaviour replaced
+        for i in (0, 1):
+            scenarios = {r["scenario_toml"] for r in rows if (r["attacker"], r["index"]) == (a, i)}
+            assert len(scenarios) == 1 and f'behaviour = "{a}"' in scenarios.pop()
+    by_key = {k: r for k, r in zip(keys, rows)}
+    assert all(by_key[("apf", "apf", "exact", i)]["min_attacker_distance_m"] !=
+               by_key[("apf", "noisy", "exact", i)]["min_attacker_distance_m"] for i in (0, 1))   # pushed at random
+    again = tmp_path / "again.db"      # the same rows from a second run, on one worker
+    _sweep([*TWO_BY_TWO, "--workers", "1", "--output", str(again)])
+    assert _outcomes(SweepStore(again).rows()) == _outcomes(rows)
+
+
+def test_a_resume_runs_only_the_combinations_missing(two_by_two, tmp_path):
+    path = tmp_path / "partial.db"
+    shutil.copy(two_by_two[0], path)
+    with sqlite3.connect(path) as db:
+        assert db.execute("delete from hunts where attacker = 'noisy' and belief != 'exact'").rowcount == 4
+    kept = SweepStore(path).rows()
+    _sweep([*TWO_BY_TWO, "--workers", "1", "--output", str(path), "--resume"])
+    rows = SweepStore(path).rows()
+    assert [r for r in rows if r in kept] == kept and len(rows) == 16       # kept to the wall time: not rerun
+    assert _outcomes(rows) == _outcomes(SweepStore(two_by_two[0]).rows())
+
+
+def test_each_hunt_gets_its_attacker_belief_and_generators_whatever_the_strategy(monkeypatch):
+    from mpc_hunt.control import controllers
+    from mpc_hunt.sweep import runner
+    from mpc_hunt.world.belief import parse_belief
+
+    seen = []
+    make, run = controllers.make_controller, runner.simulate
+
+    def spy_make(name, scenario, *, belief, rng, **options):
+        seen.append(("controller", scenario.attacker.behaviour, belief, rng.bit_generator.state))
+        return make(name, scenario, belief=belief, rng=rng, **options)
+
+    def spy_simulate(scenario, controller, *, rng):
+        seen.append(("world", scenario.attacker.behaviour, rng.bit_generator.state))
+        return run(scenario, controller, rng=rng)
+
+    monkeypatch.setattr(controllers, "make_controller", spy_make)
+    monkeypatch.setattr(runner, "simulate", spy_simulate)
+    ranges = tasks(["apf"], 1, 4, ScenarioRanges(time_limit=1.0), set())[0].ranges
+    for strategy in ("apf", "voronoi"):
+        run_hunt(Hunt(strategy, 4, 1, ranges, attacker="noisy", belief="intent_heading=60"))
+    world, belief = runner.hunt_rngs(4, 1)
+    assert seen[:2] == seen[2:] == [("controller", "noisy", parse_belief("intent_heading=60"),
+                                     belief.bit_generator.state),
+                                    ("world", "noisy", world.bit_generator.state)]
+
+
+def test_the_hunts_generators_are_spawned_apart_from_every_other_stream():
+    from mpc_hunt.sweep.random_scenario import sweep_rng
+    from mpc_hunt.sweep.runner import hunt_rngs
+
+    world, belief = hunt_rngs(7, 3, 2)
+    chain = np.random.SeedSequence(7).spawn(4)[3].spawn(3)[2].spawn(2)
+    assert world.random() == np.random.default_rng(chain[0]).random()
+    assert belief.random() == np.random.default_rng(chain[1]).random()
+    firsts = {g.random() for g in (*hunt_rngs(7, 3, 2), *hunt_rngs(7, 3), *hunt_rngs(7, 4, 2), sweep_rng(7, 3),
+                                   np.random.default_rng([7, 3, 2]))}     # the last: member 2's nanometre moves
+    assert len(firsts) == 8
+    assert [g.random() for g in hunt_rngs(7, 3, 2)] == [g.random() for g in hunt_rngs(7, 3, 2)]
+
+
+def _legacy_file(path: Path, hunts: int, ranges: ScenarioRanges) -> None:
+    """A results file as the previous version wrote it (no attacker and belief columns, arguments without
+    attackers and beliefs), holding hunt 0 of a sweep of ``hunts`` with strategy apf and seed 1."""
+    arguments = {"strategies": ["apf"], "hunts": hunts, "seed": 1, "ranges": ranges_to_dict(ranges)}
+    row = run_hunt(Hunt("apf", 1, 0, arguments["ranges"]))
+    columns = ", ".join(f'"{c}" {COLUMNS[c]}' for c in LEGACY_COLUMNS)
+    with sqlite3.connect(path) as db:
+        db.execute("create table sweep (arguments text not null, numpy text not null)")
+        db.execute(f'create table hunts ({columns}, primary key ("strategy", "seed", "index"))')
+        db.execute("insert into sweep values (?, ?)", (json.dumps(arguments, sort_keys=True), np.__version__))
+        db.execute(f"insert into hunts values ({', '.join('?' for _ in LEGACY_COLUMNS)})",
+                   [row[c] for c in LEGACY_COLUMNS])
+
+
+def test_a_results_file_of_the_previous_version_is_read_and_resumed_as_the_papers_attacker(capsys, tmp_path):
+    ranges = ScenarioRanges(time_limit=10.0)
+    path = tmp_path / "old.db"
+    _legacy_file(path, 2, ranges)
+    store = SweepStore(path)
+    assert store.legacy and store.arguments["attackers"] == ["apf"] and store.arguments["beliefs"] == ["exact"]
+    (row,) = store.rows()
+    store.close()
+    assert list(row) == list(COLUMNS) and (row["attacker"], row["belief"]) == ("apf", "exact")
+    assert main(["sweep-report", str(path), "--json"]) == 0
+    (summary,) = json.loads(capsys.readouterr().out)["strategies"]
+    assert (summary["strategy"], summary["attacker"], summary["belief"], summary["hunts"]) == \
+        ("apf", "apf", "exact", 1)
+    argv = ["sweep", "--hunts", "2", "--seed", "1", "--strategy", "apf", "--set", "time_limit=10", "--workers", "1",
+            "--json", "--output", str(path), "--resume"]
+    assert main([*argv, "--attacker", "gap"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "written by an earlier mpc-hunt" in err and "--attacker apf --belief exact" in err
+    assert main(argv) == 0                     # the same sweep: continued in the old columns
+    capsys.readouterr()
+    store = SweepStore(path)
+    assert store.legacy and len(store.rows()) == 2
+    new = tmp_path / "new.db"
+    assert main([*argv[:-2], str(new)]) == 0       # --output new.db, not resumed
+    fresh = SweepStore(new).rows()
+    assert {r["edge_race_lost"] for r in store.rows()} == {None}     # a label the earlier version did not write
+    assert _outcomes(store.rows()) == _outcomes([r | {"edge_race_lost": None} for r in fresh])
+
+
+def test_the_committed_results_file_of_the_previous_version_reads(tmp_path):
+    path = tmp_path / "sweep.db"
+    shutil.copy(ROOT / "studies" / "sweep" / "sweep.db", path)
+    store = SweepStore(path)
+    rows = store.rows()
+    assert store.legacy and len(rows) == len(store.arguments["strategies"]) * store.arguments["hunts"]
+    assert {(r["attacker"], r["belief"]) for r in rows} == {("apf", "exact")}
+    assert [s["strategy"] for s in summarise(rows)] == sorted(store.arguments["strategies"])

@@ -1,0 +1,84 @@
+"""Where the defenders should be when the attacker's law is unknown: the reference of the ``contain`` controller.
+
+The ``enclose`` reference (:mod:`mpc_hunt.control.enclosure`) is built on the
+defenders' model of the attacker: it gathers outside R_agg because the model
+says the attacker does not perceive them there, puts the first place on the
+model's undisturbed course and freezes the closing circle's centre. Against an
+attacker that follows another law it loses (docs/formulations.md, "The contain
+objective"). This reference assumes only what the defenders observe and the
+attacker's top speed:
+
+- each mover's place comes from the Voronoi encirclement
+  (:meth:`mpc_hunt.control.voronoi.VoronoiController.aims`: the area-minimising
+  pursuit of Zhou et al. 2016 on an even spread round the attacker, in the
+  order the defenders stand; an intercept point while the attacker is not
+  enclosed, the attacker itself once it is);
+- over the horizon the places move with the attacker's *observed* velocity
+  (the mean over the last ``VELOCITY_WINDOW`` observed steps, capped at v_a),
+  so the ring co-moves with whatever the attacker does instead of being frozen;
+- a defender's place at step k is no farther than k steps of its top speed,
+  going round the circle where the straight way would cross it;
+- the attacker's reference is its observed-velocity prediction, so the
+  capture problem tracks the places and does not try to herd through a model.
+
+The capture problem (:class:`~mpc_hunt.capture.problem.CaptureProblem`, the
+``enclose`` objective) then plans every active defender over the horizon under
+the constraints the baseline only filters for: steps within r_d (Eq. 13), the
+obstacles' safety distance (Eq. 15), separation, the arena.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+import numpy as np
+
+from mpc_hunt.capture.problem import Reference
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
+from mpc_hunt.control.voronoi import VoronoiController, route
+from mpc_hunt.world.geometry import saturate
+from mpc_hunt.world.scenario import Scenario
+
+VELOCITY_WINDOW = 5      # observed steps averaged into the attacker's velocity
+
+
+class Containment:
+    """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``contain`` controller."""
+
+    def __init__(self, scenario: Scenario, horizon: int):
+        self.scenario = scenario
+        self.horizon = horizon
+        self.rule = VoronoiController(scenario)
+        self._seen: deque = deque(maxlen=VELOCITY_WINDOW + 1)
+
+    def velocity(self, obs: Observation) -> np.ndarray:
+        """The attacker's velocity: the mean of its last observed steps, capped at its top speed."""
+        if obs.previous_attacker is not None and not self._seen:
+            self._seen.append(np.array(obs.previous_attacker, dtype=float))
+        self._seen.append(np.array(obs.attacker, dtype=float))
+        if len(self._seen) < 2:
+            return np.zeros(2)
+        T = self.scenario.hunt.time_step
+        mean = (self._seen[-1] - self._seen[0]) / (T * (len(self._seen) - 1))
+        return saturate(mean, self.scenario.attacker.max_speed)
+
+    def reference(self, obs: Observation) -> Reference:
+        """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""
+        s, N = self.scenario, self.horizon
+        T = s.hunt.time_step
+        P = obs.defenders
+        drift = self.velocity(obs) * T * np.arange(1, N + 1)[:, None]
+        movers, centres, angles, radii, enclosed = self.rule.aims(obs)
+        places = np.repeat(P[None], N, axis=0).astype(float)
+        for i, centre, angle, radius in zip(movers, centres, angles, radii):
+            reach = s.defender_max_speeds[i] * T
+            moving = centre + drift if enclosed else np.repeat(centre[None], N, axis=0)
+            for k in range(N):
+                goal = self.rule.allowed(route(P[i], moving[k], angle, radius, reach))
+                step = goal - P[i]
+                length = float(np.hypot(*step))
+                places[k, i] = P[i] + step * min(1.0, (k + 1) * reach / length) if length > 0 else goal
+        weight = np.ones(N)
+        weight[-1] = TERMINAL_WEIGHT
+        return Reference(places, obs.attacker + drift, weight)
