@@ -17,7 +17,9 @@ attacker's top speed:
   (the mean over the last ``VELOCITY_WINDOW`` observed steps, capped at v_a),
   so the ring co-moves with whatever the attacker does instead of being frozen;
 - a defender's place at step k is no farther than k steps of its top speed,
-  going round the circle where the straight way would cross it;
+  going round the tightest ring any defender aims at where the straight way
+  would cross it (the baseline goes round the circle of the defender's own
+  radius, half a far defender's distance, the long way round);
 - the attacker's reference is its observed-velocity prediction, so the
   capture problem tracks the places and does not try to herd through a model.
 
@@ -33,7 +35,7 @@ from collections import deque
 
 import numpy as np
 
-from mpc_hunt.capture.problem import Reference
+from mpc_hunt.capture.problem import EncloseWeights, Reference
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
 from mpc_hunt.control.voronoi import VoronoiController, route
@@ -41,6 +43,26 @@ from mpc_hunt.world.geometry import saturate
 from mpc_hunt.world.scenario import Scenario
 
 VELOCITY_WINDOW = 5      # observed steps averaged into the attacker's velocity
+# No term on the attacker's predicted position: the prediction is the defenders' model, which this controller
+# does not trust to herd with; the arena's edge term stays (it only ever keeps the attacker in).
+CONTAIN_WEIGHTS = EncloseWeights(attacker=0.0)
+
+
+def around(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, guard: float,
+           reach: float) -> np.ndarray:
+    """The place at ``angle`` on the circle (``centre``, ``radius``), straight, unless the straight way passes
+    inside the ``guard`` circle round the centre (the tightest ring any defender aims at): then round that
+    circle (:func:`~mpc_hunt.control.voronoi.route` on it). A far defender takes the short way to a far-side place
+    instead of going round the wide circle of its own Voronoi radius."""
+    place = centre + radius * np.array([np.cos(angle), np.sin(angle)])
+    way = place - p_d
+    length = float(np.hypot(*way))
+    if length == 0:
+        return place
+    along = float(np.clip(np.dot(centre - p_d, way) / length**2, 0.0, 1.0))
+    if float(np.hypot(*(p_d + along * way - centre))) >= guard:
+        return place
+    return route(p_d, centre, angle, max(guard, 1e-9), reach)
 
 
 class Containment:
@@ -71,11 +93,12 @@ class Containment:
         drift = self.velocity(obs) * T * np.arange(1, N + 1)[:, None]
         movers, centres, angles, radii, enclosed = self.rule.aims(obs)
         places = np.repeat(P[None], N, axis=0).astype(float)
+        guard = float(np.min(radii)) if len(radii) else 0.0
         for i, centre, angle, radius in zip(movers, centres, angles, radii):
             reach = s.defender_max_speeds[i] * T
             moving = centre + drift if enclosed else np.repeat(centre[None], N, axis=0)
             for k in range(N):
-                goal = self.rule.allowed(route(P[i], moving[k], angle, radius, reach))
+                goal = self.rule.allowed(around(P[i], moving[k], angle, radius, guard, reach))
                 step = goal - P[i]
                 length = float(np.hypot(*step))
                 places[k, i] = P[i] + step * min(1.0, (k + 1) * reach / length) if length > 0 else goal

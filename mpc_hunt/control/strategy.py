@@ -22,12 +22,14 @@ defenders' next positions and each other.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target, approach_velocity
-from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
-from mpc_hunt.control.containment import Containment
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem, EncloseWeights
+from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
@@ -97,6 +99,7 @@ class HuntingStrategy:
         self.solver = capture_solver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
         self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
+        self.enclose_weights = EncloseWeights()
 
     def describe(self) -> dict:
         return {"controller": "enclose" if self.enclosure else "paper", "prediction": self.prediction,
@@ -127,6 +130,8 @@ class HuntingStrategy:
         reference = self.enclosure.reference(obs)
         problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active,
                                           reference=reference)
+        if self.enclose_weights != problem.enclose_weights:
+            problem = dataclasses.replace(problem, enclose_weights=self.enclose_weights)
         solution, plan, fallback = self._capture(problem)
         velocities = np.where(problem.controlled[:, None], (plan[0] - obs.defenders) / s.hunt.time_step, 0.0)
         intercepts = np.full_like(obs.defenders, np.nan)
@@ -155,6 +160,7 @@ class ContainingStrategy(HuntingStrategy):
     def __init__(self, scenario: Scenario, **options):
         super().__init__(scenario, objective="enclose", **options)
         self.enclosure = Containment(scenario, self.horizon)
+        self.enclose_weights = CONTAIN_WEIGHTS
 
     def describe(self) -> dict:
         return super().describe() | {"controller": "contain"}

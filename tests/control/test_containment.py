@@ -1,0 +1,95 @@
+"""The contain controller's reference (mpc_hunt/control/containment.py): observed, co-moving, model-free."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from mpc_hunt.control.containment import CONTAIN_WEIGHTS, VELOCITY_WINDOW, Containment, around
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.world.belief import Belief, believed
+from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Scenario
+
+N = 8
+RING = [(10.25, 10.0), (9.875, 10.216506), (9.875, 9.783494)]   # R_hunt / 2 round (10, 10), 120° apart: at their places
+
+
+def _scenario(**attacker) -> Scenario:
+    return Scenario(name="ring", defenders=tuple(Defender(start=p, max_speed=0.08) for p in RING),
+                    attacker=Attacker(start=(10.0, 10.0), nominal_velocity=(0.03, 0.0), max_speed=0.03,
+                                      perception_radius=1.0, **attacker),
+                    hunt=HuntParameters(), arena=(0.0, 0.0, 20.0, 20.0))
+
+
+def _observations(velocity, steps: int = VELOCITY_WINDOW + 1):
+    """The attacker seen moving at ``velocity`` for ``steps`` steps, the defenders standing on the ring."""
+    T, p = 0.1, np.array([10.0, 10.0]) - steps * 0.1 * np.asarray(velocity)
+    previous = None
+    for k in range(steps + 1):
+        yield Observation(k * T, p.copy(), previous, np.array(RING))
+        previous, p = p.copy(), p + T * np.asarray(velocity)
+
+
+def _last_reference(builder: Containment, velocity):
+    for obs in _observations(velocity):
+        reference = builder.reference(obs)
+    return obs, reference
+
+
+def test_the_velocity_is_the_mean_of_the_last_observed_steps_capped_at_v_a():
+    builder = Containment(_scenario(), N)
+    obs = list(_observations((0.02, -0.01)))
+    for o in obs:
+        v = builder.velocity(o)
+    np.testing.assert_allclose(v, [0.02, -0.01], atol=1e-12)
+    fast = Containment(_scenario(), N)
+    for o in _observations((0.3, 0.0)):
+        v = fast.velocity(o)
+    np.testing.assert_allclose(v, [0.03, 0.0], atol=1e-12)
+
+
+def test_the_places_move_with_the_attackers_observed_velocity_and_so_does_its_reference():
+    still_obs, still = _last_reference(Containment(_scenario(), N), (0.0, 0.0))
+    moving_obs, moving = _last_reference(Containment(_scenario(), N), (0.02, 0.0))
+    k = np.arange(1, N + 1)[:, None]
+    np.testing.assert_allclose(moving.attacker, moving_obs.attacker + 0.1 * k * np.array([0.02, 0.0]), atol=1e-12)
+    np.testing.assert_allclose(still.attacker, np.repeat(still_obs.attacker[None], N, axis=0), atol=1e-12)
+    # Enclosed and standing at their places, each place rides on the attacker: step k's is 0.1·k·0.02 m along x.
+    np.testing.assert_allclose(still.defenders[-1], RING, atol=1e-5)
+    shift = moving.defenders - still.defenders
+    np.testing.assert_allclose(shift[..., 0], np.repeat(0.1 * k * 0.02, 3, axis=1), atol=1e-9)
+    np.testing.assert_allclose(shift[..., 1], 0.0, atol=1e-9)
+
+
+def test_the_reference_is_the_same_whatever_the_believed_intent_or_reaction():
+    world = _scenario()
+    references = []
+    for belief in (Belief(), Belief(eta=3.0), Belief(intent_heading=90.0)):
+        builder = Containment(believed(world, belief, np.random.default_rng(1)), N)
+        references.append(_last_reference(builder, (0.01, 0.01))[1])
+    for other in references[1:]:
+        np.testing.assert_array_equal(other.defenders, references[0].defenders)
+        np.testing.assert_array_equal(other.attacker, references[0].attacker)
+
+
+def test_a_far_defender_goes_straight_to_a_far_side_place_where_the_way_clears_the_tightest_ring():
+    centre = np.array([10.0, 10.0])
+    far = np.array([10.0, 16.0])
+    # Its place 3 m out at bearing 0 (east): the straight way passes 3.2 m from the centre, clear of a 1 m ring.
+    np.testing.assert_allclose(around(far, centre, 0.0, 3.0, 1.0, 0.008), [13.0, 10.0])
+    # The place due south (through the centre): it goes round the 1 m ring, to its tangent side.
+    detour = around(far, centre, -np.pi / 2, 3.0, 1.0, 0.008)
+    assert norm(detour - centre) == pytest.approx(1.0) and abs(detour[0] - 10.0) > 0.5
+
+
+def test_contain_plans_with_no_term_on_the_predicted_attacker():
+    assert CONTAIN_WEIGHTS.attacker == 0.0 and CONTAIN_WEIGHTS.edge > 0
+    controller = make_controller("contain", _scenario(), formulation="rti", backend="hpipm", horizon=5)
+    obs = next(iter(_observations((0.0, 0.0), steps=1)))
+    command = controller.command(dataclasses.replace(obs, previous_attacker=None))
+    assert command.solution.success and np.all(norm(command.velocities) <= 0.08 + 1e-9)
+    assert controller.describe()["controller"] == "contain"
