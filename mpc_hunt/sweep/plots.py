@@ -63,8 +63,7 @@ def _figure(panels: int, width: float = 5.5) -> tuple[Figure, np.ndarray]:
 
 
 def _save(fig: Figure, path: Path) -> Path:
-    fig.tight_layout()
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight")     # the whole figure, a legend beside the axes included
     return path
 
 
@@ -91,7 +90,7 @@ def _success_by(attackers: list[str], lines: dict, key: str, label: str, path: P
 
 def _success_by_attacker(attackers: list[str], lines: dict, path: Path) -> Path:
     """Success among reachable hunts per attacker, one series per strategy, with 95 % Wilson intervals."""
-    fig, (ax,) = _figure(1)
+    fig, (ax,) = _figure(1, width=5.5 + 0.7 * len(attackers))
     for j, (name, by) in enumerate(lines.items()):
         points = [(i, _reachable(by.get(a, []))) for i, a in enumerate(attackers)]
         points = [(i, sum(r["outcome"] == "captured" for r in rows), len(rows)) for i, rows in points if rows]
@@ -107,7 +106,7 @@ def _success_by_attacker(attackers: list[str], lines: dict, path: Path) -> Path:
     ax.set_ylabel(RATE_LABEL)
     ax.set_title("95 % Wilson intervals", fontsize=8)
     ax.set_ylim(-5, 105)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))    # beside the axes, not over the points
     return _save(fig, path)
 
 
