@@ -11,8 +11,9 @@ CONTROLLERS = {
     "apf": "mpc_hunt.control.encircling:EncirclingController",
     "voronoi": "mpc_hunt.control.voronoi:VoronoiController",
     "contain": "mpc_hunt.control.strategy:ContainingStrategy",
+    "adapt": "mpc_hunt.control.strategy:AdaptiveStrategy",
 }
-SOLVING = ("paper", "enclose", "contain")     # the controllers that solve a capture problem (take solver settings)
+SOLVING = ("paper", "enclose", "contain", "adapt")     # the controllers that solve a capture problem (take solver settings)
 
 
 def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):

@@ -31,6 +31,7 @@ from mpc_hunt.world.approach import approach_target, approach_velocity
 from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem, EncloseWeights
 from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment
 from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.capture.plan import shift_plan
@@ -164,3 +165,25 @@ class ContainingStrategy(HuntingStrategy):
 
     def describe(self) -> dict:
         return super().describe() | {"controller": "contain"}
+
+
+class AdaptiveStrategy(EnclosingStrategy):
+    """The enclose controller whose model of the attacker is re-estimated every step from the observed track
+    (:class:`~mpc_hunt.control.estimation.AttackerEstimator`; CLI ``--controller adapt``): the capture problem
+    and the enclose reference predict the attacker with the estimated intent, gain and perception radius in
+    place of the belief's, which is the estimator's prior."""
+
+    def __init__(self, scenario: Scenario, **options):
+        super().__init__(scenario, **options)
+        self.prior = scenario
+        self.estimator = AttackerEstimator(scenario)
+        self.estimate: Estimate | None = None
+
+    def describe(self) -> dict:
+        return super().describe() | {"controller": "adapt"}
+
+    def command(self, obs: Observation) -> Command:
+        self.estimate = self.estimator.update(obs)
+        self.scenario = self.enclosure.scenario = self.estimate.scenario(self.prior)
+        return super().command(obs)
+
