@@ -254,7 +254,7 @@ def _controller(args, scenario, belief_rng):
                                           ("--score", args.score or None))
                  if value is not None]
         if given:
-            raise MpcHuntError(f"{', '.join(given)}: only with --controller paper or enclose "
+            raise MpcHuntError(f"{', '.join(given)}: only with --controller {', '.join(controllers.SOLVING)} "
                                f"(controller {args.controller!r} solves no capture problem)")
         return controllers.make_controller(args.controller, scenario, prediction=prediction, **believed)
     formulation, backend, horizon = _solver_choice(args)
