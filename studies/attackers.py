@@ -219,8 +219,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.check:
         with stop_at_once("attackers study"):
             return check_result(check(args.output), "studies/attackers", COMMAND)
-    if args.seed < 0:
-        parser.error(f"--seed: must not be negative, got {args.seed}")
+    if not 0 <= args.seed < 2**63:
+        parser.error(f"--seed: expected a whole number from 0 to 2**63 - 1, got {args.seed}")
     args.output.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
     try:

@@ -27,7 +27,7 @@ from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_S
                                  check_writable, count, non_negative, positive_float, seed, stop_at_once)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
-from mpc_hunt.world.behaviours import BEHAVIOURS
+from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
 from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario,
                                         resolve_scenario)
@@ -268,7 +268,6 @@ def _world(args, scenario):
     import numpy as np
 
     from mpc_hunt.sim.simulator import DEFAULT_SEED
-    from mpc_hunt.sweep.runner import with_behaviour
 
     if args.attacker is not None:
         try:

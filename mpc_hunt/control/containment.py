@@ -4,8 +4,7 @@ The ``enclose`` reference (:mod:`mpc_hunt.control.enclosure`) is built on the
 defenders' model of the attacker: it gathers outside R_agg because the model
 says the attacker does not perceive them there, puts the first place on the
 model's undisturbed course and freezes the closing circle's centre. Against an
-attacker that follows another law it loses (docs/formulations.md, "The contain
-objective"). This reference assumes only what the defenders observe and the
+attacker that follows another law it loses (docs/model.md, E15). This reference assumes only what the defenders observe and the
 attacker's top speed:
 
 - each mover's place comes from the Voronoi encirclement

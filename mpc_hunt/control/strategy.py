@@ -88,6 +88,8 @@ class HuntingStrategy:
     ``score``: the evaluator scores every plan, not only a failed solve's (the module's docstring).
     """
 
+    enclose_weights = EncloseWeights()     # the enclose objective's weights
+
     def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",
                  backend: str | None = None, horizon: int = 1, time_limit: float | None = None,
                  objective: str = "paper", score: bool = False, **solver_options):
@@ -100,7 +102,6 @@ class HuntingStrategy:
         self.solver = capture_solver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
         self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
-        self.enclose_weights = EncloseWeights()
 
     def describe(self) -> dict:
         return {"controller": "enclose" if self.enclosure else "paper", "prediction": self.prediction,
@@ -158,10 +159,11 @@ class ContainingStrategy(HuntingStrategy):
     """The capture problem with the enclose objective tracking the model-free places of
     :class:`~mpc_hunt.control.containment.Containment` (CLI ``--controller contain``)."""
 
+    enclose_weights = CONTAIN_WEIGHTS
+
     def __init__(self, scenario: Scenario, **options):
         super().__init__(scenario, objective="enclose", **options)
         self.enclosure = Containment(scenario, self.horizon)
-        self.enclose_weights = CONTAIN_WEIGHTS
 
     def describe(self) -> dict:
         return super().describe() | {"controller": "contain"}
@@ -186,4 +188,3 @@ class AdaptiveStrategy(EnclosingStrategy):
         self.estimate = self.estimator.update(obs)
         self.scenario = self.enclosure.scenario = self.estimate.scenario(self.prior)
         return super().command(obs)
-

@@ -22,7 +22,6 @@ scheduler reruns them; a hunt whose workers died too often (Dask's
 from __future__ import annotations
 
 import ctypes
-import dataclasses
 import os
 import signal
 import sys
@@ -44,9 +43,8 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ran
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
-from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
+from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, with_behaviour
 from mpc_hunt.world.belief import Belief, parse_belief
-from mpc_hunt.world.scenario import Scenario
 
 # The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
@@ -104,12 +102,6 @@ class Strategy:
             return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng)
         return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng,
                                            formulation=self.formulation, backend=self.backend, horizon=self.horizon)
-
-
-def with_behaviour(scenario: Scenario, behaviour: str) -> Scenario:
-    """``scenario`` with its attacker moved by ``behaviour`` in the world (a ``ScenarioError`` if it is unknown,
-    or takes none of the attacker's ``sensing_radius`` or ``disturbance``)."""
-    return dataclasses.replace(scenario, attacker=dataclasses.replace(scenario.attacker, behaviour=behaviour))
 
 
 def hunt_rngs(seed: int, index: int, member: int = 0) -> tuple[np.random.Generator, np.random.Generator]:

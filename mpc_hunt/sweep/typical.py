@@ -14,7 +14,8 @@ import numpy as np
 
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.sweep.runner import Strategy, hunt_rngs, with_behaviour
+from mpc_hunt.sweep.runner import Strategy, hunt_rngs
+from mpc_hunt.world.behaviours import with_behaviour
 from mpc_hunt.world.belief import parse_belief
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import loads_scenario

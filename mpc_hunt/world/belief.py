@@ -53,11 +53,6 @@ class Belief:
                 if ratio < 1 / MAX_RATIO:
                     raise ScenarioError(f"belief.{f.name}: {ratio} is below the limit of {1 / MAX_RATIO:g}")
 
-    @property
-    def exact(self) -> bool:
-        """Does the belief hold the world's parameters (it may still be wrong about the behaviour)?"""
-        return self == Belief()
-
     def label(self) -> str:
         """``exact``, or the errors as written on the command line (``perception_radius=1.3x,eta=3x``)."""
         parts = [f"{f.name}={getattr(self, f.name):g}" + ("" if f.name == "intent_heading" else "x")

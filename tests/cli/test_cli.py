@@ -14,7 +14,7 @@ from mpc_hunt.cli.commands import main
 from mpc_hunt.bench.problem_set import builtin_problem_set
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.sweep.runner import with_behaviour
+from mpc_hunt.world.behaviours import with_behaviour
 from mpc_hunt.world.belief import parse_belief
 from mpc_hunt.world.scenario_io import builtin_scenario, load_scenario
 from scenario_text import scenario_toml

@@ -10,6 +10,7 @@ senses defenders within a radius, moves at most v_a, is repelled by obstacles
 
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -34,3 +35,9 @@ def make_behaviour(scenario: Scenario, rng: np.random.Generator) -> Behaviour:
     """A fresh behaviour for the attacker of ``scenario`` (``scenario.attacker.behaviour``); ``rng`` draws any
     randomness it has, so the same scenario and seed give the same hunt."""
     return load_class(BEHAVIOURS, "attacker behaviour", scenario.attacker.behaviour)(scenario, rng)
+
+
+def with_behaviour(scenario: Scenario, behaviour: str) -> Scenario:
+    """``scenario`` with its attacker moved by ``behaviour`` in the world (a ``ScenarioError`` if it is unknown,
+    or takes none of the attacker's ``sensing_radius`` or ``disturbance``)."""
+    return dataclasses.replace(scenario, attacker=dataclasses.replace(scenario.attacker, behaviour=behaviour))

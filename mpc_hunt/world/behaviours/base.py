@@ -49,13 +49,17 @@ def undisturbed(scenario: Scenario, p_a: np.ndarray) -> np.ndarray:
 
 
 def heading(scenario: Scenario, p_a: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """Full speed (v_a) along ``direction``, plus the obstacles' field (Eq. 3, weighted
-    by k_o), capped at v_a and kept out of every obstacle."""
-    a, hunt = scenario.attacker, scenario.hunt
-    wish = a.max_speed * unit(np.asarray(direction, dtype=float))
+    """Full speed (v_a) along ``direction``, :func:`steered`."""
+    return steered(scenario, p_a, scenario.attacker.max_speed * unit(np.asarray(direction, dtype=float)))
+
+
+def steered(scenario: Scenario, p_a: np.ndarray, wish: np.ndarray) -> np.ndarray:
+    """The velocity ``wish`` plus the obstacles' field (Eq. 3, weighted by k_o), capped at v_a and kept out of
+    every obstacle."""
+    hunt = scenario.hunt
     push = hunt.k_o * obstacle_repulsion(p_a, scenario.obstacle_centres, scenario.obstacle_radii,
                                          hunt.protective_distance, hunt.eta)
-    return keep_out(scenario, p_a, saturate(wish + push, a.max_speed))
+    return keep_out(scenario, p_a, saturate(wish + push, scenario.attacker.max_speed))
 
 
 def keep_out(scenario: Scenario, p_a: np.ndarray, v: np.ndarray) -> np.ndarray:

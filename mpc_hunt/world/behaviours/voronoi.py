@@ -14,8 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.behaviours.base import keep_out, sensed, sensing_radius, undisturbed
-from mpc_hunt.world.field import obstacle_repulsion
+from mpc_hunt.world.behaviours.base import sensed, sensing_radius, steered, undisturbed
 from mpc_hunt.world.geometry import saturate
 from mpc_hunt.world.voronoi_cell import attacker_cell
 
@@ -58,7 +57,4 @@ class VoronoiAttacker:
         cell = attacker_cell(p_a, near, s.obstacle_centres, s.obstacle_radii, self.box(p_a))
         if not len(cell.vertices):
             return np.zeros(2)
-        wish = saturate((centroid(cell.vertices) - p_a) / s.hunt.time_step, s.attacker.max_speed)
-        push = s.hunt.k_o * obstacle_repulsion(p_a, s.obstacle_centres, s.obstacle_radii,
-                                               s.hunt.protective_distance, s.hunt.eta)
-        return keep_out(s, p_a, saturate(wish + push, s.attacker.max_speed))
+        return steered(s, p_a, saturate((centroid(cell.vertices) - p_a) / s.hunt.time_step, s.attacker.max_speed))
