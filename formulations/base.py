@@ -6,9 +6,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from mpc_hunt.capture.backends.base import Backend
+from mpc_hunt.capture.data import SolvesData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
+from mpc_hunt.capture.structure import Structure
 
 
 class Formulation:
@@ -24,11 +25,11 @@ class Formulation:
     default_backend: ClassVar[str]
     exact: ClassVar[frozenset[str]]     # the constraint families (evaluator names) it keeps exactly
 
-    def prepare(self, structure: tuple) -> None:
+    def prepare(self, structure: Structure) -> None:
         """Build (once, cached) the symbolic functions for ``structure``; timed as set-up."""
         raise NotImplementedError
 
-    def solve(self, problem: CaptureProblem, backend: Backend, warm_plan: np.ndarray | None,
+    def solve(self, problem: CaptureProblem, backend: SolvesData, warm_plan: np.ndarray | None,
               duals: WarmStart | None) -> Solution:
         """Solve ``problem`` on ``backend``; the :class:`Solution` carries ``plan`` (N, n, 2)."""
         raise NotImplementedError

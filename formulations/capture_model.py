@@ -14,6 +14,7 @@ import casadi as ca
 import numpy as np
 
 from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.world.field import FIELD_FLOOR
 
 _TINY = 1e-18
@@ -31,26 +32,29 @@ def reference_size(nc: int) -> int:
     return 2 * nc + 3
 
 
-def _layout(nc: int, nf: int, m: int, objective: str = "paper", steps: int = 0) -> list[tuple[str, int]]:
-    """θ's parts; ``enclose`` adds the arena, its weights and ``steps`` steps of the reference."""
+def _layout(structure: Structure, steps: int | None = None) -> list[tuple[str, int]]:
+    """θ's parts; ``enclose`` adds the arena, its weights and ``steps`` steps of the reference (by default the
+    structure's :attr:`~mpc_hunt.capture.structure.Structure.reference_steps`)."""
+    nc, nf, m = structure.planned, structure.fixed, structure.obstacles
+    steps = structure.reference_steps if steps is None else steps
     layout = [("attacker", 2), ("controlled", 2 * nc), ("held", 2 * nf), ("desired", 2), ("nominal", 2),
               ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
-    if objective == "enclose":
+    if structure.objective == "enclose":
         layout += [("arena", 4)] + [(s, 1) for s in ENCLOSE_SCALARS] + [("reference", steps * reference_size(nc))]
     return layout
 
 
-def unpack(theta, nc: int, nf: int, m: int, objective: str = "paper", steps: int = 0) -> dict:
+def unpack(theta, structure: Structure, steps: int | None = None) -> dict:
     """The named parts of θ (symbols or numbers), in the order of :func:`_layout`."""
     out, offset = {}, 0
-    for name, size in _layout(nc, nf, m, objective, steps):
+    for name, size in _layout(structure, steps):
         out[name] = theta[offset:offset + size]
         offset += size
     return out
 
 
-def parameter_size(nc: int, nf: int, m: int, objective: str = "paper", steps: int = 0) -> int:
-    return sum(size for _, size in _layout(nc, nf, m, objective, steps))
+def parameter_size(structure: Structure, steps: int | None = None) -> int:
+    return sum(size for _, size in _layout(structure, steps))
 
 
 def step_reference(p: dict, k: int, nc: int):
@@ -60,15 +64,15 @@ def step_reference(p: dict, k: int, nc: int):
     return ref[:2 * nc], ref[2 * nc:2 * nc + 2], ref[2 * nc + 2]
 
 
-def stage_parameters(theta, nc: int, nf: int, m: int, objective: str, N: int, k: int):
+def stage_parameters(theta, structure: Structure, k: int):
     """The θ of one stage (its own step of the reference) from the whole horizon's θ, for stage k = 1..N.
 
     For ``paper`` every stage shares θ. The last entry (the smoothing width) is kept.
     """
-    if objective == "paper":
+    if structure.objective == "paper":
         return theta
-    common = parameter_size(nc, nf, m, objective, 0)
-    size = reference_size(nc)
+    common = parameter_size(structure, 0)
+    size = reference_size(structure.planned)
     return ca.vertcat(theta[:common], theta[common + (k - 1) * size:common + k * size], theta[-1])
 
 
@@ -88,17 +92,16 @@ def parameter_vector(problem: CaptureProblem) -> np.ndarray:
         "ring_radius": problem.ring_radius, "time_step": hunt.time_step, "hunt_radius": hunt.hunt_radius,
         "w_force": w.force, "w_ring": w.ring, "w_move": w.move, "w_equal": w.equal_distance,
     }
-    nc, nf, m, N, objective = problem.structure
-    if objective == "enclose":
+    structure = problem.structure
+    if structure.objective == "enclose":
         e, ref = problem.enclose_weights, problem.reference
         values.update({
             "w_force": 0.0, "w_ring": 0.0, "w_move": e.move, "w_equal": 1.0,
             "arena": s.arena if s.arena is not None else (-FAR, -FAR, FAR, FAR),
             "w_attacker": e.attacker, "w_edge": e.edge, "edge_margin": e.edge_margin,
-            "reference": np.concatenate([ref.defenders[:, c].reshape(N, -1), ref.attacker, ref.slot_weight[:, None]],
-                                        axis=1)})
-    return np.concatenate([np.ravel(np.asarray(values[name], dtype=float))
-                           for name, _ in _layout(nc, nf, m, objective, N)])
+            "reference": np.concatenate([ref.defenders[:, c].reshape(structure.horizon, -1), ref.attacker,
+                                         ref.slot_weight[:, None]], axis=1)})
+    return np.concatenate([np.ravel(np.asarray(values[name], dtype=float)) for name, _ in _layout(structure)])
 
 
 def _norm(v):
@@ -145,11 +148,13 @@ def enclose_residuals(p: dict, attacker, defenders: list, places, attacker_place
 class CaptureModel:
     """Symbols and expressions of the capture problem for one structure."""
 
-    def __init__(self, nc: int, nf: int, m: int, N: int, objective: str = "paper"):
-        self.nc, self.nf, self.m, self.N, self.objective = nc, nf, m, N, objective
-        self.X = ca.SX.sym("X", N * nc * 2)
-        self.theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, N))
-        self.p = unpack(self.theta, nc, nf, m, objective, N)
+    def __init__(self, structure: Structure):
+        self.structure = structure
+        self.nc, self.nf, self.m = structure.planned, structure.fixed, structure.obstacles
+        self.N, self.objective = structure.horizon, structure.objective
+        self.X = ca.SX.sym("X", structure.plan_size)
+        self.theta = ca.SX.sym("theta", parameter_size(structure))
+        self.p = unpack(self.theta, structure)
         self._build()
 
     def defender(self, k: int, i: int):
@@ -207,20 +212,9 @@ class CaptureModel:
 
 
 @lru_cache(maxsize=32)
-def capture_model(nc: int, nf: int, m: int, N: int, objective: str = "paper") -> CaptureModel:
+def capture_model(structure: Structure) -> CaptureModel:
     """The model for one structure, built once per process."""
-    return CaptureModel(nc, nf, m, N, objective)
-
-
-def plan_from_x(problem: CaptureProblem, X: np.ndarray) -> np.ndarray:
-    """Every defender's positions (N, n, 2) from the controlled defenders' decision vector."""
-    nc = int(problem.controlled.sum())
-    return problem.plan_with(np.asarray(X, dtype=float)[:problem.horizon * nc * 2])
-
-
-def x_from_plan(problem: CaptureProblem, plan: np.ndarray) -> np.ndarray:
-    """The controlled defenders' decision vector of a full plan (inverse of :func:`plan_from_x`)."""
-    return np.asarray(plan, dtype=float)[:, problem.controlled].reshape(-1)
+    return CaptureModel(structure)
 
 
 def decision_point(problem: CaptureProblem, X: np.ndarray, theta: np.ndarray | None = None) -> np.ndarray:
@@ -228,7 +222,7 @@ def decision_point(problem: CaptureProblem, X: np.ndarray, theta: np.ndarray | N
 
     A point consistent with Eq. 14's elastic form, used as the starting guess.
     """
-    model = capture_model(*problem.structure)
+    model = capture_model(problem.structure)
     theta = parameter_vector(problem) if theta is None else theta
     sq = np.array(model.squared_distance_function(X, theta)).reshape(problem.horizon, -1)
     q = sq.mean(axis=1)

@@ -27,25 +27,26 @@ import casadi as ca
 import numpy as np
 
 from formulations.base import Formulation
-from formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack, x_from_plan
+from formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
 from formulations.nlp import RELAXABLE, arena_bounds
 from formulations.stage_model import SMOOTHING, stage_model
-from mpc_hunt.capture.backends.base import NLPData
+from mpc_hunt.capture.data import NLPData
 from mpc_hunt.capture.solution import Solution, WarmStart
+from mpc_hunt.capture.structure import Structure
 
 
 class StagedNLP:
     """The multiple-shooting NLP of one structure, its starting point and its read-back (built once)."""
 
-    def __init__(self, structure: tuple):
-        nc, nf, m, N, objective = structure
-        sm = stage_model(nc, nf, m, objective)
-        theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, N if objective == "enclose" else 0) + 1)
+    def __init__(self, structure: Structure):
+        nc, N = structure.planned, structure.horizon
+        sm = stage_model(structure)
+        theta = ca.SX.sym("theta", parameter_size(structure) + 1)
 
         def stage(k):                           # θ of stage k ≥ 1 (its own step of the reference)
-            return stage_parameters(theta, nc, nf, m, objective, N, max(k, 1))
+            return stage_parameters(theta, structure, max(k, 1))
 
-        p = unpack(theta, nc, nf, m)
+        p = unpack(theta, structure)
         D = ca.SX.sym("D", N * 2 * nc)          # the controlled defenders' plan, steps 1..N
         x = x_guess = ca.vertcat(p["attacker"], p["controlled"])   # x_0: the state, a parameter
         # The first move of the attacker follows from the state alone: the paper's field, unsmoothed.
@@ -115,7 +116,7 @@ class StagedNLP:
 
 
 @lru_cache(maxsize=32)
-def staged_nlp(structure: tuple) -> StagedNLP:
+def staged_nlp(structure: Structure) -> StagedNLP:
     return StagedNLP(structure)
 
 
@@ -130,18 +131,18 @@ class MSNLPFormulation(Formulation):
     exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     smoothing = SMOOTHING
 
-    def prepare(self, structure: tuple) -> None:
+    def prepare(self, structure: Structure) -> None:
         staged_nlp(structure)
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         nlp = staged_nlp(problem.structure)
         theta = np.append(parameter_vector(problem), self.smoothing)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
-        w0, lbx, ubx, lbg = nlp.bounds(theta, x_from_plan(problem, plan0))
+        w0, lbx, ubx, lbg = nlp.bounds(theta, problem.x_from_plan(plan0))
         low, high = arena_bounds(problem)
         lbx[nlp.plan_index] = np.tile(low, problem.horizon * nlp.nc)
         ubx[nlp.plan_index] = np.tile(high, problem.horizon * nlp.nc)
-        data = NLPData(("ms-nlp",) + problem.structure, lambda: nlp.problem, theta, lbx, ubx, lbg, nlp.ubg, self.kind)
+        data = NLPData(("ms-nlp", problem.structure), lambda: nlp.problem, theta, lbx, ubx, lbg, nlp.ubg, self.kind)
         result = backend.solve(data, WarmStart(w0, None if duals is None else duals.y,
                                                 None if duals is None else duals.z))
         if result.x is None:

@@ -17,12 +17,12 @@ import casadi as ca
 import numpy as np
 
 from formulations.base import Formulation, separation_pairs
-from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
-                                        x_from_plan)
-from mpc_hunt.capture.backends.base import NLPData
+from formulations.capture_model import capture_model, decision_point, parameter_vector
+from mpc_hunt.capture.data import NLPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.capture.solution import Solution, WarmStart
+from mpc_hunt.capture.structure import Structure
 
 
 def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[str]]:
@@ -67,9 +67,9 @@ def arena_bounds(problem: CaptureProblem) -> tuple[np.ndarray, np.ndarray]:
 
 
 @lru_cache(maxsize=32)
-def constraint_set(structure: tuple):
+def constraint_set(structure: Structure):
     """(g, lbg, ubg, rows to relax, g as a function of (X, θ)) for one structure."""
-    model = capture_model(*structure)
+    model = capture_model(structure)
     g, lo, hi, family = nonlinear_constraints(model)
     relax = np.array([f in RELAXABLE for f in family], dtype=bool)
     return g, np.array(lo, dtype=float), np.array(hi, dtype=float), relax, \
@@ -96,11 +96,11 @@ class NLPFormulation(Formulation):
     default_backend = "ipopt"
     exact = frozenset(VIOLATION_NAMES)
 
-    def prepare(self, structure: tuple) -> None:
+    def prepare(self, structure: Structure) -> None:
         constraint_set(structure)
 
-    def _nlp(self, structure: tuple) -> dict:
-        model = capture_model(*structure)
+    def _nlp(self, structure: Structure) -> dict:
+        model = capture_model(structure)
         nc, N = model.nc, model.N
         q = ca.SX.sym("q", N)
         s = ca.SX.sym("s", N * nc)
@@ -115,24 +115,24 @@ class NLPFormulation(Formulation):
 
     def data(self, problem: CaptureProblem) -> NLPData:
         structure = problem.structure
-        model = capture_model(*structure)
+        model = capture_model(structure)
         nc, N = model.nc, model.N
         _, lo, hi, relax, g_function = constraint_set(structure)
         theta = parameter_vector(problem)
-        held = np.array(g_function(x_from_plan(problem, problem.held_plan()), theta)).ravel()
+        held = np.array(g_function(problem.x_from_plan(problem.held_plan()), theta)).ravel()
         lo = relaxed_lower_bounds(lo, relax, held)
         lbg = np.concatenate([lo, np.tile([-np.inf, 0.0], N * nc)])
         ubg = np.concatenate([hi, np.tile([0.0, np.inf], N * nc)])
         low, high = arena_bounds(problem)
         lbx = np.concatenate([np.tile(low, N * nc), np.zeros(N + N * nc)])
         ubx = np.concatenate([np.tile(high, N * nc), np.full(N + N * nc, np.inf)])
-        return NLPData(("nlp",) + structure, lambda: self._nlp(structure), theta, lbx, ubx, lbg, ubg)
+        return NLPData(("nlp", structure), lambda: self._nlp(structure), theta, lbx, ubx, lbg, ubg)
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         data = self.data(problem)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
-        warm = WarmStart(decision_point(problem, x_from_plan(problem, plan0), data.p),
+        warm = WarmStart(decision_point(problem, problem.x_from_plan(plan0), data.p),
                          None if duals is None else duals.y, None if duals is None else duals.z)
         result = backend.solve(data, warm)
-        return replace(result, plan=None if result.x is None else plan_from_x(problem, result.x))
+        return replace(result, plan=None if result.x is None else problem.plan_from_x(result.x))
 

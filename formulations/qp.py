@@ -21,11 +21,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from formulations.base import Formulation, separation_pairs
-from formulations.capture_model import (capture_model, decision_point, parameter_vector, plan_from_x,
-                                        x_from_plan)
-from mpc_hunt.capture.backends.base import QPData
+from formulations.capture_model import capture_model, decision_point, parameter_vector
+from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
+from mpc_hunt.capture.structure import Structure
 
 POLYGON_SIDES = 8
 TRUST_REGION = 2.0  # in units of r_d
@@ -38,8 +38,8 @@ def _unit(v):
 class LinearisedCapture:
     """The QP's data as one CasADi function of (θ, X̄), with fixed output sparsity."""
 
-    def __init__(self, structure: tuple, exact_motion_cone: bool = False):
-        model = capture_model(*structure)
+    def __init__(self, structure: Structure, exact_motion_cone: bool = False):
+        model = capture_model(structure)
         p, nc, nf, m, N = model.p, model.nc, model.nf, model.m, model.N
         X, theta = model.X, model.theta
         nX = N * nc * 2
@@ -143,7 +143,7 @@ class LinearisedCapture:
 
 
 @lru_cache(maxsize=32)
-def linearised_capture(structure: tuple, exact_motion_cone: bool = False) -> LinearisedCapture:
+def linearised_capture(structure: Structure, exact_motion_cone: bool = False) -> LinearisedCapture:
     return LinearisedCapture(structure, exact_motion_cone)
 
 
@@ -157,24 +157,24 @@ class QPFormulation(Formulation):
     exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     exact_motion_cone = False
 
-    def prepare(self, structure: tuple) -> None:
+    def prepare(self, structure: Structure) -> None:
         linearised_capture(structure, self.exact_motion_cone)
 
     def solve_at(self, problem: CaptureProblem, backend, reference: np.ndarray, theta: np.ndarray,
                  duals: WarmStart | None) -> Solution:
         """Solve the QP linearised at the plan ``reference``; ``x`` and ``plan`` in absolute positions."""
         lin = linearised_capture(problem.structure, self.exact_motion_cone)
-        Xref = x_from_plan(problem, reference)
+        Xref = problem.x_from_plan(reference)
         guess = decision_point(problem, Xref, theta)
         guess[:len(Xref)] = 0.0
-        data = lin.data((self.name,) + problem.structure, theta, Xref)
+        data = lin.data((self.name, problem.structure), theta, Xref)
         result = backend.solve(data, WarmStart(guess, None if duals is None else duals.y))
         if result.x is None:
             return result
         # Row sums, not BLAS: the reported objective's bits do not depend on the CPU (docs/robustness.md).
         residual = np.sum(data.J * result.x, axis=1) + data.c
         x = np.concatenate([Xref + result.x[:len(Xref)], result.x[len(Xref):]])
-        return replace(result, x=x, plan=plan_from_x(problem, x),
+        return replace(result, x=x, plan=problem.plan_from_x(x),
                        formulation_objective=float(np.sum(residual**2) + np.sum(data.lin * result.x)))
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:

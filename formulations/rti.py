@@ -29,14 +29,14 @@ import casadi as ca
 import numpy as np
 
 from formulations.base import Formulation
-from formulations.capture_model import (parameter_size, parameter_vector, plan_from_x, stage_parameters, unpack,
-                                        x_from_plan)
+from formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
 from formulations.nlp import RELAXABLE
 from formulations.qp import TRUST_REGION
 from formulations.stage_linearisation import stage_linearisation
 from formulations.stage_model import SMOOTHING, stage_model
-from mpc_hunt.capture.backends.base import StageQPData
+from mpc_hunt.capture.data import StageQPData
 from mpc_hunt.capture.solution import Solution
+from mpc_hunt.capture.structure import Structure
 
 def _place(block, left: int, total: int):
     """``block`` between ``left`` zero columns and enough zero columns to make ``total``."""
@@ -46,19 +46,18 @@ def _place(block, left: int, total: int):
 class LinearisedStages:
     """The stage-structured QP of one structure, as CasADi expressions of (θ, reference plan)."""
 
-    def __init__(self, structure: tuple):
-        nc, nf, m, N, objective = structure
-        sm = stage_model(nc, nf, m, objective)
-        st = stage_linearisation(nc, nf, m, objective)
+    def __init__(self, structure: Structure):
+        nc, N, objective = structure.planned, structure.horizon, structure.objective
+        sm = stage_model(structure)
+        st = stage_linearisation(structure)
         nx, nd, nu = st.nx, st.nd, st.nu
-        steps = N if objective == "enclose" else 0
-        theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, steps) + 1)
+        theta = ca.SX.sym("theta", parameter_size(structure) + 1)
         D = ca.SX.sym("D", N * nd)                                     # the reference plan, steps 1..N
 
         def stage(k):                                                  # θ of stage k ≥ 1 (its own reference)
-            return stage_parameters(theta, nc, nf, m, objective, N, max(k, 1))
+            return stage_parameters(theta, structure, max(k, 1))
 
-        p = unpack(theta, nc, nf, m, objective, steps)
+        p = unpack(theta, structure)
         S_x = st.S_x(stage(1))
         exact = ca.vertcat(stage(1)[:-1], 0)
         relaxable = ca.DM([f in RELAXABLE for f in st.families])
@@ -120,7 +119,7 @@ class LinearisedStages:
 
 
 @lru_cache(maxsize=32)
-def linearised_stages(structure: tuple) -> LinearisedStages:
+def linearised_stages(structure: Structure) -> LinearisedStages:
     return LinearisedStages(structure)
 
 
@@ -138,25 +137,24 @@ class RTIFormulation(Formulation):
     max_iterations = 1
     tolerance = 0.0
 
-    def prepare(self, structure: tuple) -> None:
+    def prepare(self, structure: Structure) -> None:
         linearised_stages(structure)
 
-    def stage_data(self, structure: tuple, args: tuple = ()) -> StageQPData:
+    def stage_data(self, structure: Structure, args: tuple = ()) -> StageQPData:
         """The stage QP of ``structure`` for a backend to close, with the inputs ``args`` of one solve."""
-        return StageQPData((self.name,) + structure, lambda: linearised_stages(structure), args)
+        return StageQPData((self.name, structure), lambda: linearised_stages(structure), args)
 
     def step_inputs(self, problem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
         """The step's inputs at ``problem``: θ (the parameter vector, then the smoothing) and the reference
         (``warm_plan``'s controlled positions, else every defender held), both flat."""
         theta = np.append(parameter_vector(problem), self.smoothing)
-        return theta, x_from_plan(problem, problem.held_plan() if warm_plan is None else warm_plan)
+        return theta, problem.x_from_plan(problem.held_plan() if warm_plan is None else warm_plan)
 
-    def parameter_parts(self, theta: np.ndarray, structure: tuple) -> dict[str, np.ndarray]:
+    def parameter_parts(self, theta: np.ndarray, structure: Structure) -> dict[str, np.ndarray]:
         """θ's named parts (the parameter vector's layout, then ``smoothing``) as views of the array ``theta``."""
-        nc, nf, m, N, objective = structure
-        return {**unpack(theta, nc, nf, m, objective, N if objective == "enclose" else 0), "smoothing": theta[-1:]}
+        return {**unpack(theta, structure), "smoothing": theta[-1:]}
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         data = self.stage_data(problem.structure, self.step_inputs(problem, warm_plan))
         result = backend.solve(data, duals)
-        return result if result.x is None else replace(result, plan=plan_from_x(problem, result.x))
+        return result if result.x is None else replace(result, plan=problem.plan_from_x(result.x))

@@ -24,6 +24,7 @@ import numpy as np
 
 from formulations.capture_model import unpack
 from formulations.stage_model import stage_model
+from mpc_hunt.capture.structure import Structure
 
 _DIAGONALS = ca.DM([[1.0, 1.0], [-1.0, 1.0]]) / np.sqrt(2.0)   # the octagon's diagonal normals
 _APOTHEM = np.cos(np.pi / 8)                                   # distance of its sides, per r_d
@@ -38,13 +39,14 @@ class StageLinearisation:
     diagonal rows and Eq. 14's rows for step k+1 with theirs, and the gradient of Eq. 14's penalty.
     """
 
-    def __init__(self, nc: int, nf: int, m: int, objective: str = "paper"):
-        sm = stage_model(nc, nf, m, objective)
-        eq14 = objective == "paper"                  # Eq. 14's rows and slacks (module docstring)
+    def __init__(self, structure: Structure):
+        nc = structure.planned
+        sm = stage_model(structure)
+        eq14 = structure.objective == "paper"                  # Eq. 14's rows and slacks (module docstring)
         self.nx, self.nd, self.nu = sm.nx, sm.nu, sm.nu + (1 + nc if eq14 else 0)
         self.families = sm.families
         theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
-        p = unpack(theta, nc, nf, m)
+        p = unpack(theta, structure.stage)
         reach = ca.vertcat(*[p["step_limits"][i] for i in range(nc) for _ in range(2)])
         attacker_reach = p["time_step"] * p["attacker_max_speed"]
         self.S_x = ca.Function("S_x", [theta], [ca.vertcat(attacker_reach, attacker_reach, reach)])
@@ -92,6 +94,11 @@ class StageLinearisation:
             self.control_bounds = ca.Function("control_bounds", [u_ref, theta], [low, high, -octagon, octagon])
 
 
+def stage_linearisation(structure: Structure) -> StageLinearisation:
+    """The stage linearisation for ``structure`` (whatever its horizon), built once per process."""
+    return _stage_linearisation(structure.stage)
+
+
 @lru_cache(maxsize=32)
-def stage_linearisation(nc: int, nf: int, m: int, objective: str = "paper") -> StageLinearisation:
-    return StageLinearisation(nc, nf, m, objective)
+def _stage_linearisation(structure: Structure) -> StageLinearisation:
+    return StageLinearisation(structure)

@@ -24,23 +24,25 @@ import casadi as ca
 from formulations.base import separation_pairs
 from formulations.capture_model import enclose_residuals, parameter_size, saturate, step_reference, unpack
 from formulations.smooth_field import norm, obstacle_repulsion, repulsion
+from mpc_hunt.capture.structure import Structure
 
 SMOOTHING = 0.001   # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)
 
 
 class StageModel:
-    """CasADi functions of one stage for one structure (nc controlled, nf held, m obstacles, objective).
+    """CasADi functions of one stage for one structure (its planned and held defenders, obstacles, objective).
 
     With the ``enclose`` objective a stage's θ holds its own step of the reference
     (:func:`formulations.capture_model.stage_parameters`).
     """
 
-    def __init__(self, nc: int, nf: int, m: int, objective: str = "paper"):
+    def __init__(self, structure: Structure):
+        structure = structure.stage                  # a stage's θ: its own step of the reference
+        nc, nf, m, objective = structure.planned, structure.fixed, structure.obstacles, structure.objective
         self.nc, self.nf, self.m, self.objective = nc, nf, m, objective
         self.nx, self.nu = 2 + 2 * nc, 2 * nc
-        steps = 1 if objective == "enclose" else 0
-        theta = ca.SX.sym("theta", parameter_size(nc, nf, m, objective, steps) + 1)
-        p = unpack(theta, nc, nf, m, objective, steps)
+        theta = ca.SX.sym("theta", parameter_size(structure) + 1)
+        p = unpack(theta, structure)
         w = theta[-1]
         x, u = ca.SX.sym("x", self.nx), ca.SX.sym("u", self.nu)
         a = x[:2]
@@ -89,7 +91,11 @@ class StageModel:
         self.motion = ca.Function("motion", [u, theta], [ca.vertcat(*steps), p["step_limits"] ** 2])
 
 
+def stage_model(structure: Structure) -> StageModel:
+    """The stage functions for ``structure`` (whatever its horizon), built once per process."""
+    return _stage_model(structure.stage)
+
+
 @lru_cache(maxsize=32)
-def stage_model(nc: int, nf: int, m: int, objective: str = "paper") -> StageModel:
-    """The stage functions for one structure, built once per process."""
-    return StageModel(nc, nf, m, objective)
+def _stage_model(structure: Structure) -> StageModel:
+    return StageModel(structure)

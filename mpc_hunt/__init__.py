@@ -2,12 +2,13 @@
 
 from importlib.metadata import PackageNotFoundError, version
 
-from mpc_hunt.capture import (CaptureLoop, CaptureProblem, CaptureSolver, CaptureWeights, Evaluation, Solution, Status,
-                              WarmStart, evaluate, pairs, shift_plan, solve)
+from mpc_hunt.capture import (CaptureProblem, CaptureWeights, Evaluation, Solution, Status, Structure, WarmStart, evaluate,
+                              shift_plan)
 from mpc_hunt.control import (Command, Controller, EncirclingController, HuntingStrategy, Observation,
                               make_controller)
 from mpc_hunt.errors import MpcHuntError, ScenarioError, SolverError, SolverNotFoundError, UnknownNameError
 from mpc_hunt.sim import HuntResult, simulate
+from mpc_hunt.solving import CaptureLoop, CaptureSolver, pairs, solve
 from mpc_hunt.world import (Attacker, Defender, HuntParameters, Obstacle, Scenario, builtin_names, builtin_scenario,
                             load_scenario, resolve_scenario, save_scenario)
 
@@ -20,6 +21,6 @@ __all__ = [
     "Attacker", "CaptureLoop", "CaptureProblem", "CaptureSolver", "CaptureWeights", "Command", "Controller", "Defender",
     "EncirclingController", "Evaluation", "HuntParameters", "HuntResult", "HuntingStrategy", "MpcHuntError",
     "Observation", "Obstacle", "Scenario", "ScenarioError", "Solution", "SolverError", "SolverNotFoundError",
-    "Status", "UnknownNameError", "WarmStart", "builtin_names", "builtin_scenario", "evaluate", "load_scenario",
+    "Status", "Structure", "UnknownNameError", "WarmStart", "builtin_names", "builtin_scenario", "evaluate", "load_scenario",
     "make_controller", "pairs", "resolve_scenario", "save_scenario", "shift_plan", "simulate", "solve", "__version__",
 ]

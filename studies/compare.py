@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.bench.compare import MODES, planned_solves, run_compare
 from mpc_hunt.bench.compare_report import write_report
 from mpc_hunt.bench.compare_rows import best_known, gap

@@ -45,10 +45,10 @@ with warnings.catch_warnings():
     import do_mpc
 
 from formulations.base import separation_pairs
-from formulations.capture_model import (obstacle_repulsion, parameter_size, parameter_vector, plan_from_x,
-                                        repulsion, saturate, unpack)
+from formulations.capture_model import (obstacle_repulsion, parameter_size, parameter_vector, repulsion, saturate,
+                                        unpack)
 from formulations.smooth_field import norm
-from mpc_hunt.capture.backends.ipopt import IpoptBackend
+from mpc_hunt.solving.backends.ipopt import IpoptBackend
 from mpc_hunt.capture.problem import CaptureProblem
 
 
@@ -60,10 +60,11 @@ class DoMPCPeer:
 
     def __init__(self, problem: CaptureProblem):
         t0 = time.perf_counter()
-        nc, nf, m, N = self.structure = problem.structure
-        x, theta = ca.SX.sym("x", 2 + 2 * nc), ca.SX.sym("theta", parameter_size(nc, nf, m))
+        structure = self.structure = problem.structure
+        nc, nf, m, N = structure.planned, structure.fixed, structure.obstacles, structure.horizon
+        x, theta = ca.SX.sym("x", 2 + 2 * nc), ca.SX.sym("theta", parameter_size(structure))
         u = ca.SX.sym("u", 3 * nc + 1)                          # (Δp_d, q, s)
-        p = unpack(theta, nc, nf, m)
+        p = unpack(theta, structure)
         held = [p["held"][2 * j:2 * j + 2] for j in range(nf)]
 
         def resultant(a, team):
@@ -141,7 +142,7 @@ class DoMPCPeer:
 
     def solve(self, problem: CaptureProblem) -> np.ndarray:
         """One ``make_step`` at ``problem``'s state; the plan (N, n, 2), held defenders where they are."""
-        mpc, N = self.mpc, self.structure[3]
+        mpc, N = self.mpc, self.structure.horizon
         c = problem.controlled
         x0 = np.concatenate([problem.attacker_position, problem.defender_positions[c].ravel()])
         theta = parameter_vector(problem)
@@ -157,4 +158,4 @@ class DoMPCPeer:
         t0 = time.perf_counter()
         mpc.make_step(x0)
         self.solver_time = time.perf_counter() - t0
-        return plan_from_x(problem, np.array(mpc.opt_x_num_unscaled.cat).ravel()[self._plan_index])
+        return problem.plan_from_x(np.array(mpc.opt_x_num_unscaled.cat).ravel()[self._plan_index])

@@ -24,7 +24,7 @@ from pathlib import Path
 
 from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.cli.common import count, stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.capture.export import export_step
+from mpc_hunt.solving.export import export_step
 from step_loop import reference_run
 
 EXPORTED = ("rti", "stage-sqp")

@@ -22,10 +22,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from formulations.capture_model import parameter_vector, x_from_plan
+from formulations.capture_model import parameter_vector
 from formulations.qp import linearised_capture
 from mpc_hunt import CaptureProblem, CaptureSolver
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.capture.solution import WarmStart
 
@@ -43,8 +43,8 @@ def perfect_warm_start(problems: list) -> dict | None:
         warm = warm_plan(applied, problem)
         if k:
             reference = problem.held_plan() if warm is None else warm
-            data = linearised_capture(problem.structure).data(("qp",) + problem.structure, parameter_vector(problem),
-                                                              x_from_plan(problem, reference))
+            data = linearised_capture(problem.structure).data(("qp", problem.structure), parameter_vector(problem),
+                                                              problem.x_from_plan(reference))
             cold = backend.run(backend.setup(data), data, WarmStart(None, None))
             again = backend.run(backend.setup(data), data, cold.duals)
             if cold.status.usable and again.status.usable:

@@ -49,7 +49,7 @@ import numpy as np
 
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.cli.common import count, stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.strategy import applied_plan, warm_plan

@@ -15,8 +15,8 @@ import time
 import numpy as np
 
 from mpc_hunt import CaptureSolver
-from mpc_hunt.capture import registry
-from mpc_hunt.capture.loop import CaptureLoop
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.loop import CaptureLoop
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 LOOP_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen"))
@@ -68,7 +68,7 @@ def loop_lines(loop: list[dict], rows: list[dict]) -> list[str]:
     by_pair = {(r["formulation"], r["backend"]): r for r in rows}
     interpreted = by_pair.get(("rti", "hpipm"))
     lines = ["## The control loop's step (`CaptureLoop`)", "",
-             "The same states through `mpc_hunt.capture.loop.CaptureLoop`: the inputs `CaptureSolver` used written "
+             "The same states through `mpc_hunt.solving.loop.CaptureLoop`: the inputs `CaptureSolver` used written "
              "into the loop's arrays, one `step()`, the plan read from its array; no problem posed, no evaluator, "
              "no solution object. *× rti/hpipm*: the interpreted `rti`/`hpipm` step of the latency table (state in "
              "→ plan out, evaluator excluded) over this row's step; *same pair*: this pair's step in the latency "

@@ -2,7 +2,7 @@
 
 The step (state in → plan out) is one call of a CasADi Function that
 linearises the stage-structured problem, solves the QP with HPIPM and reads
-the plan back (mpc_hunt/capture/backends/conic_step.py), plus the Python that poses
+the plan back (mpc_hunt/solving/backends/conic_step.py), plus the Python that poses
 the problem and hands the call its arguments. On the same states, warm-started
 as the controller does, this times the linearisation alone and HPIPM alone on
 the same numeric QP (same options), and counts HPIPM's iterations; the rest of the
@@ -16,12 +16,12 @@ import time
 import casadi as ca
 import numpy as np
 
-from formulations.capture_model import parameter_vector, x_from_plan
+from formulations.capture_model import parameter_vector
 from formulations.rti import linearised_stages
 from formulations.stage_model import SMOOTHING
 from mpc_hunt import CaptureProblem, CaptureSolver
-from mpc_hunt.capture.backends.conic_step import QP_KEYS
-from mpc_hunt.capture.backends.hpipm import HpipmBackend
+from mpc_hunt.solving.backends.conic_step import QP_KEYS
+from mpc_hunt.solving.backends.hpipm import HpipmBackend
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 REPEATS = 5     # each piece is timed this many times per state; the fastest counts (the least disturbed)
@@ -47,7 +47,7 @@ def rti_profile(problems: list) -> dict:
         warm = warm_plan(applied, problem)
         if graph is not None:
             theta = np.append(parameter_vector(problem), SMOOTHING)
-            reference = x_from_plan(problem, problem.held_plan() if warm is None else warm)
+            reference = problem.x_from_plan(problem.held_plan() if warm is None else warm)
             seconds, qp = _fastest(lambda: linearise(theta, reference))
             pieces["linearise_ms"].append(1e3 * seconds)
             data = dict(zip(QP_KEYS, qp))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import pkgutil
 import subprocess
 import sys
@@ -12,11 +13,12 @@ import pytest
 import formulations
 import mpc_hunt
 from mpc_hunt import CaptureSolver, SolverNotFoundError, solve
-from mpc_hunt.capture import registry
-from mpc_hunt.capture.backends.daqp import DaqpBackend
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.backends.daqp import DaqpBackend
 from conftest import problem_at
 
 ROOT = Path(__file__).resolve().parents[1]
+TOP = ("mpc_hunt", "formulations")
 
 
 def _modules() -> list[str]:
@@ -30,7 +32,7 @@ def _modules() -> list[str]:
 
 def test_every_module_imports_alone_in_a_fresh_interpreter():
     modules = _modules()
-    assert "formulations.nlp" in modules and "mpc_hunt.capture.backends.daqp" in modules and "mpc_hunt.cli.commands" in modules
+    assert {"formulations.nlp", "mpc_hunt.solving.backends.daqp", "mpc_hunt.cli.commands"} <= set(modules)
     running = {m: subprocess.Popen([sys.executable, "-c", f"import {m}"], cwd=ROOT, stderr=subprocess.PIPE,
                                    text=True) for m in modules}
     failed = {m: p.communicate()[1].strip().splitlines()[-1:] for m, p in running.items()}
@@ -42,7 +44,22 @@ def test_the_import_contracts_hold():
     run = subprocess.run([str(Path(sys.executable).with_name("lint-imports")), "--no-cache"], cwd=ROOT,
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-1000:]
-    assert "4 kept, 0 broken" in run.stdout
+    assert "5 kept, 0 broken" in run.stdout
+
+
+def _private_imports(path: Path) -> list[str]:
+    """``from mpc_hunt.X… import _name`` (or formulations.…) in ``path`` reaching into another subpackage."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    here = ".".join(path.relative_to(ROOT).with_suffix("").parts[:2])
+    return [f"{path.relative_to(ROOT)}: {node.module}.{alias.name}" for node in ast.walk(tree)
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] in TOP
+            and ".".join(node.module.split(".")[:2]) != here
+            for alias in node.names if alias.name.startswith("_") and not alias.name.startswith("__")]
+
+
+def test_no_module_imports_a_private_name_of_another_package():
+    files = [f for top in ("mpc_hunt", "formulations", "studies") for f in (ROOT / top).rglob("*.py")]
+    assert [hit for f in files for hit in _private_imports(f)] == []
 
 
 def test_import_mpc_hunt_loads_no_solver():

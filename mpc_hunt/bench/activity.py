@@ -19,7 +19,7 @@ import numpy as np
 
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES, Evaluation, evaluate
-from mpc_hunt.capture.solver import CaptureSolver
+from mpc_hunt.solving.solver import CaptureSolver
 
 ACTIVE_TOLERANCE = 1e-6   # m
 INEQUALITIES = tuple(name for name in VIOLATION_NAMES if name != "equal_distance")

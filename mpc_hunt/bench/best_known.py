@@ -13,7 +13,7 @@ import numpy as np
 
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.bench.metrics import is_success
-from mpc_hunt.capture.solver import CaptureSolver
+from mpc_hunt.solving.solver import CaptureSolver
 
 
 def random_plan(problem: CaptureProblem, rng: np.random.Generator) -> np.ndarray:

@@ -6,7 +6,7 @@ the controller does (the plan it applied, shifted one step, while the same
 defenders are controlled: :func:`mpc_hunt.control.strategy.warm_plan` and
 :func:`~mpc_hunt.control.strategy.applied_plan`). Pairs take turns on each problem (or
 sequence), so that load on the machine falls on all of them alike. Each pair
-runs as a controller runs it (:func:`~mpc_hunt.capture.loop_solver.capture_solver`:
+runs as a controller runs it (:func:`~mpc_hunt.solving.loop_solver.capture_solver`:
 the stage-form steps as a control loop). A solve's all-in time runs from the
 state handed over to the plan returned, as the controller waits for it (posing
 the problem, the solver, our overhead), with any set-up it did and the
@@ -23,15 +23,15 @@ from typing import Callable
 
 import numpy as np
 
-from mpc_hunt.capture import registry
-from mpc_hunt.capture.accuracy import VIOLATION_TOLERANCE
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.bench.best_known import MultiStartNLP
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
-from mpc_hunt.capture.loop_solver import LoopSolver, capture_solver
-from mpc_hunt.capture.solver import CaptureSolver
+from mpc_hunt.solving.loop_solver import LoopSolver, capture_solver
+from mpc_hunt.solving.solver import CaptureSolver
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 MODES = ("cold", "closed-loop")

@@ -7,7 +7,7 @@ import json
 import math
 from pathlib import Path
 
-from mpc_hunt.capture.accuracy import accuracy_table
+from mpc_hunt.solving.accuracy import accuracy_table
 from mpc_hunt.bench.compare import CompareRun
 from mpc_hunt.bench.compare_plots import FIGURES, plot_compare
 from mpc_hunt.bench.compare_rows import best_known, gap, rows as score_rows

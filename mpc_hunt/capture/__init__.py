@@ -1,13 +1,15 @@
-"""The capture stage (Eqs. 12–15): the problem at one state, the one solver interface over every formulation and
-backend (the registry), the solution, and the evaluator that scores every plan on the true problem."""
+"""The capture stage's contract (Eqs. 12–15): the problem at one state and its structure, the data a formulation
+hands a backend, the solution, and the evaluator that scores every plan on the true problem.
+
+The formulations (the top-level package ``formulations``) build on it; the solving machinery
+(:mod:`mpc_hunt.solving`: registry, backends, solver, export) on both.
+"""
 
 from mpc_hunt.capture.evaluator import Evaluation, evaluate
-from mpc_hunt.capture.loop import CaptureLoop
 from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.capture.problem import CaptureProblem, CaptureWeights
-from mpc_hunt.capture.registry import pairs
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
-from mpc_hunt.capture.solver import CaptureSolver, solve
+from mpc_hunt.capture.structure import Structure
 
-__all__ = ["CaptureLoop", "CaptureProblem", "CaptureSolver", "CaptureWeights", "Evaluation", "Solution", "Status", "WarmStart",
-           "evaluate", "pairs", "shift_plan", "solve"]
+__all__ = ["CaptureProblem", "CaptureWeights", "Evaluation", "Solution", "Status", "Structure", "WarmStart",
+           "evaluate", "shift_plan"]

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world import attacker
 from mpc_hunt.world.hunting_circle import desired_velocity, members
@@ -175,15 +176,15 @@ class CaptureProblem:
         return 0.5 * self.scenario.hunt.hunt_radius
 
     @property
-    def structure(self) -> tuple[int, int, int, int, str]:
-        """What fixes a formulation's sizes and expressions: (controlled, held, obstacles, horizon, objective)."""
+    def structure(self) -> Structure:
+        """What fixes a formulation's sizes and expressions (:class:`~mpc_hunt.capture.structure.Structure`)."""
         nc = int(self.controlled.sum())
-        return (nc, len(self.controlled) - nc, len(self.scenario.obstacles), self.horizon, self.objective)
+        return Structure(nc, len(self.controlled) - nc, len(self.scenario.obstacles), self.horizon, self.objective)
 
     @property
     def signature(self) -> tuple:
         """The structure and which defenders are controlled: when two problems may share duals."""
-        return self.structure + (tuple(int(i) for i in np.flatnonzero(self.controlled)),)
+        return self.structure, tuple(int(i) for i in np.flatnonzero(self.controlled))
 
     def resultant(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         """The attacker's resultant (Eq. 9 plus its nominal intent) for defenders at ``p_d``."""
@@ -204,3 +205,12 @@ class CaptureProblem:
         plan[:, self.controlled] = np.asarray(controlled, dtype=float).reshape(
             self.horizon, int(self.controlled.sum()), 2)
         return plan
+
+    def plan_from_x(self, x: np.ndarray) -> np.ndarray:
+        """Every defender's positions (N, n, 2) from a decision vector that starts with the controlled
+        defenders' positions (the rest, slacks and the like, is ignored)."""
+        return self.plan_with(np.asarray(x, dtype=float)[:self.structure.plan_size])
+
+    def x_from_plan(self, plan: np.ndarray) -> np.ndarray:
+        """The controlled defenders' positions of a full plan, flat (inverse of :meth:`plan_with`)."""
+        return np.asarray(plan, dtype=float)[:, self.controlled].reshape(-1)

@@ -18,8 +18,8 @@ from mpc_hunt import __version__
 
 from mpc_hunt.cli import sweep as cli_sweep
 
-from mpc_hunt.capture import registry
-from mpc_hunt.capture.export import MODES as HPIPM_MODES
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.export import MODES as HPIPM_MODES
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
@@ -132,7 +132,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "stage-sqp repeats it to convergence) as C sources "
                     "with a header, a Makefile (HPIPM and BLASFEO as dependencies), a program that reads a state's "
                     "θ and reference and prints the plan, and that state's input and Python's plan "
-                    "(mpc_hunt/capture/export.py).")
+                    "(mpc_hunt/solving/export.py).")
     exp.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
                      help=f"built-in name or a TOML file (default: {DEFAULT_SCENARIO})")
     exp.add_argument("--state", type=Path, metavar="FILE", help="JSON state to pose the problem at (as solve)")
@@ -162,8 +162,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _compare_parser(sub) -> None:
-    from mpc_hunt.capture.accuracy import accuracy_table
-    from mpc_hunt.capture.backends.base import ACCURACIES
+    from mpc_hunt.solving.accuracy import accuracy_table
+    from mpc_hunt.solving.backends.base import ACCURACIES
     from mpc_hunt.bench.compare import MODES
     from mpc_hunt.capture.evaluator import OBJECTIVE
 
@@ -351,7 +351,7 @@ def _state(args, scenario):
 def _solve(args) -> int:
     from mpc_hunt.bench.capture_state import save_state
     from mpc_hunt.bench.problem_set import posed_problem
-    from mpc_hunt.capture.solver import CaptureSolver
+    from mpc_hunt.solving.solver import CaptureSolver
 
     formulation, backend, horizon = _solver_choice(args)
     if args.save_state:
@@ -384,7 +384,7 @@ def _solve(args) -> int:
 
 def _export(args) -> int:
     from mpc_hunt.bench.problem_set import posed_problem
-    from mpc_hunt.capture.export import export_step
+    from mpc_hunt.solving.export import export_step
 
     scenario = resolve_scenario(args.scenario)
     if args.output.exists() and not args.output.is_dir():

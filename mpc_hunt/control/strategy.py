@@ -7,7 +7,7 @@ horizon). The strategy keeps the one memory of the previous plan: the plan it
 applied, handed to the solver, shifted one step, as the next warm start while
 the same defenders are controlled. A stage-form pair that closes into one
 Function (``rti``, ``stage-sqp`` on ``hpipm``, ``hpipm-codegen``) runs as a
-control loop (:class:`~mpc_hunt.capture.loop_solver.LoopSolver`), every
+control loop (:class:`~mpc_hunt.solving.loop_solver.LoopSolver`), every
 other pair through ``CaptureSolver``; either way the evaluator scores a
 successful plan only with ``score=True``, a failed one always. When a solve
 fails, the fallback (counted) is, in order: the solver's last iterate if the shared evaluator scored it
@@ -39,7 +39,7 @@ from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 from mpc_hunt.capture.solution import Solution
-from mpc_hunt.capture.loop_solver import capture_solver
+from mpc_hunt.solving.loop_solver import capture_solver
 
 FEASIBLE_TOLERANCE = 1e-6
 

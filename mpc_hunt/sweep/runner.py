@@ -34,7 +34,7 @@ from typing import Generator, Iterator, Sequence
 
 import numpy as np
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.control import controllers
 from mpc_hunt.world.ensemble import perturbed

@@ -21,10 +21,10 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from binding_cases import CASES, SYMMETRIC, Case, octagon_slack, on_circle, slack
-from formulations.capture_model import parameter_vector, x_from_plan
+from formulations.capture_model import parameter_vector
 from formulations.qp import POLYGON_SIDES, linearised_capture
 from mpc_hunt import CaptureProblem, HuntParameters, Solution, Status, evaluate, solve
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 
 
@@ -167,7 +167,7 @@ def _qp_rows(problem: CaptureProblem, reference: np.ndarray, family: str):
     """The QP at ``reference`` and, for each row of ``family``: (its coefficients on the positions,
     its lower bound, the (step, defender) blocks it involves)."""
     lin = linearised_capture(problem.structure)
-    Xref = x_from_plan(problem, reference)
+    Xref = problem.x_from_plan(reference)
     data = lin.data(("rows",), parameter_vector(problem), Xref)
     A = data.A.toarray()
     assert len(lin.family) == A.shape[0]

@@ -9,8 +9,8 @@ import pytest
 
 from conftest import ATTACKER, small_scenario
 from mpc_hunt import CaptureProblem, CaptureSolver
-from mpc_hunt.capture import compiled
-from mpc_hunt.capture.backends import hpipm_codegen
+from mpc_hunt.solving import compiled
+from mpc_hunt.solving.backends import hpipm_codegen
 
 # One defender inside R_agg, one held outside it, one obstacle, N = 2: a structure gcc compiles in seconds.
 DEFENDERS = ATTACKER + np.array([[0.7, 0.0], [-3.0, 0.0]])

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from conftest import small_scenario
-from formulations.capture_model import capture_model, parameter_vector, x_from_plan
+from formulations.capture_model import capture_model, parameter_vector
 from formulations.stage_linearisation import stage_linearisation
-from mpc_hunt import CaptureProblem, CaptureSolver, evaluate
+from mpc_hunt import CaptureProblem, CaptureSolver, Structure, evaluate
 from mpc_hunt.capture.evaluator import ENCLOSE_TERM_NAMES
 from mpc_hunt.capture.problem import EncloseWeights, ProblemError, Reference
 
@@ -41,11 +41,11 @@ FAR = ATTACKER + np.array([[3.0, 0.0], [0.0, 3.0], [-3.0, 0.0]])     # outside R
 def test_the_model_scores_a_plan_as_the_evaluator_does():
     problem = _problem(_scenario(arena=(0.0, 0.0, 20.0, 20.0)), FAR, FAR + [0.05, -0.02], horizon=3)
     plan = problem.held_plan() + np.random.default_rng(0).normal(0, 0.004, problem.held_plan().shape)
-    model = capture_model(*problem.structure)
+    model = capture_model(problem.structure)
     f = ca.Function("f", [model.X, model.theta], [ca.sumsqr(model.residual)])
     evaluation = evaluate(problem, plan)
     assert set(evaluation.terms) == set(ENCLOSE_TERM_NAMES)
-    assert float(f(x_from_plan(problem, plan), parameter_vector(problem))) == pytest.approx(evaluation.objective,
+    assert float(f(problem.x_from_plan(plan), parameter_vector(problem))) == pytest.approx(evaluation.objective,
                                                                                               rel=1e-12)
 
 
@@ -116,7 +116,8 @@ def test_the_stage_qp_leaves_eq14_out_and_keeps_eq13():
     """Under ``enclose`` rti's stage QP has neither Eq. 14's slacks nor its rows (4 of 10 controls and 6 rows fewer
     a stage at N_d = 3), and keeps Eq. 13's octagon: defenders sent 1.5 steps along a diagonal stop on its
     diagonal side (at r_d cos(π/8) along the diagonal), which only its rows hold."""
-    assert (stage_linearisation(3, 0, 0, "paper").nu, stage_linearisation(3, 0, 0, "enclose").nu) == (10, 6)
+    assert (stage_linearisation(Structure(3, 0, 0, 1, "paper")).nu,
+            stage_linearisation(Structure(3, 0, 0, 1, "enclose")).nu) == (10, 6)
     diagonal = np.array([1.0, 1.0]) / np.sqrt(2.0)
     problem = _problem(_scenario(), FAR, FAR + 0.012 * diagonal, horizon=3)
     solution = CaptureSolver("rti", "hpipm").solve(problem)

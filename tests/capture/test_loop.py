@@ -7,7 +7,7 @@ import pytest
 
 from conftest import ATTACKER, DEFENDERS, small_scenario
 from mpc_hunt import CaptureProblem, CaptureSolver, Status, shift_plan
-from mpc_hunt.capture.loop import CaptureLoop
+from mpc_hunt.solving.loop import CaptureLoop
 from mpc_hunt.errors import MpcHuntError
 
 HORIZON = 3

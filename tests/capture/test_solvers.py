@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from conftest import ATTACKER, DEFENDERS, problem_at, small_scenario
-from formulations.capture_model import decision_point, parameter_vector, x_from_plan
+from formulations.capture_model import decision_point, parameter_vector
 from formulations.qp import linearised_capture
 from mpc_hunt import (CaptureProblem, CaptureSolver, SolverError, Status, UnknownNameError, evaluate, pairs,
                       shift_plan, solve)
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 
 PAIRS = pairs()
 
@@ -82,7 +82,7 @@ def test_qp_linearisation_matches_finite_differences_of_the_numpy_model(scenario
     """The QP's objective gradient at its reference equals the evaluator's, by central differences."""
     problem = problem_at(scenario, 2)
     reference = problem.held_plan() + 0.01 * np.array([[1.0, 0.5], [-0.5, 1.0], [0.3, -0.8]])
-    X = x_from_plan(problem, reference)
+    X = problem.x_from_plan(reference)
     data = linearised_capture(problem.structure).data(("t",), parameter_vector(problem), X)
     P = data.P.toarray()
     P = P + P.T - np.diag(np.diag(P))

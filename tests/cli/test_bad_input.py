@@ -246,7 +246,7 @@ def nothing_runs(monkeypatch):
     def forbidden(*args, **kwargs):
         raise AssertionError("bad input reached the simulator or the solver")
 
-    for target in ("mpc_hunt.sim.simulator.simulate", "mpc_hunt.capture.solver.CaptureSolver.solve",
+    for target in ("mpc_hunt.sim.simulator.simulate", "mpc_hunt.solving.solver.CaptureSolver.solve",
                    "mpc_hunt.control.strategy.HuntingStrategy",
                    "mpc_hunt.capture.problem.CaptureProblem.at_state",
                    "mpc_hunt.bench.capture_state.first_formed_circle"):

@@ -10,7 +10,7 @@ over as for any conic plugin, and HPIPM's iterations start from its own point.
 
 from __future__ import annotations
 
-from mpc_hunt.capture.backends.conic_step import ConicStepBackend
+from mpc_hunt.solving.backends.conic_step import ConicStepBackend
 from mpc_hunt.capture.solution import Status
 
 

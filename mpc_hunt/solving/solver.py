@@ -1,7 +1,7 @@
 """One solver interface for every formulation × backend.
 
 ``CaptureSolver`` pairs a formulation with a persistent backend, both found by
-name in :mod:`mpc_hunt.capture.registry` on first use. It keeps only solver state: the
+name in :mod:`mpc_hunt.solving.registry` on first use. It keeps only solver state: the
 backend's set-up structures and the duals of its last usable solve. The plan to
 start from is the caller's (a controller hands over the plan it applied, shifted
 one step); the duals are reused only with such a plan, and only when the same
@@ -15,7 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import solve_scores
 from mpc_hunt.capture.solution import Solution, Status, WarmStart

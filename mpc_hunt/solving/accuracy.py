@@ -1,7 +1,7 @@
 """The accuracy settings of a benchmark: each level's violation tolerance and each backend's solver tolerances.
 
 A level (``default``, ``high``, ``low``) sets the tolerances every backend is
-handed (its ``ACCURACY`` table in :mod:`mpc_hunt.capture.backends`) and the largest true
+handed (its ``ACCURACY`` table in :mod:`mpc_hunt.solving.backends`) and the largest true
 violation, in metres, that the success rule accepts: ``default`` 0.1 mm (an
 eightieth of a defender's step r_d = 8 mm, a thousandth of R_safe: finer than
 the robots can act on), ``high`` 1e-8 m (exact but for rounding), ``low`` 1 mm.
@@ -9,8 +9,8 @@ the robots can act on), ``high`` 1e-8 m (exact but for rounding), ``low`` 1 mm.
 
 from __future__ import annotations
 
-from mpc_hunt.capture import registry
-from mpc_hunt.capture.backends.base import ACCURACIES
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.backends.base import ACCURACIES
 
 VIOLATION_TOLERANCE = {"default": 1e-4, "high": 1e-8, "low": 1e-3}   # m
 

@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Status
 from mpc_hunt.errors import MpcHuntError

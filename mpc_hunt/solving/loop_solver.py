@@ -1,9 +1,9 @@
-"""``CaptureSolver``'s interface on :class:`~mpc_hunt.capture.loop.CaptureLoop`: what a controller runs.
+"""``CaptureSolver``'s interface on :class:`~mpc_hunt.solving.loop.CaptureLoop`: what a controller runs.
 
 A controller poses a :class:`~mpc_hunt.capture.problem.CaptureProblem` each
 step and wants a :class:`~mpc_hunt.capture.solution.Solution` back (status,
 plan, iterations, times), as from ``CaptureSolver.solve``. For a stage-form
-formulation (:func:`~mpc_hunt.capture.registry.stage_formulations`), whose
+formulation (:func:`~mpc_hunt.solving.registry.stage_formulations`), whose
 backends close the step into one Function, ``LoopSolver`` does it on one
 ``CaptureLoop`` per structure, built on the structure's first problem: the
 inputs are written into the loop's arrays, the loop steps, and the plan is
@@ -22,12 +22,12 @@ import time
 
 import numpy as np
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.evaluator import solve_scores
-from mpc_hunt.capture.loop import CaptureLoop
+from mpc_hunt.solving.loop import CaptureLoop
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution
-from mpc_hunt.capture.solver import CaptureSolver
+from mpc_hunt.solving.solver import CaptureSolver
 
 
 class LoopSolver:

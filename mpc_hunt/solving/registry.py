@@ -27,13 +27,13 @@ FORMULATIONS = {
 }
 
 BACKENDS = {
-    "ipopt": "mpc_hunt.capture.backends.ipopt:IpoptBackend",
-    "osqp": "mpc_hunt.capture.backends.osqp:OsqpBackend",
-    "clarabel": "mpc_hunt.capture.backends.clarabel:ClarabelBackend",
-    "cvxpy": "mpc_hunt.capture.backends.cvxpy:CvxpyBackend",
-    "daqp": "mpc_hunt.capture.backends.daqp:DaqpBackend",
-    "hpipm": "mpc_hunt.capture.backends.hpipm:HpipmBackend",
-    "hpipm-codegen": "mpc_hunt.capture.backends.hpipm_codegen:HpipmCodegenBackend",
+    "ipopt": "mpc_hunt.solving.backends.ipopt:IpoptBackend",
+    "osqp": "mpc_hunt.solving.backends.osqp:OsqpBackend",
+    "clarabel": "mpc_hunt.solving.backends.clarabel:ClarabelBackend",
+    "cvxpy": "mpc_hunt.solving.backends.cvxpy:CvxpyBackend",
+    "daqp": "mpc_hunt.solving.backends.daqp:DaqpBackend",
+    "hpipm": "mpc_hunt.solving.backends.hpipm:HpipmBackend",
+    "hpipm-codegen": "mpc_hunt.solving.backends.hpipm_codegen:HpipmCodegenBackend",
 }
 
 
@@ -67,12 +67,12 @@ def compatible_backends(formulation: str) -> list[str]:
 
 def stage_formulations() -> list[str]:
     """The formulations whose step is one stage-form Function (kind ``ocp-qp``): what the control loop
-    (:mod:`mpc_hunt.capture.loop`) and the C export run."""
+    (:mod:`mpc_hunt.solving.loop`) and the C export run."""
     return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
 
 
 def check_stage_pair(formulation: str, backend: str | None) -> str:
-    """The backend of a stage-form step run as one Function (the control loop, :mod:`mpc_hunt.capture.loop`, and
+    """The backend of a stage-form step run as one Function (the control loop, :mod:`mpc_hunt.solving.loop`, and
     the C export), checked: a stage-form formulation, whose backends (kind ``ocp-qp``) close its step into one
     Function."""
     if formulation not in stage_formulations():

@@ -21,7 +21,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from mpc_hunt.capture.backends.base import Backend, StageQPData
+from mpc_hunt.capture.data import StageQPData
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 QP_KEYS = ("h", "g", "a", "lba", "uba", "lbx", "ubx")
@@ -68,7 +69,7 @@ class ConicStepBackend(Backend):
         return Status.ERROR
 
     def loop_function(self, step):
-        """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.capture.loop`)."""
+        """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.solving.loop`)."""
         return step
 
     def loop_status(self, step, buffer) -> tuple[Status, int]:

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpc_hunt.capture.backends.base import Backend, QPData
+from mpc_hunt.capture.data import QPData
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 

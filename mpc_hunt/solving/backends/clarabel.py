@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
-from mpc_hunt.capture.backends.base import Backend, QPData
+from mpc_hunt.capture.data import QPData
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 _STATUS = {

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.capture.backends.base import Backend, NLPData
+from mpc_hunt.capture.data import NLPData
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 _STATUS = {

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.capture.backends.base import Backend, QPData
+from mpc_hunt.capture.data import QPData
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 _STATUS = {2: Status.OPTIMAL, 1: Status.OPTIMAL, -1: Status.INFEASIBLE, -3: Status.INFEASIBLE,

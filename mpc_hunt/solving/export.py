@@ -4,13 +4,13 @@ For one problem's structure (controlled and held defenders, obstacles, horizon,
 objective) the folder holds:
 
 - ``capture_step.c``, ``capture_step.h``: the step CasADi generates (linearisation,
-  HPIPM, read-back), with the rewrites of :mod:`mpc_hunt.capture.backends.hpipm_codegen`;
+  HPIPM, read-back), with the rewrites of :mod:`mpc_hunt.solving.backends.hpipm_codegen`;
 - ``mpc_hunt_step.c``, ``mpc_hunt_step.h``: ``mpc_hunt_step(theta, reference, plan, objective)``,
   the call a control loop makes: CasADi's calling convention wants argument and
   result pointer arrays longer than the inputs and outputs (it uses them as work
   space) and work vectors of the sizes ``capture_step_work`` gives; this wrapper
   holds them, allocated once, so the caller hands over plain arrays; for ``stage-sqp``
-  it repeats the step at its own plan as :class:`~mpc_hunt.capture.loop.CaptureLoop` does;
+  it repeats the step at its own plan as :class:`~mpc_hunt.solving.loop.CaptureLoop` does;
 - ``main.c``: reads states (θ and the reference) from standard input, prints their plans;
 - ``Makefile``: ``make`` builds ``capture_step`` against HPIPM and BLASFEO (the
   stated dependencies; by default the copies CasADi's Python wheel ships, whose
@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.capture import registry
+from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.errors import MpcHuntError
 
@@ -161,10 +161,10 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti",
     """Write the folder of the module docstring for ``problem``'s structure; returns the files written."""
     import casadi as ca
 
-    from mpc_hunt.capture.backends.hpipm import HpipmBackend
-    from mpc_hunt.capture.backends.hpipm_codegen import patch
-    from mpc_hunt.capture.compiled import casadi_paths
-    from mpc_hunt.capture.solver import CaptureSolver
+    from mpc_hunt.solving.backends.hpipm import HpipmBackend
+    from mpc_hunt.solving.backends.hpipm_codegen import patch
+    from mpc_hunt.solving.compiled import casadi_paths
+    from mpc_hunt.solving.solver import CaptureSolver
 
     registry.check_stage_pair(formulation, "hpipm")
     if mode not in MODES:

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.capture.backends.base import Backend, QPData
+from mpc_hunt.capture.data import QPData
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 

@@ -1,7 +1,7 @@
 """HPIPM's step compiled: linearisation, HPIPM and read-back generated to C once per structure.
 
-The ``hpipm`` backend's one Function (:mod:`mpc_hunt.capture.backends.conic_step`)
-generated to C by CasADi, compiled and cached (:mod:`mpc_hunt.capture.compiled`),
+The ``hpipm`` backend's one Function (:mod:`mpc_hunt.solving.backends.conic_step`)
+generated to C by CasADi, compiled and cached (:mod:`mpc_hunt.solving.compiled`),
 and called as one CasADi Function from the library. Three things in CasADi's
 generated HPIPM code (3.8) are rewritten before it is compiled:
 
@@ -23,10 +23,10 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from mpc_hunt.capture.backends.base import StageQPData
-from mpc_hunt.capture.backends.conic_step import as_solution, call
-from mpc_hunt.capture.backends.hpipm import HpipmBackend
-from mpc_hunt.capture.compiled import FLAGS, compiled
+from mpc_hunt.capture.data import StageQPData
+from mpc_hunt.solving.backends.conic_step import as_solution, call
+from mpc_hunt.solving.backends.hpipm import HpipmBackend
+from mpc_hunt.solving.compiled import FLAGS, compiled
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 MEMORY = ("dim", "qp", "qp_sol", "ipm_arg", "ipm")     # HPIPM's blocks, as CasADi's generated code names them
@@ -75,7 +75,7 @@ class CompiledStep:
 
 
 class HpipmCodegenBackend(HpipmBackend):
-    """``hpipm`` compiled (``flags``: the compiler's flags, by default :data:`mpc_hunt.capture.compiled.FLAGS`)."""
+    """``hpipm`` compiled (``flags``: the compiler's flags, by default :data:`mpc_hunt.solving.compiled.FLAGS`)."""
 
     name = "hpipm-codegen"
 

@@ -1,1 +1,0 @@
-"""Solver backends, one module each; registered by name in :mod:`mpc_hunt.capture.registry`."""
