@@ -35,6 +35,7 @@ from formulations.qp import TRUST_REGION
 from formulations.stage_linearisation import stage_linearisation
 from formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt.capture.data import StageQPData
+from mpc_hunt.capture.iteration import ONE_QP
 from mpc_hunt.capture.solution import Solution
 from mpc_hunt.capture.structure import Structure
 
@@ -132,10 +133,9 @@ class RTIFormulation(Formulation):
     # Eq. 15 and the separations are inner approximations; Eq. 13 an inscribed octagon.
     exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     smoothing = SMOOTHING
-    # QPs a control step makes and the move (m) that ends them, read by the control loop and the C export:
+    # QPs a control step makes and the move that ends them, read by the control loop and the C export:
     # one QP, linearised once (stage-sqp repeats it).
-    max_iterations = 1
-    tolerance = 0.0
+    iteration = ONE_QP
 
     def prepare(self, structure: Structure) -> None:
         linearised_stages(structure)

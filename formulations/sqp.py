@@ -1,7 +1,8 @@
 """``sqp``: the ``qp`` linearisation iterated to convergence (sequential QP).
 
-Each iterate relinearises at the previous QP's plan; it stops when no defender
-position moves by more than ``tolerance`` metres, or after ``max_iterations``.
+Each iterate relinearises at the previous QP's plan; it stops by the rule of
+:class:`~mpc_hunt.capture.iteration.QPIteration` (no defender position moves by more
+than 1e-7 m, or 30 QPs).
 Comparing it with ``qp`` (one linearisation) and ``nlp`` (the exact problem)
 shows what a single linearisation costs, and what the polygon of Eq. 13 costs.
 """
@@ -14,6 +15,7 @@ import numpy as np
 
 from formulations.capture_model import parameter_vector
 from formulations.qp import QPFormulation
+from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.solution import Solution, Status
 
 
@@ -21,23 +23,21 @@ class SQPFormulation(QPFormulation):
     name = "sqp"
     kind = "qp"
     default_backend = "osqp"
-    tolerance = 1e-7
-    max_iterations = 30
+    iteration = QPIteration(max_qps=30, tolerance=1e-7)
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         theta = parameter_vector(problem)
         return iterate(lambda reference, duals: self.solve_at(problem, backend, reference, theta, duals),
-                       problem.held_plan() if warm_plan is None else warm_plan, duals, self.tolerance,
-                       self.max_iterations)
+                       problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration)
 
 
-def iterate(step, reference: np.ndarray, duals, tolerance: float, max_iterations: int) -> Solution:
-    """``step(reference, duals)`` (one QP linearised at ``reference``) repeated at its own plan until no defender
-    position moves by more than ``tolerance`` metres, or ``max_iterations`` QPs; times and iterations summed."""
+def iterate(step, reference: np.ndarray, duals, iteration: QPIteration) -> Solution:
+    """``step(reference, duals)`` (one QP linearised at ``reference``) repeated at its own plan until ``iteration``
+    says it has settled; times and iterations summed."""
     solver_time = setup_time = 0.0
     iterations = 0
     last = None
-    for count in range(max_iterations):
+    for count in range(iteration.max_qps):
         result = step(reference, duals)
         solver_time += result.solver_time
         setup_time += result.setup_time
@@ -48,8 +48,8 @@ def iterate(step, reference: np.ndarray, duals, tolerance: float, max_iterations
                            x=None if last is None else last.x, plan=None if last is None else last.plan,
                            formulation_objective=None if last is None else last.formulation_objective,
                            **totals)
-        if np.max(np.abs(result.plan - reference)) <= tolerance:
+        if iteration.settled(np.max(np.abs(result.plan - reference))):
             return replace(result, message=f"converged after {count + 1} QPs", **totals)
         last, duals, reference = result, result.duals, result.plan
-    return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {max_iterations} QPs",
+    return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {iteration.max_qps} QPs",
                    **totals)

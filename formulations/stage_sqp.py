@@ -1,10 +1,10 @@
 """``stage-sqp``: the ``rti`` step iterated to convergence (sequential QP in stage form).
 
 Each iterate relinearises the multiple-shooting model at the previous QP's
-plan, as ``sqp`` does with ``qp``'s condensed one, and stops when no defender
-position moves by more than ``tolerance`` metres or after ``max_iterations``
-QPs. Every QP is one call of the backend's step, so a compiled step
-(``hpipm-codegen``) compiles the whole iteration's work. The trust region of
+plan, as ``sqp`` does with ``qp``'s condensed one, and stops by ``sqp``'s rule
+(:class:`~mpc_hunt.capture.iteration.QPIteration`). Every QP is one call of the
+backend's step, so a compiled step (``hpipm-codegen``) compiles the whole
+iteration's work. The trust region of
 each QP (|δp_d| ≤ 2 r_d round its reference) bounds every step.
 """
 
@@ -17,12 +17,10 @@ from mpc_hunt.capture.solution import Solution
 
 class StageSQPFormulation(RTIFormulation):
     name = "stage-sqp"
-    tolerance = SQPFormulation.tolerance
-    max_iterations = SQPFormulation.max_iterations
+    iteration = SQPFormulation.iteration
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         def step(reference, duals):
             return RTIFormulation.solve(self, problem, backend, reference, duals)
 
-        return iterate(step, problem.held_plan() if warm_plan is None else warm_plan, duals, self.tolerance,
-                       self.max_iterations)
+        return iterate(step, problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration)

@@ -7,7 +7,7 @@ BLASFEO from CasADi's wheel (BLASFEO's generic target) and, given ``blasfeo``
 (a folder holding a BLASFEO of the same version built for this CPU), against
 that BLASFEO too; run on the latency states of that structure, each with the
 inputs the reference Python run (``CaptureSolver`` on ``hpipm`` in the same
-mode, warm-started as the controller does) used: the median time a step in C,
+mode, the formulation's path, warm-started as the controller does) used: the median time a step in C,
 and how far its plans are from Python's.
 """
 
@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.solving.export import export_step
+from mpc_hunt import CaptureSolver
 from step_loop import reference_run
 
 EXPORTED = ("rti", "stage-sqp")
@@ -40,7 +40,7 @@ def exported_c(problems: list, blasfeo: Path | None = None) -> list[dict] | None
             plans = np.concatenate([x for x in xs if x is not None])
             text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
             with tempfile.TemporaryDirectory() as folder:
-                export_step(problems[0], Path(folder), formulation, mode)
+                CaptureSolver(formulation, "hpipm", mode=mode).export(Path(folder), problems[0])
                 for library in (None, blasfeo) if blasfeo else (None,):
                     rows.append(_timed(folder, text, plans, library) | {
                         "formulation": formulation, "mode": mode, "states": len(inputs),

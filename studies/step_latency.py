@@ -105,7 +105,9 @@ class Sequence:
     """One pair's run over consecutive states, a state at a time, warm-started as the controller does."""
 
     def __init__(self, formulation: str, backend: str):
-        self.solver, self.applied, self.rows = CaptureSolver(formulation, backend), None, []
+        # The formulation's own path (posing θ, the backend's solve, the read-back), as the latency table has
+        # always timed it; the control loop's step is step_loop's.
+        self.solver, self.applied, self.rows = CaptureSolver(formulation, backend, loop=False), None, []
 
     def step(self, make) -> None:
         """Pose the state (``make()``), solve it, and keep its times and figures."""

@@ -1,11 +1,13 @@
-"""The control loop's step (``CaptureLoop``) timed on the latency states, beside ``CaptureSolver``'s.
+"""The control loop's step (``CaptureSolver.loop``) timed on the latency states, beside the formulation's path.
 
-For each stage-form pair, ``CaptureSolver`` runs the warm-started sequence as
-the latency table does; the inputs it used at each state (θ and the reference)
-are kept. ``CaptureLoop`` then takes the same states as a control loop would:
-the inputs written into its arrays, one ``step()``, the plan read from its
-array. Its median time (the first state excluded, as in the table) and the
-largest difference from ``CaptureSolver``'s plans.
+For each stage-form pair, ``CaptureSolver(..., loop=False)`` (the formulation's
+own path) runs the warm-started sequence as the latency table does; the inputs it
+used at each state (θ and the reference) are kept. The pair's control-loop step
+(:class:`~mpc_hunt.solving.loop.CaptureLoop`, from ``CaptureSolver.loop``) then
+takes the same states as a control loop would: the inputs written into its
+arrays, one ``step()``, the plan read from its array. Its median time (the first
+state excluded, as in the table) and the largest difference from the
+formulation path's plans.
 """
 
 from __future__ import annotations
@@ -16,7 +18,6 @@ import numpy as np
 
 from mpc_hunt import CaptureSolver
 from mpc_hunt.solving import registry
-from mpc_hunt.solving.loop import CaptureLoop
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 LOOP_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen"))
@@ -27,7 +28,7 @@ def reference_run(formulation: str, backend: str, problems: list, **options) -> 
     backend's): at each state of the first one's structure, the step's inputs (θ, reference) and the solver's x
     (None where it gave none)."""
     stage = registry.formulation_class(formulation)()
-    solver, applied, inputs, plans = CaptureSolver(formulation, backend, **options), None, [], []
+    solver, applied, inputs, plans = CaptureSolver(formulation, backend, loop=False, **options), None, [], []
     for problem in problems:
         warm = warm_plan(applied, problem)
         solution = solver.solve(problem, warm)
@@ -46,7 +47,7 @@ def loop_latency(problems: list) -> list[dict]:
         if (formulation, backend) not in registry.pairs():
             continue
         inputs, plans = reference_run(formulation, backend, problems)
-        loop = CaptureLoop(problems[0], formulation, backend)
+        loop = CaptureSolver(formulation, backend).loop(problems[0])
         times, differences = [], []
         for (theta, reference), expected in zip(inputs, plans):
             start = time.perf_counter()

@@ -6,7 +6,7 @@ the controller does (the plan it applied, shifted one step, while the same
 defenders are controlled: :func:`mpc_hunt.control.strategy.warm_plan` and
 :func:`~mpc_hunt.control.strategy.applied_plan`). Pairs take turns on each problem (or
 sequence), so that load on the machine falls on all of them alike. Each pair
-runs as a controller runs it (:func:`~mpc_hunt.solving.loop_solver.capture_solver`:
+runs as a controller runs it (:class:`~mpc_hunt.solving.solver.CaptureSolver`:
 the stage-form steps as a control loop). A solve's all-in time runs from the
 state handed over to the plan returned, as the controller waits for it (posing
 the problem, the solver, our overhead), with any set-up it did and the
@@ -30,7 +30,6 @@ from mpc_hunt.bench.best_known import MultiStartNLP
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
-from mpc_hunt.solving.loop_solver import LoopSolver, capture_solver
 from mpc_hunt.solving.solver import CaptureSolver
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 
@@ -106,7 +105,7 @@ def check_pairs(asked: list[str] | None) -> list[tuple[str, str]]:
     return out
 
 
-def _solve(run: CompareRun, solver: CaptureSolver | LoopSolver, mode: str, entry: ProblemEntry, horizon: int,
+def _solve(run: CompareRun, solver: CaptureSolver, mode: str, entry: ProblemEntry, horizon: int,
            applied: tuple | None) -> tuple[SolveRecord, tuple]:
     t0 = time.perf_counter()
     problem = run.problem_set.problem(entry, horizon, run.objective)
@@ -123,8 +122,8 @@ def _solve(run: CompareRun, solver: CaptureSolver | LoopSolver, mode: str, entry
     return record, (problem.signature, plan)
 
 
-def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver | LoopSolver:
-    return capture_solver(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True)
+def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver:
+    return CaptureSolver(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True)
 
 
 def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:

@@ -21,6 +21,10 @@ class Structure:
     horizon: int
     objective: str = "paper"
 
+    def __str__(self) -> str:
+        return (f"{self.planned} planned and {self.fixed} held defenders, {self.obstacles} obstacles, "
+                f"horizon {self.horizon}, objective {self.objective}")
+
     @property
     def defenders(self) -> int:
         return self.planned + self.fixed

@@ -19,7 +19,7 @@ from mpc_hunt import __version__
 from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.solving import registry
-from mpc_hunt.solving.export import MODES as HPIPM_MODES
+from mpc_hunt.solving.backends.hpipm import MODES as HPIPM_MODES
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
@@ -384,15 +384,17 @@ def _solve(args) -> int:
 
 def _export(args) -> int:
     from mpc_hunt.bench.problem_set import posed_problem
-    from mpc_hunt.solving.export import export_step
+    from mpc_hunt.solving.solver import CaptureSolver
 
+    if args.formulation not in registry.stage_formulations():
+        raise MpcHuntError(registry.stage_form_message(args.formulation))
     scenario = resolve_scenario(args.scenario)
     if args.output.exists() and not args.output.is_dir():
         raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
     with stop_at_once("export"):
         problem = posed_problem(scenario, _state(args, scenario), args.horizon, args.objective)
-        files = export_step(problem, args.output, args.formulation, args.hpipm_mode)
-    print(f"wrote {len(files)} files for structure {problem.structure} into {args.output}; build with "
+        files = CaptureSolver(args.formulation, "hpipm", mode=args.hpipm_mode).export(args.output, problem)
+    print(f"wrote {len(files)} files for the structure ({problem.structure}) into {args.output}; build with "
           f"make -C {shlex.quote(str(args.output))}, run with ./capture_step < input.txt")
     return 0
 

@@ -5,10 +5,9 @@ predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions
 come from the capture-stage problem, Eqs. 12–15, solved over a receding
 horizon). The strategy keeps the one memory of the previous plan: the plan it
 applied, handed to the solver, shifted one step, as the next warm start while
-the same defenders are controlled. A stage-form pair that closes into one
-Function (``rti``, ``stage-sqp`` on ``hpipm``, ``hpipm-codegen``) runs as a
-control loop (:class:`~mpc_hunt.solving.loop_solver.LoopSolver`), every
-other pair through ``CaptureSolver``; either way the evaluator scores a
+the same defenders are controlled. ``CaptureSolver`` runs a stage-form pair
+that closes into one Function (``rti``, ``stage-sqp`` on ``hpipm``,
+``hpipm-codegen``) as a control loop; for every pair the evaluator scores a
 successful plan only with ``score=True``, a failed one always. When a solve
 fails, the fallback (counted) is, in order: the solver's last iterate if the shared evaluator scored it
 feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
@@ -39,7 +38,7 @@ from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 from mpc_hunt.capture.solution import Solution
-from mpc_hunt.solving.loop_solver import capture_solver
+from mpc_hunt.solving.solver import CaptureSolver
 
 FEASIBLE_TOLERANCE = 1e-6
 
@@ -99,7 +98,7 @@ class HuntingStrategy:
         self.prediction = prediction
         self.horizon = horizon
         self.objective = objective
-        self.solver = capture_solver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
+        self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
         self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
 

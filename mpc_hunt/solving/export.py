@@ -18,8 +18,8 @@ objective) the folder holds:
   board's CPU, with the same version's headers);
 - ``input.txt`` and ``expected.txt``: the problem's θ and reference, and Python's plan.
 
-HPIPM runs in ``mode`` (:data:`MODES`): ``robust``, the ``hpipm`` backend's, or
-``balance``, which factorises by Cholesky instead of LQ, the path a BLASFEO
+HPIPM runs in the solver's ``mode`` (:data:`mpc_hunt.solving.backends.hpipm.MODES`): ``robust``, the
+``hpipm`` backend's default, or ``balance``, which factorises by Cholesky instead of LQ, the path a BLASFEO
 built for the CPU speeds up (its plans differ from ``robust``'s within HPIPM's
 tolerances; Python's plan in ``expected.txt`` is solved in the same mode).
 
@@ -34,9 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.solving import registry
-from mpc_hunt.capture.problem import CaptureProblem
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.capture.iteration import QPIteration
+from mpc_hunt.capture.structure import Structure
 
 NAME = "capture_step"
 
@@ -47,7 +46,7 @@ WRAPPER_H = """\
 #define MPC_HUNT_THETA {n_theta}        /* θ: the parameter vector, then the field's smoothing */
 #define MPC_HUNT_REFERENCE {n_reference}    /* the reference plan, steps 1..N, defenders in order, (x, y) */
 #define MPC_HUNT_PLAN {n_plan}         /* the plan, laid out as the reference */
-/* {formulation}: at most {qps} QP(s) a step, each linearised at the last one's plan, until no position moves by
+/* At most {qps} QP(s) a step, each linearised at the last one's plan, until no position moves by
    more than {tolerance!r} m. Returns 0 solved; HPIPM's status of a failed QP: 1 iteration limit, 2 minimum step,
    3 NaN; 4 no convergence in {qps} QPs; -1 the call failed. After a failed QP ``plan`` holds the last usable plan
    of the step (the reference, if none). ``objective`` may be NULL. Not reentrant: one control loop per process. */
@@ -154,39 +153,27 @@ clean:
 """
 
 
-MODES = ("robust", "balance")
-
-
-def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti", mode: str = "robust") -> list[Path]:
-    """Write the folder of the module docstring for ``problem``'s structure; returns the files written."""
+def write_step(folder: Path, step, iteration: QPIteration, structure: Structure, theta: np.ndarray,
+               reference: np.ndarray, plan: np.ndarray) -> list[Path]:
+    """Write the folder of the module docstring for the backend's ``step`` Function of ``structure``, repeated by
+    ``iteration``'s rule, with the inputs ``theta``, ``reference`` and their plan; returns the files written.
+    :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it has set up."""
     import casadi as ca
 
-    from mpc_hunt.solving.backends.hpipm import HpipmBackend
     from mpc_hunt.solving.backends.hpipm_codegen import patch
     from mpc_hunt.solving.compiled import casadi_paths
-    from mpc_hunt.solving.solver import CaptureSolver
 
-    registry.check_stage_pair(formulation, "hpipm")
-    if mode not in MODES:
-        raise MpcHuntError(f"mode: HPIPM's mode is one of {', '.join(MODES)}, not {mode!r}")
-    stage = registry.formulation_class(formulation)()
-    structure = problem.structure
-    theta, reference = stage.step_inputs(problem)
-    step = HpipmBackend(mode=mode).setup(stage.stage_data(structure))
-    plan = CaptureSolver(formulation, "hpipm", mode=mode).solve(problem).x
-    if plan is None:
-        raise MpcHuntError(f"the problem's {formulation} step failed in Python: nothing to compare the C step with")
     folder.mkdir(parents=True, exist_ok=True)
     generator = ca.CodeGenerator(f"{NAME}.c", {"with_header": True})
     generator.add(step)
     generator.generate(str(folder) + "/")
     source = folder / f"{NAME}.c"
     source.write_text(patch(source.read_text(encoding="utf-8")), encoding="utf-8")
-    iterations = dict(qps=stage.max_iterations, tolerance=float(stage.tolerance))
+    iterations = dict(qps=iteration.max_qps, tolerance=float(iteration.tolerance))
     sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
     files = {
         "mpc_hunt_step.h": WRAPPER_H.format(structure=structure, n_theta=len(theta), n_reference=len(reference),
-                                            n_plan=len(plan), formulation=formulation, **iterations),
+                                            n_plan=len(plan), **iterations),
         "mpc_hunt_step.c": WRAPPER_C.format(**sizes, **iterations),
         "main.c": MAIN_C,
         "Makefile": MAKEFILE.format(structure=structure, deps=casadi_paths()[1]),
@@ -196,3 +183,4 @@ def export_step(problem: CaptureProblem, folder: Path, formulation: str = "rti",
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return [source, folder / f"{NAME}.h", *(folder / name for name in files)]
+

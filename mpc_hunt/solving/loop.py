@@ -1,9 +1,7 @@
 """The capture step for a control loop: built once for a structure, then called once per control step.
 
-``CaptureSolver.solve`` poses a :class:`~mpc_hunt.capture.problem.CaptureProblem`,
-builds its inputs, scores the plan with the evaluator and returns a
-:class:`~mpc_hunt.capture.solution.Solution`: what a benchmark wants, and about
-a third of the step's time. A control loop wants the plan. ``CaptureLoop``
+A benchmark wants a :class:`~mpc_hunt.capture.solution.Solution` (posed problem,
+scored plan, times); a control loop wants the plan. ``CaptureLoop``
 holds the step's inputs and outputs in arrays allocated once (``theta``, with
 named views ``parts``; ``reference``; ``plan``) and evaluates the backend's one
 step Function through CasADi's buffers, which read and write those arrays in
@@ -13,11 +11,12 @@ place: the caller writes the state into ``parts``, calls :meth:`step`, reads
 It runs the stage-form formulations (kind ``ocp-qp``: ``rti``, one QP a step;
 ``stage-sqp``, that QP repeated at its own plan until no position moves by more
 than the formulation's tolerance) on the backends that close them into one
-Function (``hpipm``, ``hpipm-codegen``). Its plans are ``CaptureSolver``'s to
-the last bit from the same inputs (a test holds it): no duals are handed over,
-which HPIPM does not read.
+Function (``hpipm``, ``hpipm-codegen``). :class:`~mpc_hunt.solving.solver.CaptureSolver`
+builds one per structure for such a pair and solves on it; its plans are the
+formulation's own (``CaptureSolver(..., loop=False)``) to the last bit from the
+same inputs (a test holds it): no duals are handed over, which HPIPM does not read.
 
-    loop = CaptureLoop(problem, "rti", "hpipm-codegen")
+    loop = CaptureSolver("rti", "hpipm-codegen").loop(problem)
     for each control step:
         loop.parts["attacker"][:] = attacker_position
         loop.parts["controlled"][:] = defender_positions.ravel()
@@ -31,28 +30,25 @@ import math
 
 import numpy as np
 
-from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Status
 from mpc_hunt.errors import MpcHuntError
 
 
 class CaptureLoop:
-    """One formulation × backend step for one structure, on arrays allocated once.
+    """One stage-form formulation × backend step for one structure, on arrays allocated once.
 
     ``problem`` fixes the structure (controlled and held defenders, obstacles,
-    horizon, objective) and the first inputs; ``formulation`` and ``backend``
-    are registry names, ``accuracy`` and the keywords are the backend's.
+    horizon, objective) and the first inputs; ``formulation`` and ``backend`` are
+    the instances a :class:`~mpc_hunt.solving.solver.CaptureSolver` holds (its
+    :meth:`~mpc_hunt.solving.solver.CaptureSolver.loop` builds one).
     """
 
-    def __init__(self, problem: CaptureProblem, formulation: str = "rti", backend: str | None = None, *,
-                 accuracy: str = "default", **backend_options):
-        backend = registry.check_stage_pair(formulation, backend)
-        self.formulation = registry.formulation_class(formulation)()
-        self.backend = registry.backend_class(backend)(accuracy=accuracy, **backend_options)
+    def __init__(self, problem: CaptureProblem, formulation, backend):
+        self.formulation, self.backend = formulation, backend
         self.structure = problem.structure
-        self._step = self.backend.setup(self.formulation.stage_data(self.structure))
-        function = self.backend.loop_function(self._step)
+        self.step_function = self.backend.prepared(self.formulation.stage_data(self.structure))[0]   # its step
+        function = self.backend.loop_function(self.step_function)
         theta, reference = self.formulation.step_inputs(problem)
         nc, horizon = int(problem.controlled.sum()), problem.horizon
         self.theta = np.array(theta, dtype=float)
@@ -92,11 +88,11 @@ class CaptureLoop:
     def step(self) -> Status:
         """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan
         of this step (the reference it started from, if none) and returns its status."""
-        limit, tolerance = self.formulation.max_iterations, self.formulation.tolerance
+        iteration = self.formulation.iteration
         self.iterations = 0
         np.copyto(self._previous, self.reference)
         self.message = ""
-        for count in range(limit):
+        for count in range(iteration.max_qps):
             self.qps = count + 1
             try:
                 self._evaluate()
@@ -104,7 +100,7 @@ class CaptureLoop:
                 self.message = str(exc).splitlines()[0]
                 np.copyto(self.plan, self._previous)
                 return Status.ERROR
-            status, iterations = self.backend.loop_status(self._step, self._buffer)
+            status, iterations = self.backend.loop_status(self.step_function, self._buffer)
             self.iterations += iterations
             np.abs(np.subtract(self.plan, self.reference, out=self._move), out=self._move)
             move = self._move.max()                  # NaN when the plan has one
@@ -113,9 +109,9 @@ class CaptureLoop:
                 self.message = f"QP {count + 1}: {status.value}"
                 np.copyto(self.plan, self._previous)
                 return status
-            if limit == 1 or move <= tolerance:
+            if iteration.settled(move):
                 return status
             np.copyto(self._previous, self.plan)
             np.copyto(self.reference, self.plan)
-        self.message = f"no convergence in {limit} QPs"
+        self.message = f"no convergence in {iteration.max_qps} QPs"
         return Status.ITERATION_LIMIT

@@ -66,19 +66,20 @@ def compatible_backends(formulation: str) -> list[str]:
 
 
 def stage_formulations() -> list[str]:
-    """The formulations whose step is one stage-form Function (kind ``ocp-qp``): what the control loop
+    """The formulations whose step is one stage-form Function (kind ``ocp-qp``): what a control loop
     (:mod:`mpc_hunt.solving.loop`) and the C export run."""
     return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
 
 
-def check_stage_pair(formulation: str, backend: str | None) -> str:
-    """The backend of a stage-form step run as one Function (the control loop, :mod:`mpc_hunt.solving.loop`, and
-    the C export), checked: a stage-form formulation, whose backends (kind ``ocp-qp``) close its step into one
-    Function."""
-    if formulation not in stage_formulations():
-        raise UnknownNameError(f"formulation: only the stage-form steps ({', '.join(stage_formulations())}) run as "
-                               f"one Function (a control loop, the C export), not {formulation!r}")
-    return check_pair(formulation, backend)
+def closes_step(formulation: str, backend: str) -> bool:
+    """Whether a compatible pair's backend closes the formulation's step into one Function (kind ``ocp-qp``)."""
+    return formulation_class(formulation).kind == "ocp-qp" and "ocp-qp" in backend_class(backend).accepts
+
+
+def stage_form_message(formulation: str) -> str:
+    """Why ``formulation`` has no control loop's step or C export."""
+    return (f"formulation: only the stage-form steps ({', '.join(stage_formulations())}) run as one Function "
+            f"(a control loop, the C export), not {formulation!r}")
 
 
 def pairs(installed_only: bool = True) -> list[tuple[str, str]]:

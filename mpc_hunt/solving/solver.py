@@ -1,24 +1,37 @@
-"""One solver interface for every formulation × backend.
+"""One solver object for every formulation × backend.
 
 ``CaptureSolver`` pairs a formulation with a persistent backend, both found by
-name in :mod:`mpc_hunt.solving.registry` on first use. It keeps only solver state: the
-backend's set-up structures and the duals of its last usable solve. The plan to
-start from is the caller's (a controller hands over the plan it applied, shifted
-one step); the duals are reused only with such a plan, and only when the same
-defenders are controlled. ``solve`` is the one-shot, cold form.
+name in :mod:`mpc_hunt.solving.registry` once, when it is made. It keeps only
+solver state: the backend's set-up structures and the duals of its last usable
+solve. The plan to start from is the caller's (a controller hands over the plan
+it applied, shifted one step); the duals are reused only with such a plan, and
+only when the same defenders are controlled.
+
+A stage-form pair (kind ``ocp-qp``: ``rti`` or ``stage-sqp`` on ``hpipm`` or
+``hpipm-codegen``), whose backend closes the step into one Function, is solved
+on a :class:`~mpc_hunt.solving.loop.CaptureLoop`, one per structure: the posed
+problem is written into the loop's arrays, the loop steps, the plan is read
+back. Its plans are the formulation's own path's (``loop=False``) to the bit.
+The same solver hands a control loop that step (:meth:`CaptureSolver.loop`) and
+writes it as C for a robot's board (:meth:`CaptureSolver.export`).
+``solve`` is the one-shot, cold form.
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.solving import registry
-from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import solve_scores
+from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.capture.structure import Structure
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.loop import CaptureLoop
 
 
 class CaptureSolver:
@@ -29,27 +42,45 @@ class CaptureSolver:
     keywords are the backend's options. ``raise_on_failure`` turns a failed
     status into :class:`~mpc_hunt.errors.SolverError`. The evaluator scores
     every plan, or with ``score=False`` only a failed solve's (what a
-    controller's fallback reads); its time is ``score_time``, apart.
+    controller's fallback reads); its time is ``score_time``, apart. ``loop``
+    (default: whether the pair closes its step into one Function) solves on
+    control loops; ``loop=False`` runs the formulation's own path.
     """
 
     def __init__(self, formulation: str = "nlp", backend: str | None = None, *,
                  time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
-                 score: bool = True, **backend_options):
+                 score: bool = True, loop: bool | None = None, **backend_options):
         backend = registry.check_pair(formulation, backend)
         self.formulation = registry.formulation_class(formulation)()
         self.backend = registry.backend_class(backend)(time_limit=time_limit, accuracy=accuracy,
                                                        **backend_options)
+        self.stage_form = registry.closes_step(formulation, backend)
+        if loop and not self.stage_form:
+            raise MpcHuntError(registry.stage_form_message(formulation))
+        self.on_loops = self.stage_form if loop is None else loop
         self.raise_on_failure = raise_on_failure
         self.score = score
         self._duals: tuple[tuple, WarmStart] | None = None   # (signature, duals) of the last usable solve
-        self._prepared: set[tuple] = set()                     # structures whose model this solver has built
+        self._prepared: set[Structure] = set()                 # structures whose model this solver has built
+        self._loops: dict[Structure, CaptureLoop] = {}
 
     def reset(self) -> None:
         """Forget the last duals: the next solve starts cold even when handed a plan."""
         self._duals = None
 
+    def loop(self, problem: CaptureProblem) -> CaptureLoop:
+        """The control loop's step for ``problem``'s structure, built on its first problem and kept."""
+        if not self.stage_form:
+            raise MpcHuntError(registry.stage_form_message(self.formulation.name))
+        loop = self._loops.get(problem.structure)
+        if loop is None:
+            loop = self._loops[problem.structure] = CaptureLoop(problem, self.formulation, self.backend)
+        return loop
+
     def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> Solution:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held."""
+        if self.on_loops:
+            return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
         duals = None
         if warm_plan is not None and self._duals is not None and self._duals[0] == problem.signature:
@@ -75,6 +106,41 @@ class CaptureSolver:
         overhead = time.perf_counter() - t0 - result.solver_time - setup_time - scores.get("score_time", 0.0)
         return self._finish(replace(result, **names, **scores, setup_time=setup_time,
                                     overhead_time=max(overhead, 0.0), warm_started=warm_plan is not None))
+
+    def _step(self, problem: CaptureProblem, warm_plan: np.ndarray | None) -> Solution:
+        """One step on the structure's loop: the problem written into its arrays, the plan read back. A failed
+        step's plan is the last usable one the loop kept (its reference if none)."""
+        t0 = time.perf_counter()
+        built = problem.structure in self._loops
+        loop = self.loop(problem)
+        setup_time = 0.0 if built else time.perf_counter() - t0
+        loop.load(problem, warm_plan)
+        t1 = time.perf_counter()
+        status = loop.step()
+        solver_time = time.perf_counter() - t1
+        plan = problem.plan_with(loop.plan)
+        scores = solve_scores(problem, plan, status, self.score)
+        overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
+        return Solution(status=status, message=loop.message, formulation=self.formulation.name,
+                        backend=self.backend.name, x=loop.plan.reshape(-1).copy(), plan=plan,
+                        formulation_objective=float(loop.objective[0]) if status.usable else None,
+                        solver_time=solver_time, overhead_time=max(overhead, 0.0), setup_time=setup_time,
+                        iterations=loop.iterations, warm_started=warm_plan is not None,
+                        extras={"qps": loop.qps}, **scores)
+
+    def export(self, folder: Path, problem: CaptureProblem) -> list[Path]:
+        """The step of ``problem``'s structure, as this solver set it up, written as C sources for a robot's board
+        (:mod:`mpc_hunt.solving.export`); returns the files written."""
+        from mpc_hunt.solving.export import write_step
+
+        loop = self.loop(problem)
+        loop.load(problem)
+        theta, reference = loop.theta.copy(), loop.reference.reshape(-1).copy()   # the step moves its reference
+        if not loop.step().usable:
+            raise MpcHuntError(f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
+                               "nothing to compare the C step with")
+        return write_step(Path(folder), self.backend.generated_step(loop.step_function), self.formulation.iteration,
+                          problem.structure, theta, reference, loop.plan.reshape(-1))
 
     def _finish(self, solution: Solution) -> Solution:
         return solution.raise_for_status() if self.raise_on_failure else solution

@@ -1,4 +1,4 @@
-"""The control loop's step (``CaptureLoop``): ``CaptureSolver``'s plans to the bit, on arrays allocated once."""
+"""The control loop's step (``CaptureSolver.loop``): the formulation's own plans to the bit, on arrays allocated once."""
 
 from __future__ import annotations
 
@@ -7,7 +7,6 @@ import pytest
 
 from conftest import ATTACKER, DEFENDERS, small_scenario
 from mpc_hunt import CaptureProblem, CaptureSolver, Status, shift_plan
-from mpc_hunt.solving.loop import CaptureLoop
 from mpc_hunt.errors import MpcHuntError
 
 HORIZON = 3
@@ -23,9 +22,9 @@ def cache(tmp_path_factory):
 
 
 def _closed_loop(formulation: str, backend: str, steps: int = 8):
-    """(problem, warm plan, CaptureSolver's solution) along a short hunt: the defenders go to each plan's first
-    step, the attacker drifts east."""
-    scenario, solver = small_scenario(), CaptureSolver(formulation, backend)
+    """(problem, warm plan, the formulation's own solution) along a short hunt: the defenders go to each plan's
+    first step, the attacker drifts east."""
+    scenario, solver = small_scenario(), CaptureSolver(formulation, backend, loop=False)
     attacker, defenders, warm = ATTACKER.copy(), DEFENDERS.copy(), None
     for _ in range(steps):
         problem = CaptureProblem.at_state(scenario, attacker, defenders, HORIZON)
@@ -39,7 +38,7 @@ def _closed_loop(formulation: str, backend: str, steps: int = 8):
 def test_the_loops_plans_are_the_solvers_to_the_bit(formulation, backend):
     loop = None
     for problem, warm, solution in _closed_loop(formulation, backend):
-        loop = loop or CaptureLoop(problem, formulation, backend)
+        loop = loop or CaptureSolver(formulation, backend).loop(problem)
         loop.load(problem, warm)
         assert loop.step() is solution.status
         np.testing.assert_array_equal(loop.plan, solution.plan[:, problem.controlled])
@@ -49,7 +48,7 @@ def test_the_loops_plans_are_the_solvers_to_the_bit(formulation, backend):
 
 def test_state_written_into_the_parts_and_the_shifted_plan_is_what_load_writes():
     runs = list(_closed_loop("rti", "hpipm", steps=3))
-    loop = CaptureLoop(runs[0][0], "rti", "hpipm")
+    loop = CaptureSolver("rti", "hpipm").loop(runs[0][0])
     loop.step()
     for problem, warm, solution in runs[1:]:
         loop.parts["attacker"][:] = problem.attacker_position
@@ -66,7 +65,7 @@ def test_state_written_into_the_parts_and_the_shifted_plan_is_what_load_writes()
 
 def test_before_any_step_the_plan_is_the_held_reference_so_a_shift_keeps_it():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    loop = CaptureLoop(problem, "rti", "hpipm")
+    loop = CaptureSolver("rti", "hpipm").loop(problem)
     loop.shift()
     np.testing.assert_array_equal(loop.reference, np.broadcast_to(DEFENDERS, loop.reference.shape))
     assert loop.step() is Status.OPTIMAL
@@ -75,7 +74,7 @@ def test_before_any_step_the_plan_is_the_held_reference_so_a_shift_keeps_it():
 @pytest.mark.parametrize("backend", ["hpipm", "hpipm-codegen"])
 def test_a_failed_step_reports_its_status_and_leaves_the_reference_as_the_plan(backend):
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    loop = CaptureLoop(problem, "stage-sqp", backend)
+    loop = CaptureSolver("stage-sqp", backend).loop(problem)
     loop.parts["attacker"][:] = np.nan
     status = loop.step()
     assert not status.usable and loop.message
@@ -86,7 +85,7 @@ def test_a_failed_step_reports_its_status_and_leaves_the_reference_as_the_plan(b
 
 def test_a_plan_with_a_nan_is_an_error_even_when_the_solver_reports_success(monkeypatch):
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    loop = CaptureLoop(problem, "rti", "hpipm-codegen")
+    loop = CaptureSolver("rti", "hpipm-codegen").loop(problem)
     monkeypatch.setattr(loop.backend, "loop_status", lambda step, buffer: (Status.OPTIMAL, 1))
     loop.reference[0, 0] = np.nan                     # the plan is read back round the reference
     assert loop.step() is Status.ERROR and loop.message
@@ -96,8 +95,10 @@ def test_a_plan_with_a_nan_is_an_error_even_when_the_solver_reports_success(monk
 def test_only_stage_form_steps_and_one_structure_per_loop():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
     with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
-        CaptureLoop(problem, "sqp", "daqp")
-    loop = CaptureLoop(problem, "rti", "hpipm")
+        CaptureSolver("sqp", "daqp").loop(problem)
+    with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
+        CaptureSolver("sqp", "daqp", loop=True)
+    loop = CaptureSolver("rti", "hpipm").loop(problem)
     other = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON + 1)
     with pytest.raises(MpcHuntError, match="problem: structure .* one loop per structure"):
         loop.load(other)

@@ -66,21 +66,29 @@ class Backend:
         raise NotImplementedError
 
     # The shared lifecycle.
+    def prepared(self, data) -> tuple[Any, bool]:
+        """The solver set up for ``data``'s key, and whether it was set up by this call (else kept from an earlier
+        one): what :meth:`solve` and a control loop's step (:mod:`mpc_hunt.solving.loop`) share."""
+        state = self._cache.get(data.key)
+        if state is not None:
+            self._cache.move_to_end(data.key)
+            return state, False
+        state = self.setup(data)
+        self.setups += 1
+        self._cache[data.key] = state
+        if len(self._cache) > CACHE_SIZE:
+            self._cache.popitem(last=False)
+        return state, True
+
     def solve(self, data, warm: WarmStart | None = None) -> Solution:
         setup_time = 0.0
-        state = self._cache.get(data.key)
         t0 = time.perf_counter()
         try:
-            if state is None:
-                state = self.setup(data)
+            state, new = self.prepared(data)
+            if new:
                 setup_time = time.perf_counter() - t0
-                self.setups += 1
-                self._cache[data.key] = state
-                if len(self._cache) > CACHE_SIZE:
-                    self._cache.popitem(last=False)
                 t0 = time.perf_counter()
             else:
-                self._cache.move_to_end(data.key)
                 self.update(state, data)
             result = self.run(state, data, warm or WarmStart())
         except (RuntimeError, ValueError, ArithmeticError) as exc:  # the solver library gave up

@@ -68,6 +68,10 @@ class ConicStepBackend(Backend):
         """The status of a solve the plugin did not report as a success."""
         return Status.ERROR
 
+    def generated_step(self, step):
+        """The Function CasADi generates C from (the C export), of the state ``setup`` returned."""
+        return step
+
     def loop_function(self, step):
         """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.solving.loop`)."""
         return step

@@ -10,8 +10,13 @@ over as for any conic plugin, and HPIPM's iterations start from its own point.
 
 from __future__ import annotations
 
-from mpc_hunt.solving.backends.conic_step import ConicStepBackend
 from mpc_hunt.capture.solution import Status
+from mpc_hunt.errors import UnknownNameError
+from mpc_hunt.solving.backends.conic_step import ConicStepBackend
+
+# HPIPM's modes offered: ``robust`` (LQ factorisations, the default) and ``balance`` (Cholesky: faster with a
+# BLASFEO built for the CPU; its plans differ from robust's within the tolerances).
+MODES = ("robust", "balance")
 
 
 class HpipmBackend(ConicStepBackend):
@@ -24,6 +29,11 @@ class HpipmBackend(ConicStepBackend):
     ACCURACY = {"default": {"res_g_max": 1e-8, "res_b_max": 1e-8, "res_d_max": 1e-8, "res_m_max": 1e-7},
                 "high": {"res_g_max": 1e-10, "res_b_max": 1e-10, "res_d_max": 1e-10, "res_m_max": 1e-9},
                 "low": {"res_g_max": 1e-5, "res_b_max": 1e-5, "res_d_max": 1e-5, "res_m_max": 1e-5}}
+
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
+        if options.get("mode", "robust") not in MODES:
+            raise UnknownNameError(f"mode: HPIPM's mode is one of {', '.join(MODES)}, not {options['mode']!r}")
+        super().__init__(time_limit, accuracy, **options)
 
     def conic_options(self, graph) -> dict:
         N, nx, nu, ng = graph.stages

@@ -67,11 +67,13 @@ def patch(source: str) -> str:
 
 @dataclass
 class CompiledStep:
-    """The step loaded from its library, and the library's status and iteration count of the last call."""
+    """The step loaded from its library, the library's status and iteration count of the last call, and the
+    interpreted Function it was generated from."""
 
     function: Any
     status: Any
     iterations: Any
+    source: Any
 
 
 class HpipmCodegenBackend(HpipmBackend):
@@ -90,7 +92,7 @@ class HpipmCodegenBackend(HpipmBackend):
             return step
         function, path = built
         library = ctypes.CDLL(str(path))
-        return CompiledStep(function, library.mpc_hunt_hpipm_status, library.mpc_hunt_hpipm_iterations)
+        return CompiledStep(function, library.mpc_hunt_hpipm_status, library.mpc_hunt_hpipm_iterations, step)
 
     def run(self, state, data: StageQPData, warm: WarmStart) -> Solution:
         if not isinstance(state, CompiledStep):
@@ -99,6 +101,9 @@ class HpipmCodegenBackend(HpipmBackend):
         code = int(state.status())
         status = Status.OPTIMAL if code == 0 else self.failure({"return_status": code})
         return as_solution(status, "" if code == 0 else f"HPIPM status {code}", int(state.iterations()), outputs)
+
+    def generated_step(self, step):
+        return step.source if isinstance(step, CompiledStep) else step
 
     def loop_function(self, step):
         return step.function if isinstance(step, CompiledStep) else step

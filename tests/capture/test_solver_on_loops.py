@@ -1,4 +1,4 @@
-"""``LoopSolver``, CaptureSolver's interface on control loops; which of the two a controller runs; what it scores."""
+"""``CaptureSolver`` on control loops for the stage-form pairs: the formulation's own solutions, what it scores."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from conftest import ATTACKER, DEFENDERS, small_scenario
 from mpc_hunt import CaptureProblem, CaptureSolver, HuntingStrategy, Solution, Status, shift_plan, simulate
 from formulations.stage_sqp import StageSQPFormulation
-from mpc_hunt.solving.loop_solver import LoopSolver, capture_solver
+from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.control.strategy import applied_plan
 from mpc_hunt.errors import MpcHuntError, SolverError
 
@@ -30,8 +30,8 @@ def _problems(solver, steps: int = 6):
 
 @pytest.mark.parametrize("formulation", ["rti", "stage-sqp"])
 def test_scored_it_returns_the_capture_solvers_solution(formulation):
-    loop = LoopSolver(formulation, "hpipm", score=True)
-    for problem, warm, expected in _problems(CaptureSolver(formulation, "hpipm")):
+    loop = CaptureSolver(formulation, "hpipm")
+    for problem, warm, expected in _problems(CaptureSolver(formulation, "hpipm", loop=False)):
         got = loop.solve(problem, warm)
         assert got.status is expected.status and got.success
         np.testing.assert_array_equal(got.plan, expected.plan)
@@ -43,23 +43,24 @@ def test_scored_it_returns_the_capture_solvers_solution(formulation):
 
 def test_unscored_it_runs_no_evaluator():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    solution = LoopSolver("rti", "hpipm").solve(problem)
+    solution = CaptureSolver("rti", "hpipm", score=False).solve(problem)
     assert solution.success and solution.plan.shape == (HORIZON, 3, 2)
     assert solution.objective is None and solution.violation is None
     assert solution.setup_time > 0 and solution.solver_time > 0
 
 
 def test_unscored_it_still_scores_a_failed_steps_plan_as_the_capture_solver_does(monkeypatch):
-    monkeypatch.setattr(StageSQPFormulation, "max_iterations", 2)
+    monkeypatch.setattr(StageSQPFormulation, "iteration", QPIteration(2, StageSQPFormulation.iteration.tolerance))
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    got, expected = LoopSolver("stage-sqp", "hpipm").solve(problem), CaptureSolver("stage-sqp", "hpipm").solve(problem)
+    got = CaptureSolver("stage-sqp", "hpipm", score=False).solve(problem)
+    expected = CaptureSolver("stage-sqp", "hpipm", loop=False).solve(problem)
     assert got.status is expected.status is Status.ITERATION_LIMIT
     np.testing.assert_array_equal(got.plan, expected.plan)
     assert got.violation == expected.violation and got.objective == expected.objective
 
 
 def test_a_new_structure_gets_its_own_loop_and_a_nan_start_a_status():
-    solver = LoopSolver("rti", "hpipm")
+    solver = CaptureSolver("rti", "hpipm", score=False)
     longer = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON + 1)
     assert solver.solve(longer).success
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
@@ -76,22 +77,21 @@ def test_unscored_the_capture_solver_scores_only_a_failed_solve_and_scoring_is_t
     scored = CaptureSolver("sqp", "daqp").solve(problem)
     assert scored.violation is not None and scored.score_time > 0
     np.testing.assert_array_equal(quiet.plan, scored.plan)
-    monkeypatch.setattr(StageSQPFormulation, "max_iterations", 2)
-    failed = CaptureSolver("stage-sqp", "hpipm", score=False).solve(problem)
+    monkeypatch.setattr(StageSQPFormulation, "iteration", QPIteration(2, StageSQPFormulation.iteration.tolerance))
+    failed = CaptureSolver("stage-sqp", "hpipm", score=False, loop=False).solve(problem)
     assert failed.status is Status.ITERATION_LIMIT and failed.violation is not None and failed.score_time > 0
 
 
-def test_a_controller_runs_a_loop_where_the_pair_closes_one():
-    assert isinstance(capture_solver("rti", "hpipm"), LoopSolver)
-    assert isinstance(capture_solver("stage-sqp", "hpipm-codegen"), LoopSolver)
-    assert isinstance(capture_solver("sqp", "daqp"), CaptureSolver)
-    assert isinstance(capture_solver("nlp"), CaptureSolver)
-    with pytest.raises(SolverError, match="takes no time limit"):      # as CaptureSolver refuses it
-        capture_solver("rti", "hpipm", time_limit=0.05)
+def test_the_solver_runs_a_loop_where_the_pair_closes_one():
+    assert CaptureSolver("rti", "hpipm").on_loops and CaptureSolver("stage-sqp", "hpipm-codegen").on_loops
+    assert not CaptureSolver("sqp", "daqp").on_loops and not CaptureSolver("nlp").on_loops
+    assert not CaptureSolver("rti", "hpipm", loop=False).on_loops
+    with pytest.raises(SolverError, match="takes no time limit"):      # the stage-form backends take none
+        CaptureSolver("rti", "hpipm", time_limit=0.05)
     with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
-        LoopSolver("sqp", "daqp")
+        CaptureSolver("sqp", "daqp", loop=True)
     with pytest.raises(MpcHuntError, match="backend 'osqp' does not solve formulation 'rti'"):
-        capture_solver("rti", "osqp")
+        CaptureSolver("rti", "osqp")
 
 
 def test_a_hunt_on_the_loop_is_the_hunt_on_the_capture_solver():
@@ -99,8 +99,8 @@ def test_a_hunt_on_the_loop_is_the_hunt_on_the_capture_solver():
     scenario = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=40.0))
     options = dict(objective="enclose", formulation="rti", backend="hpipm", horizon=5)
     looped, solved = HuntingStrategy(scenario, **options), HuntingStrategy(scenario, **options)
-    solved.solver = CaptureSolver("rti", "hpipm")
-    assert isinstance(looped.solver, LoopSolver)
+    solved.solver = CaptureSolver("rti", "hpipm", score=False, loop=False)
+    assert looped.solver.on_loops
     a, b = simulate(scenario, looped), simulate(scenario, solved)
     assert len(a.solve_times) > 100
     np.testing.assert_array_equal(a.defenders, b.defenders)
