@@ -5,20 +5,17 @@ closed-loop run under the paper's strategy (one-step NLP, prediction on) at
 which every defender is in the capture stage and the hunting circle has formed,
 i.e. the defenders' distances to the attacker differ by at most 2 r_d (so
 Eq. 14 can hold from the first step). A state can also be read from, and
-written to, a JSON file: {"time": t, "attacker": [x, y], "defenders": [[x, y], …]}.
+written to, a JSON file (:mod:`mpc_hunt.world.hunt_state`).
 """
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
-
 import numpy as np
 
 from mpc_hunt.world import attacker
-from mpc_hunt.errors import MpcHuntError, ScenarioError
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.geometry import norm
-from mpc_hunt.bench.problem_set import HuntState, read_json, state_from_dict
+from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.control.controller import Observation
@@ -69,19 +66,4 @@ def formed_circle_states(scenario: Scenario, count: int, progress=None) -> list[
     return [HuntState(obs.time, obs.attacker, obs.defenders) for obs in found[:count]]
 
 
-def load_state(path: str | Path, scenario: Scenario) -> HuntState:
-    """Read a state file, checked against ``scenario`` as its starts are (docs/robustness.md).
-
-    Every problem is a one-line ScenarioError naming the file and the field
-    (see :func:`mpc_hunt.bench.problem_set.state_from_dict`).
-    """
-    path = Path(path)
-    data = read_json(path)
-    try:
-        return state_from_dict(data, scenario)
-    except ScenarioError as exc:
-        raise ScenarioError(f"{exc} (in {path})") from None
-
-
-def save_state(state: HuntState, path: str | Path) -> None:
-    Path(path).write_text(json.dumps(state.to_dict(), indent=2) + "\n", encoding="utf-8")
+#END

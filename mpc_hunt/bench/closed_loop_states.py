@@ -18,7 +18,8 @@ from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.bench.capture_state import circle_formed
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.bench.problem_set import HuntState, ProblemEntry
+from mpc_hunt.bench.problem_set import ProblemEntry
+from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.sim.simulator import simulate
 

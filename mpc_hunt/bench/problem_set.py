@@ -31,28 +31,15 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
-from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.errors import ScenarioError, UnknownNameError
-from mpc_hunt.world.scenario import Scenario, check_positions, checked_number, checked_vector, key_shown, shown
-from mpc_hunt.world.scenario_io import read_input_file, scenario_from_dict, scenario_to_dict
+from mpc_hunt.world.hunt_state import HuntState, read_json, state_from_dict
+from mpc_hunt.world.scenario import Scenario
+from mpc_hunt.world.scenario_io import scenario_from_dict, scenario_to_dict
 
 FORMAT, VERSION = "mpc-hunt problem set", 1
 _ENTRY_KEYS = frozenset({"id", "scenario", "sequence", "tags"})     # beside a state's own keys
-STATE_FORM = '{"time": t, "attacker": [x, y], "defenders": [[x, y], ...]}'
-
-
-@dataclass(frozen=True)
-class HuntState:
-    """Where everybody is at one time of a hunt."""
-
-    time: float
-    attacker: np.ndarray
-    defenders: np.ndarray
-
-    def to_dict(self) -> dict:
-        return {"time": self.time, "attacker": self.attacker.tolist(), "defenders": self.defenders.tolist()}
 
 
 @dataclass(frozen=True)
@@ -139,20 +126,6 @@ class ProblemSet:
                               "tags": list(p.tags)} for p in self.problems]}
 
 
-def posed_problem(scenario: Scenario, state: HuntState, horizon: int = 1, objective: str = "paper") -> CaptureProblem:
-    """The capture problem at ``state``: Eq. 12 as published (``paper``), or the enclose objective with the
-    places the enclose controller would set on its first step from this state (``enclose``)."""
-    active = ~scenario.failed(state.time)
-    reference = None
-    if objective == "enclose":
-        observation = Observation(state.time, state.attacker, None, state.defenders, ~active)
-        reference = Enclosure(scenario, horizon).reference(observation)
-    elif objective not in OBJECTIVES:
-        raise UnknownNameError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
-    return CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon, active=active,
-                                   reference=reference)
-
-
 def dumps_problem_set(problem_set: ProblemSet) -> str:
     """The JSON text of a set: scenarios indented, each problem on one line."""
     data = problem_set.to_dict()
@@ -160,61 +133,6 @@ def dumps_problem_set(problem_set: ProblemSet) -> str:
     head = json.dumps(data, indent=1, ensure_ascii=False)[:-2]
     body = ",\n  ".join(json.dumps(p, ensure_ascii=False) for p in problems)
     return f"{head},\n \"problems\": [\n  {body}\n ]\n}}\n" if problems else f"{head},\n \"problems\": []\n}}\n"
-
-
-def read_json(path: Path) -> object:
-    """A JSON file's data; every way it can fail to be JSON is a one-line ScenarioError naming the file."""
-    text = read_input_file(path)
-    if not text.strip():
-        raise ScenarioError(f"{path}: empty (expected a JSON object {STATE_FORM})")
-
-    def unique_keys(pairs: list[tuple[str, object]]) -> dict:
-        keys = [k for k, _ in pairs]
-        repeated = sorted({k for k in keys if keys.count(k) > 1})
-        if repeated:
-            raise ScenarioError(f"{key_shown(repeated[0])}: given more than once (in {path})")
-        return dict(pairs)
-
-    try:
-        return json.loads(text, object_pairs_hook=unique_keys)
-    except json.JSONDecodeError as exc:
-        raise ScenarioError(f"{path}: not valid JSON ({exc})") from None
-    except ScenarioError:
-        raise
-    except ValueError:  # Python converts whole numbers of at most sys.get_int_max_str_digits() digits
-        raise ScenarioError(f"{path}: not valid JSON (a whole number with too many digits)") from None
-    except RecursionError:
-        raise ScenarioError(f"{path}: not valid JSON (arrays or objects nested too deeply)") from None
-
-
-def state_from_dict(data: object, scenario: Scenario, other_keys: frozenset[str] = frozenset()) -> HuntState:
-    """A state checked against ``scenario`` as its starts are; a ScenarioError names the field.
-
-    Rejected: unknown keys (beyond ``other_keys``), a position that is not
-    [x, y] of finite numbers within the input limits, a negative time, the
-    wrong number of defenders, a robot inside an obstacle or on another
-    robot's spot, the attacker outside the scenario's arena.
-    """
-    if not isinstance(data, dict):
-        raise ScenarioError(f"expected a JSON object {STATE_FORM}, got {type(data).__name__}")
-    known = {"time", "attacker", "defenders"} | other_keys
-    unknown = sorted(set(data) - known)
-    if unknown:
-        raise ScenarioError(f"{key_shown(unknown[0])}: unknown key (known: {', '.join(sorted(known))})")
-    for key in ("attacker", "defenders"):
-        if key not in data:
-            raise ScenarioError(f"{key}: missing")
-    time = checked_number(data.get("time", 0.0), "time", non_negative=True, unit=" s")
-    p_a = checked_vector(data["attacker"], "attacker")
-    n = len(scenario.defenders)
-    raw = data["defenders"]
-    if not isinstance(raw, list) or len(raw) != n:
-        got = f"{len(raw)}" if isinstance(raw, list) else shown(raw)
-        raise ScenarioError(f"defenders: expected {n} positions [x, y] for scenario {shown(scenario.name)}, "
-                            f"got {got}")
-    p_d = [checked_vector(p, f"defenders[{i}]") for i, p in enumerate(raw)]
-    check_positions(scenario, ("attacker", p_a), [(f"defenders[{i}]", p) for i, p in enumerate(p_d)])
-    return HuntState(time, np.array(p_a), np.array(p_d, dtype=float).reshape(n, 2))
 
 
 def problem_set_from_dict(data: object, source: str = "<data>") -> ProblemSet:

@@ -40,7 +40,8 @@ from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.world.geometry import norm
-from mpc_hunt.bench.problem_set import HuntState, ProblemEntry
+from mpc_hunt.bench.problem_set import ProblemEntry
+from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Defender, Obstacle, Scenario
 
 MAX_DRAWS = 200

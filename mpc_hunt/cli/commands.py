@@ -335,8 +335,9 @@ def _summary(result, report: dict, scenario) -> str:
 
 
 def _state(args, scenario):
-    from mpc_hunt.bench.capture_state import first_formed_circle, load_state
+    from mpc_hunt.bench.capture_state import first_formed_circle
     from mpc_hunt.bench.problem_set import builtin_problem_set
+    from mpc_hunt.world.hunt_state import load_state
 
     if args.state:
         return load_state(args.state, scenario)
@@ -349,8 +350,8 @@ def _state(args, scenario):
 
 
 def _solve(args) -> int:
-    from mpc_hunt.bench.capture_state import save_state
-    from mpc_hunt.bench.problem_set import posed_problem
+    from mpc_hunt.control.posing import posed_problem
+    from mpc_hunt.world.hunt_state import save_state
     from mpc_hunt.solving.solver import CaptureSolver
 
     formulation, backend, horizon = _solver_choice(args)
@@ -383,7 +384,7 @@ def _solve(args) -> int:
 
 
 def _export(args) -> int:
-    from mpc_hunt.bench.problem_set import posed_problem
+    from mpc_hunt.control.posing import posed_problem
     from mpc_hunt.solving.solver import CaptureSolver
 
     if args.formulation not in registry.stage_formulations():

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mpc_hunt.bench.capture_state import load_state, save_state
+from mpc_hunt.world.hunt_state import load_state, save_state
 from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.cli.common import (MAX_HUNTS, MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_SEED, MAX_STARTS,
                                  MAX_WORKERS_PER_CORE)
