@@ -11,6 +11,7 @@ unavailable with its install hint.
 from __future__ import annotations
 
 import importlib.util
+from dataclasses import dataclass
 from functools import cache
 
 from mpc_hunt.errors import SolverNotFoundError, UnknownNameError
@@ -71,11 +72,6 @@ def stage_formulations() -> list[str]:
     return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
 
 
-def closes_step(formulation: str, backend: str) -> bool:
-    """Whether a compatible pair's backend closes the formulation's step into one Function (kind ``ocp-qp``)."""
-    return formulation_class(formulation).kind == "ocp-qp" and "ocp-qp" in backend_class(backend).accepts
-
-
 def stage_form_message(formulation: str) -> str:
     """Why ``formulation`` has no control loop's step or C export."""
     return (f"formulation: only the stage-form steps ({', '.join(stage_formulations())}) run as one Function "
@@ -87,19 +83,38 @@ def pairs(installed_only: bool = True) -> list[tuple[str, str]]:
     return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)]
 
 
-def check_pair(formulation: str, backend: str | None) -> str:
-    """The backend to use with ``formulation`` (its default if ``backend`` is None), checked.
+@dataclass(frozen=True)
+class Pair:
+    """A formulation and a backend that work together, as their classes; ``backend_name`` as asked for."""
+
+    formulation: type
+    backend: type
+    backend_name: str
+
+    @property
+    def closes_step(self) -> bool:
+        """Whether the backend closes the formulation's step into one Function (kind ``ocp-qp``): a control loop's
+        step and the C export."""
+        return self.formulation.kind == "ocp-qp"
+
+
+def resolve(formulation: str, backend: str | None = None) -> Pair:
+    """``formulation`` and ``backend`` (the formulation's default if None) found and checked once.
 
     Raises :class:`UnknownNameError` for an unknown or incompatible name and
     :class:`SolverNotFoundError` when the backend's package is missing.
     """
     cls = formulation_class(formulation)
     backend = backend or cls.default_backend
-    backend_class(backend)
-    usable = compatible_backends(formulation)
-    if backend not in usable:
+    solver = backend_class(backend)
+    if cls.kind not in solver.accepts:
         raise UnknownNameError(f"backend {backend!r} does not solve formulation {formulation!r} "
-                               f"(use one of: {', '.join(usable)})")
-    if not installed(backend):
+                               f"(use one of: {', '.join(compatible_backends(formulation))})")
+    if importlib.util.find_spec(solver.package) is None:
         raise SolverNotFoundError(install_hint(backend))
-    return backend
+    return Pair(cls, solver, backend)
+
+
+def check_pair(formulation: str, backend: str | None) -> str:
+    """The backend to use with ``formulation`` (its default if ``backend`` is None), checked (:func:`resolve`)."""
+    return resolve(formulation, backend).backend_name

@@ -50,11 +50,10 @@ class CaptureSolver:
     def __init__(self, formulation: str = "nlp", backend: str | None = None, *,
                  time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
                  score: bool = True, loop: bool | None = None, **backend_options):
-        backend = registry.check_pair(formulation, backend)
-        self.formulation = registry.formulation_class(formulation)()
-        self.backend = registry.backend_class(backend)(time_limit=time_limit, accuracy=accuracy,
-                                                       **backend_options)
-        self.stage_form = registry.closes_step(formulation, backend)
+        pair = registry.resolve(formulation, backend)
+        self.formulation = pair.formulation()
+        self.backend = pair.backend(time_limit=time_limit, accuracy=accuracy, **backend_options)
+        self.stage_form = pair.closes_step
         if loop and not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(formulation))
         self.on_loops = self.stage_form if loop is None else loop
