@@ -116,3 +116,22 @@ def test_a_failed_plan_is_applied_only_when_the_evaluator_scored_it_feasible():
     assert applied_plan(problem, scored, warm) == (plan, True)
     infeasible = dataclasses.replace(failed, violation={"separation": 1e-3})
     assert applied_plan(problem, infeasible, warm)[0] is warm
+
+
+def test_the_step_a_solver_set_up_is_the_one_it_exports_and_its_loop_runs(tmp_path):
+    """One set-up per structure, whichever path asks for it: solving on the loop, the formulation's own path, the
+    control loop handed out and the C export share the backend's step; the export writes the held reference and
+    the plan the step makes from it."""
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    solver = CaptureSolver("stage-sqp", "hpipm", score=False)
+    solved = solver.solve(problem)
+    files = solver.export(tmp_path / "board", problem)
+    assert solver.loop(problem) is solver.loop(problem) and solver.backend.setups == 1
+    own = CaptureSolver("stage-sqp", "hpipm", loop=False)
+    own.backend = solver.backend
+    assert own.solve(problem).success and solver.backend.setups == 1
+    assert {f.name for f in files} >= {"capture_step.c", "mpc_hunt_step.h", "input.txt", "expected.txt"}
+    numbers = np.loadtxt(tmp_path / "board" / "input.txt")
+    np.testing.assert_array_equal(numbers[-solved.x.size:], problem.x_from_plan(problem.held_plan()))
+    np.testing.assert_array_equal(np.loadtxt(tmp_path / "board" / "expected.txt"), solved.x)
+    assert "#define MPC_HUNT_PLAN 18" in (tmp_path / "board" / "mpc_hunt_step.h").read_text()
