@@ -26,10 +26,10 @@ from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.plots.capture_region import plot_capture_regions
+from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.reachability import reachable
 from mpc_hunt.sweep.runner import Hunt, Strategy, run_hunt, run_local
-from mpc_hunt.sweep.plots import write_plots
 from mpc_hunt.sweep.store import SweepStore
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows

@@ -24,11 +24,11 @@ from tqdm import tqdm
 
 from mpc_hunt.solving import registry
 from mpc_hunt.bench.compare import MODES, planned_solves, run_compare
-from mpc_hunt.bench.compare_report import write_report
 from mpc_hunt.bench.compare_rows import best_known, gap
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.bench.problem_set import builtin_problem_set
 from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.cli.compare_report import write_report
 
 from docs_block import read_block, write_block
 from study_check import check_result

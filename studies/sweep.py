@@ -30,15 +30,16 @@ import numpy as np
 from mpc_hunt.cli.commands import main as mpc_hunt
 from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.cli.sweep import typical_hunts_figure
 from mpc_hunt.world.ensemble import SCALE, band, outside, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.plots.sweep import write_plots
+from mpc_hunt.plots.typical_hunts import plot_typical_hunts
 from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
-from mpc_hunt.sweep.plots import write_plots
 from mpc_hunt.sweep.store import SweepStore
 from mpc_hunt.sweep.summary import best_strategy, summarise, table
+from mpc_hunt.sweep.typical import typical_hunts
 
 from docs_block import read_block, write_block
 from study_check import check_result
@@ -166,7 +167,7 @@ def write(machine: dict) -> None:
     summaries = summarise(rows)
     walls = wall_times(rows)
     write_plots(rows, OUT)
-    typical_hunts_figure(rows, summaries, OUT)
+    plot_typical_hunts(typical_hunts(rows, summaries), OUT)
     (OUT / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(),
                                                   "strategies": summaries, "wall_time": walls}, indent=1) + "\n",
                                       encoding="utf-8")

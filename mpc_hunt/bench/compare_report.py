@@ -1,4 +1,4 @@
-"""A compare run written out: a terminal table, JSON, CSV and a Markdown report with its figures."""
+"""A compare run written out: a terminal table, JSON, CSV and the Markdown report's text."""
 
 from __future__ import annotations
 
@@ -9,8 +9,7 @@ from pathlib import Path
 
 from mpc_hunt.solving.accuracy import accuracy_table
 from mpc_hunt.bench.compare import CompareRun
-from mpc_hunt.bench.compare_plots import FIGURES, plot_compare
-from mpc_hunt.bench.compare_rows import best_known, gap, rows as score_rows
+from mpc_hunt.bench.compare_rows import best_known, gap
 from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE, VIOLATION_NAMES
 from mpc_hunt.bench.machine import machine_lines
 
@@ -112,13 +111,8 @@ def unsolved(run: CompareRun) -> list[str]:
     return lines
 
 
-def write_report(run: CompareRun, machine: dict, folder: Path, command: str, extra: dict) -> list[Path]:
-    """``README.md``, ``results.json`` (every solve included) and the figures, in ``folder``."""
-    folder.mkdir(parents=True, exist_ok=True)
-    rows = score_rows(run)
-    (folder / "results.json").write_text(dumps(document(run, machine, rows, extra, solves=True)) + "\n",
-                                         encoding="utf-8")
-    figures = plot_compare(run, rows, folder)
+def readme(run: CompareRun, machine: dict, rows: list[dict], command: str, figures: list[Path]) -> str:
+    """The report's ``README.md``: what was run, the score, the results and the ``figures`` (beside it)."""
     sequences = run.problem_set.sequences()
     text = [
         "# Capture-stage formulations × backends, scored on the true problem", "",
@@ -146,6 +140,5 @@ def write_report(run: CompareRun, machine: dict, folder: Path, command: str, ext
     missing = unsolved(run)
     if missing:
         text += ["Problems that no pair solved by the success rule:", "", *missing, ""]
-    text += ["## Figures", ""] + [f"![{name}]({name})" for name in FIGURES] + [""]
-    (folder / "README.md").write_text("\n".join(text), encoding="utf-8")
-    return [folder / "README.md", folder / "results.json", *figures]
+    text += ["## Figures", ""] + [f"![{f.name}]({f.name})" for f in figures] + [""]
+    return "\n".join(text)

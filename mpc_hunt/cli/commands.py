@@ -444,11 +444,12 @@ def _compare(args) -> int:
     import numpy as np
 
     from mpc_hunt.bench.compare import check_pairs, planned_solves, run_compare
-    from mpc_hunt.bench.compare_plots import plot_compare
-    from mpc_hunt.bench.compare_report import document, dumps, table, write_csv, write_report
+    from mpc_hunt.bench.compare_report import document, dumps, table, write_csv
     from mpc_hunt.bench.compare_rows import rows as score_rows
     from mpc_hunt.bench.machine import describe_machine, load_average
     from mpc_hunt.bench.problem_set import resolve_problem_set
+    from mpc_hunt.cli.compare_report import write_report
+    from mpc_hunt.plots.compare import plot_compare
 
     pairs = check_pairs(args.pair)
     check_output(args.csv, (".csv",), "--csv")

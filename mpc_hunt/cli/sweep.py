@@ -131,35 +131,13 @@ def _report(rows: list[dict], as_json: bool, plot: Path | None) -> int:
     summaries = summarise(rows)
     print(json.dumps({"strategies": summaries}) if as_json else table(summaries))
     if plot:
-        from mpc_hunt.sweep.plots import write_plots
-        for path in write_plots(rows, plot) + typical_hunts_figure(rows, summaries, plot):
+        from mpc_hunt.plots.sweep import write_plots
+        from mpc_hunt.plots.typical_hunts import plot_typical_hunts
+        from mpc_hunt.sweep.typical import typical_hunts
+        for path in write_plots(rows, plot) + plot_typical_hunts(typical_hunts(rows, summaries), plot):
             if not as_json:
                 print(f"wrote {path}")
     return 0
-
-
-def typical_hunts_figure(rows: list[dict], summaries: list[dict], folder: Path) -> list[Path]:
-    """The best strategy's typical captured and lost hunt (mpc_hunt.sweep.typical), rerun and drawn zoomed on
-    the capture region into ``folder``/typical_hunts.png; [] when it has neither."""
-    from mpc_hunt.plots.capture_region import plot_capture_regions
-    from mpc_hunt.sweep.summary import best_strategy
-    from mpc_hunt.sweep.typical import rerun, typical_rows
-
-    if not summaries:
-        return []
-    strategy = best_strategy(summaries)
-    cases = []
-    for kind, row in typical_rows(rows, strategy).items():
-        scenario, result = rerun(row)
-        how = (f"captured at {row['capture_time_s']:.0f} s" if kind == "captured"
-               else f"lost ({row['cause']}), closest approach {row['min_attacker_distance_m']:.2f} m")
-        against = "" if (row["attacker"], row["belief"]) == (DEFAULT_BEHAVIOUR, Belief().label()) else \
-            f" vs {row['attacker']}, belief {row['belief']}"
-        cases.append((result, scenario, f"typical {kind}: {strategy}{against}, {row['name']}\n{how}"))
-    if not cases:
-        return []
-    plot_capture_regions(cases, folder / "typical_hunts.png")
-    return [folder / "typical_hunts.png"]
 
 
 HANDLERS = {"sweep": sweep, "sweep-report": sweep_report}

@@ -1,4 +1,5 @@
-"""A strategy's typical captured and typical lost hunt, chosen from a sweep's rows, and a row's hunt rerun.
+"""A strategy's typical captured and typical lost hunt, chosen from a sweep's rows, and a row's hunt rerun; the best
+strategy's typical hunts, rerun (drawn by :mod:`mpc_hunt.plots.typical_hunts`).
 
 Typical captured: the capture whose time is nearest the strategy's median capture time.
 Typical lost: among the reachable hunts it lost, those lost by the commonest cause; of them, the one whose
@@ -9,12 +10,14 @@ the first row. A strategy's rows of every attacker and belief count together; a 
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import dataclass
 
 import numpy as np
 
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.runner import Strategy, hunt_rngs
+from mpc_hunt.sweep.summary import best_strategy
 from mpc_hunt.world.behaviours import with_behaviour
 from mpc_hunt.world.belief import parse_belief
 from mpc_hunt.world.scenario import Scenario
@@ -48,3 +51,21 @@ def rerun(row: dict) -> tuple[Scenario, HuntResult]:
     world, belief_rng = hunt_rngs(row["seed"], row["index"])
     controller = Strategy.parse(row["strategy"]).controller_for(scenario, parse_belief(row["belief"]), belief_rng)
     return scenario, simulate(scenario, controller, rng=world)
+
+
+@dataclass(frozen=True)
+class TypicalHunt:
+    """A typical hunt rerun: its ``kind`` ("captured" or "lost"), its sweep row, its scenario and its result."""
+
+    kind: str
+    row: dict
+    scenario: Scenario
+    result: HuntResult
+
+
+def typical_hunts(rows: list[dict], summaries: list[dict]) -> list[TypicalHunt]:
+    """The best strategy's (:func:`mpc_hunt.sweep.summary.best_strategy`) typical captured and lost hunt, rerun;
+    [] when there is no summary."""
+    if not summaries:
+        return []
+    return [TypicalHunt(kind, row, *rerun(row)) for kind, row in typical_rows(rows, best_strategy(summaries)).items()]

@@ -11,8 +11,8 @@ import pytest
 import mpc_hunt.bench.compare as compare
 from mpc_hunt.solving.accuracy import accuracy_table
 from mpc_hunt.cli.commands import main
+from mpc_hunt.cli.compare_report import write_report
 from mpc_hunt.bench.compare import check_pairs, run_compare
-from mpc_hunt.bench.compare_report import write_report
 from mpc_hunt.bench.compare_rows import rows
 from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE
 from mpc_hunt.errors import BenchmarkError
@@ -161,7 +161,7 @@ def test_compare_poses_and_scores_the_enclose_objective_when_asked(tmp_path, cap
 
 def test_every_pair_is_told_apart_at_a_glance():
     """Scatter points by marker alone, lines by colour and line style: distinct for far more pairs than exist."""
-    from mpc_hunt.bench.compare_plots import pair_style
+    from mpc_hunt.plots.compare import pair_style
     from mpc_hunt.solving import registry
     styles = [pair_style(k) for k in range(max(20, len(registry.pairs(installed_only=False))))]
     assert len({s["marker"] for s in styles}) == len(styles)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from mpc_hunt.cli.commands import main
-from mpc_hunt.sweep.plots import lines_by_attacker, rate_by
+from mpc_hunt.plots.sweep import lines_by_attacker, rate_by
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, ranges_with
 from mpc_hunt.sweep.runner import Hunt, run_hunt
 from mpc_hunt.sweep.store import SweepStore
