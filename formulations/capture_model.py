@@ -13,11 +13,10 @@ from functools import cached_property, lru_cache
 import casadi as ca
 import numpy as np
 
+from formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.structure import Structure
-from mpc_hunt.world.field import FIELD_FLOOR
 
-_TINY = 1e-18
 SCALARS = ("perception_radius", "eta", "k_d", "k_o", "attacker_max_speed", "protective_distance",
            "safety_distance", "min_separation", "min_attacker_distance", "ring_radius", "time_step",
            "hunt_radius", "w_force", "w_ring", "w_move", "w_equal")
@@ -104,29 +103,6 @@ def parameter_vector(problem: CaptureProblem) -> np.ndarray:
     return np.concatenate([np.ravel(np.asarray(values[name], dtype=float)) for name, _ in _layout(structure)])
 
 
-def _norm(v):
-    return ca.sqrt(ca.dot(v, v) + _TINY)
-
-
-def repulsion(r, radius, eta):
-    """H(r) of Eq. 2 (repulsive sign, NOTES E1), as in mpc_hunt.world.field.repulsion."""
-    length = _norm(r)
-    d = ca.fmax(length, FIELD_FLOOR)
-    return ca.if_else(d < radius, eta * (radius**3 / d**3 - 1), 0) * d / length * r
-
-
-def obstacle_repulsion(p, centre, radius, reach, eta):
-    """H of one obstacle, measured from its surface (NOTES E2)."""
-    v = p - centre
-    dc = _norm(v)
-    s = ca.fmax(dc - radius, FIELD_FLOOR)
-    return ca.if_else(s < reach, eta * (reach**3 / s**2 - s), 0) * v / dc
-
-
-def saturate(v, max_norm):
-    return v * ca.fmin(1, max_norm / _norm(v))
-
-
 def enclose_residuals(p: dict, attacker, defenders: list, places, attacker_place, weight) -> list:
     """The ``enclose`` objective's residuals at one step (docs/formulations.md).
 
@@ -197,7 +173,7 @@ class CaptureModel:
                 r = self.defender(k, i) - p_a
                 sq_dist.append(ca.dot(r, r) if self.objective == "paper" else ca.SX.zeros(1, 1))   # enclose: no Eq. 14
                 if self.objective != "enclose":
-                    residuals.append(ca.sqrt(p["w_ring"]) * (_norm(r) - p["ring_radius"]) / p["hunt_radius"])
+                    residuals.append(ca.sqrt(p["w_ring"]) * (norm(r) - p["ring_radius"]) / p["hunt_radius"])
                 residuals.append(ca.sqrt(p["w_move"]) * (self.defender(k, i) - self.previous(k, i))
                                  / p["step_limits"][i])
             p_a = p_a + p["time_step"] * saturate(force, p["attacker_max_speed"])

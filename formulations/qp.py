@@ -22,6 +22,7 @@ import scipy.sparse as sp
 
 from formulations.base import Formulation, separation_pairs
 from formulations.capture_model import capture_model, decision_point, parameter_vector
+from formulations.field import unit
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
@@ -29,10 +30,6 @@ from mpc_hunt.capture.structure import Structure
 
 POLYGON_SIDES = 8
 TRUST_REGION = 2.0  # in units of r_d
-
-
-def _unit(v):
-    return v / ca.sqrt(ca.dot(v, v) + 1e-18)
 
 
 class LinearisedCapture:
@@ -96,10 +93,10 @@ class LinearisedCapture:
                         n_rows += 1
                 for o in range(m):
                     centre = p["centres"][2 * o:2 * o + 2]
-                    add(ca.dot(_unit(xi_ref - centre), xi - centre) - p["radii"][o] - p["safety_distance"],
+                    add(ca.dot(unit(xi_ref - centre), xi - centre) - p["radii"][o] - p["safety_distance"],
                         0.0, ca.inf, "obstacle_safety", True)
                     n_rows += 1
-                add(ca.dot(_unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"], 0.0, ca.inf,
+                add(ca.dot(unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"], 0.0, ca.inf,
                     "attacker_distance", True)
                 r_ref = xi_ref - a_ref_k
                 d2 = ca.dot(r_ref, r_ref) + 2 * ca.dot(r_ref, (xi - xi_ref) - (a_k - a_ref_k))
@@ -111,7 +108,7 @@ class LinearisedCapture:
                 xj = model.defender(k, j) if j < nc else model.held(j - nc)
                 xi_ref = Xref[(k * nc + i) * 2:(k * nc + i) * 2 + 2]
                 xj_ref = Xref[(k * nc + j) * 2:(k * nc + j) * 2 + 2] if j < nc else model.held(j - nc)
-                add(ca.dot(_unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, "separation", True)
+                add(ca.dot(unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, "separation", True)
                 n_rows += 1
         g = ca.substitute(ca.vertcat(*rows), X, Xref + delta)
         self.relax = np.array(relax, dtype=bool)

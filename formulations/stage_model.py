@@ -11,7 +11,7 @@ smoothness term and Eq. 13 on u_{k−1}, Eq. 15, the separations and the
 attacker distance on x_k. Written once per structure (controlled, held,
 obstacles) as functions of one stage; a formulation lays them out over the
 horizon. θ is :func:`formulations.capture_model.parameter_vector` followed by
-the smoothing half-width w of :mod:`formulations.smooth_field` (w = 0: the
+the smoothing half-width w of :mod:`formulations.field` (w = 0: the
 paper's field).
 """
 
@@ -22,8 +22,8 @@ from functools import lru_cache
 import casadi as ca
 
 from formulations.base import separation_pairs
-from formulations.capture_model import enclose_residuals, parameter_size, saturate, step_reference, unpack
-from formulations.smooth_field import norm, obstacle_repulsion, repulsion
+from formulations.capture_model import enclose_residuals, parameter_size, step_reference, unpack
+from formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.structure import Structure
 
 SMOOTHING = 0.001   # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import builtin_scenario, simulate
-from mpc_hunt.world.ensemble import SCALE, band, outside, perturbed, widened
+from mpc_hunt.world.ensemble import SCALE, band, outside_band, perturbed, widened
 from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
 from mpc_hunt.plots.hunt import plot_hunt
@@ -332,7 +332,7 @@ def differing(committed: dict, nominal: dict[str, dict]) -> list[str]:
                 bands, values = [bands], [values]
             for b, value in zip(bands, values):
                 floor = FLOOR_RTOL * abs(b["median"]) + FLOOR_ATOL if b is not None else 0.0
-                if outside(value, b, WIDEN, floor):
+                if outside_band(value, b, WIDEN, floor):
                     shown = "none" if b is None else "{:.9g} to {:.9g}".format(*widened(b, WIDEN, floor))
                     errors.append(f"{name}.{key}: {value!r} is outside its band ({shown})")
     return errors

@@ -30,7 +30,7 @@ import numpy as np
 from mpc_hunt.cli.commands import main as mpc_hunt
 from mpc_hunt.cli.common import stop_at_once
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.world.ensemble import SCALE, band, outside, widened
+from mpc_hunt.world.ensemble import SCALE, band, outside_band, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
@@ -239,7 +239,7 @@ def _off_band(label: str, old: dict, new: dict) -> list[str]:
     for k in BANDED:
         b = old["band"][k]
         floor = FLOOR_RTOL * abs(b["median"]) + FLOOR_ATOL if b is not None else 0.0
-        if outside(new[k], b, WIDEN, floor):
+        if outside_band(new[k], b, WIDEN, floor):
             shown = "none" if b is None else "{:.9g} to {:.9g}".format(*widened(b, WIDEN, floor))
             errors.append(f"{label}: {k} {new[k]!r} is outside its band ({shown})")
     return errors

@@ -39,17 +39,13 @@ from mpc_hunt.bench.activity import ACTIVE_TOLERANCE, ActivityProbe
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
-from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.geometry import direction, norm
 from mpc_hunt.bench.problem_set import ProblemEntry
 from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Defender, Obstacle, Scenario
 
 MAX_DRAWS = 200
 SPREAD = 1e-3    # m: the controlled defenders' distances to the attacker differ by at most this
-
-
-def _direction(angle) -> np.ndarray:
-    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
 
 
 def _near(rng: np.random.Generator, radius: float, n: int) -> np.ndarray:
@@ -64,12 +60,12 @@ def _layout(rng: np.random.Generator, template: Scenario, case: str) -> tuple[np
     obstacles = []
     if case == "attacker_distance":
         radius, away = rng.uniform(0.3, 0.8), rng.uniform(0, 2 * np.pi)
-        obstacles.append((p_a - _direction(away) * (radius + rng.uniform(0.02, 0.05)), radius))
+        obstacles.append((p_a - direction(away) * (radius + rng.uniform(0.02, 0.05)), radius))
         # Beyond the attacker's next step (v_a T), so that holding still keeps the true bound at first.
         close = hunt.min_attacker_distance + rng.uniform(1.5, 2.5) * template.attacker.max_speed * hunt.time_step
         angles = np.concatenate([[away + rng.uniform(-0.1, 0.1)], rng.uniform(0, 2 * np.pi, n - 1)])
         distances = np.concatenate([[close], rng.uniform(1.1, 1.5, n - 1) * reach])
-        return p_a, p_a + distances[:, None] * _direction(angles), obstacles
+        return p_a, p_a + distances[:, None] * direction(angles), obstacles
     distances = _near(rng, rng.uniform(0.8, 0.98) * reach, n)
     jitter = np.radians(45 if case == "equal_distance" else 20)
     angles = rng.uniform(0, 2 * np.pi) + 2 * np.pi * np.arange(n) / n + rng.uniform(-jitter, jitter, n)
@@ -77,10 +73,10 @@ def _layout(rng: np.random.Generator, template: Scenario, case: str) -> tuple[np
         distances = _near(rng, rng.uniform(0.93, 0.98) * reach, n)
         angles[1] = angles[0] + np.pi + rng.uniform(-jitter, jitter)
         distances[2:] = rng.uniform(1.1, 1.5, n - 2) * reach
-    defenders = p_a + distances[:, None] * _direction(angles)
+    defenders = p_a + distances[:, None] * direction(angles)
     for _ in range(rng.integers(0, 3)):     # others, somewhere around
         radius = rng.uniform(0.3, 1.0)
-        obstacles.append((p_a + _direction(rng.uniform(0, 2 * np.pi)) * (radius + rng.uniform(0.3, 1.5)), radius))
+        obstacles.append((p_a + direction(rng.uniform(0, 2 * np.pi)) * (radius + rng.uniform(0.3, 1.5)), radius))
     return p_a, defenders, obstacles
 
 

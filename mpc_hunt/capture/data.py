@@ -58,6 +58,14 @@ class QPData:
     lin: np.ndarray
     cones: tuple[tuple[int, int], ...] = ()
 
+    def bounded_rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """The rows outside the cones with a finite upper bound, and those with a finite lower bound."""
+        cone_rows = np.zeros(self.A.shape[0], dtype=bool)
+        for start, size in self.cones:
+            cone_rows[start:start + size] = True
+        return (np.flatnonzero(np.isfinite(self.u) & ~cone_rows),
+                np.flatnonzero(np.isfinite(self.l) & ~cone_rows))
+
 
 @dataclass(frozen=True)
 class StageQPData:

@@ -29,8 +29,8 @@ from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
 from mpc_hunt.world.belief import Belief
-from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_names, builtin_scenario, dumps_scenario,
-                                        resolve_scenario)
+from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_names, builtin_scenario,
+                                        dumps_scenario, resolve_scenario)
 
 EXIT_ERROR = 2
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
@@ -86,7 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
                           "paper: the paper's strategy with its capture-stage optimisation; "
                           "apf: the traditional potential-field encirclement, no optimisation; "
                           "voronoi: the Voronoi encirclement from the pursuit-evasion literature, no optimisation "
-                          "(for apf and voronoi --formulation, --backend, --horizon, --time-budget and --score "
+                          "(for apf and voronoi --formulation, --backend, --horizon, --time-limit and --score "
                           "do not apply)")
     sim.add_argument("--attacker", choices=list(BEHAVIOURS), metavar="NAME",
                      help=f"how the world moves the attacker, instead of the scenario's behaviour: "
@@ -100,8 +100,9 @@ def build_parser() -> argparse.ArgumentParser:
                           "(default: 0)")
     sim.add_argument("--no-prediction", action="store_true",
                      help="approach the attacker's current position instead of the predicted intercept")
-    sim.add_argument("--time-budget", type=positive_float, metavar="SECONDS",
-                     help="per-step limit handed to the capture-stage solver")
+    sim.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
+                     help="wall-clock limit of each capture-stage solve (the hunt's is the scenario's time_limit)")
+    sim.add_argument("--time-budget", type=positive_float, dest="time_limit", help=argparse.SUPPRESS)  # its old name
     sim.add_argument("--score", action="store_true",
                      help="score every capture-stage plan with the evaluator (without it only a failed solve's "
                           "plan is scored, for the fallback; rti and stage-sqp run as a control loop either way)")
@@ -250,7 +251,7 @@ def _controller(args, scenario, belief_rng):
     believed = {"belief": args.belief, "rng": belief_rng}
     if args.controller not in controllers.SOLVING:
         given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
-                                          ("--horizon", args.horizon), ("--time-budget", args.time_budget),
+                                          ("--horizon", args.horizon), ("--time-limit", args.time_limit),
                                           ("--score", args.score or None))
                  if value is not None]
         if given:
@@ -259,7 +260,7 @@ def _controller(args, scenario, belief_rng):
         return controllers.make_controller(args.controller, scenario, prediction=prediction, **believed)
     formulation, backend, horizon = _solver_choice(args)
     return controllers.make_controller(args.controller, scenario, prediction=prediction, formulation=formulation,
-                                       backend=backend, horizon=horizon, time_limit=args.time_budget, score=args.score,
+                                       backend=backend, horizon=horizon, time_limit=args.time_limit, score=args.score,
                                        **believed)
 
 
@@ -341,7 +342,7 @@ def _state(args, scenario):
 
     if args.state:
         return load_state(args.state, scenario)
-    if args.scenario in builtin_names():
+    if builtin_name(args.scenario) is not None:
         state = builtin_problem_set("default").default_state(scenario.name)
         if state is not None:
             return state

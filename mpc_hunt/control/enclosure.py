@@ -43,7 +43,7 @@ import numpy as np
 from mpc_hunt.capture.problem import Reference
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.world import attacker
-from mpc_hunt.world.geometry import norm, unit
+from mpc_hunt.world.geometry import direction, norm, unit
 from mpc_hunt.world.scenario import Scenario
 
 CLEARANCE = 0.3          # m beyond R_agg: the gathering circle, which the attacker does not perceive
@@ -66,10 +66,6 @@ SWAP_MARGIN = 0.5        # m: how much nearer a defender must be to take a first
 def wrap(angle: float) -> float:
     """``angle`` in [−π, π)."""
     return (angle + math.pi) % (2 * math.pi) - math.pi
-
-
-def _direction(angle: float) -> np.ndarray:
-    return np.array([math.cos(angle), math.sin(angle)])
 
 
 @dataclass
@@ -132,7 +128,7 @@ class Enclosure:
             centres = c.centre + np.arange(1, N + 1)[:, None] * drift
             c.centre = c.centre + drift
             for i in movers:
-                places[:, i] = centres + radii[:, None] * _direction(angles[i])
+                places[:, i] = centres + radii[:, None] * direction(angles[i])
             target = centres
         else:
             radius = PUSH * R if c.phase == "herd" else R + CLEARANCE
@@ -300,7 +296,7 @@ class Enclosure:
             angle = bearing + math.copysign(ORBIT_STEP, turn)
             radius = max(radius, min(distance, radius + 1.0))
         for k in range(N):
-            goal = predicted[k] + radius * _direction(angle)
+            goal = predicted[k] + radius * direction(angle)
             step = goal - p
             length = float(np.hypot(*step))
             out[k] = p + step * min(1.0, (k + 1) * reach / length) if length > 0 else goal

@@ -30,7 +30,7 @@ The fit (docs/estimation.md gives the measurements behind each choice):
   Levenberg–Marquardt on (v_nom, log g, log R) minimises the objective.
   Of fits the data cannot tell apart, the search takes the fastest intent: when
   every sample is capped, only the intent's direction and g/|v_nom| are seen,
-  and (v_nom, g) is scaled along λ(v_nom, g) up to |v_nom| = v_a (NOTES E6: an
+  and (v_nom, g) is scaled along λ(v_nom, g) up to |v_nom| = v_a (docs/model.md, E6: an
   attacker intends at most v_a) while the fit stays as good.
 * **Tracking**, between searches: ``TRACK_STEPS`` Levenberg–Marquardt steps
   from the previous estimate on the shifted window.

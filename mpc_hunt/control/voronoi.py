@@ -35,14 +35,10 @@ from mpc_hunt.control.controller import Command, Observation, attacker_velocity_
 from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target
-from mpc_hunt.world.geometry import dot2, encloses, norm, saturate, unit
+from mpc_hunt.world.geometry import direction, dot2, encloses, norm, saturate, unit
 from mpc_hunt.world.hunting_circle import members
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
-
-
-def _direction(angle: float) -> np.ndarray:
-    return np.array([math.cos(angle), math.sin(angle)])
 
 
 def _bearing(v: np.ndarray) -> float:
@@ -88,7 +84,7 @@ def route(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, reac
     limit = max(math.acos(min(1.0, radius / distance)) if distance > 0 else 0.0, reach / radius)
     if abs(turn) > limit:
         angle = bearing + math.copysign(limit, turn)
-    return centre + radius * _direction(angle)
+    return centre + radius * direction(angle)
 
 
 class VoronoiController:
@@ -113,7 +109,7 @@ class VoronoiController:
         floor = 0.5 * hunt.hunt_radius if enclosed else s.attacker.perception_radius + 0.5 * hunt.hunt_radius
         radii = np.array([max(floor, compressed_radius(cell, p_a, P[i], int(i))) for i in movers])
         angles = ring_bearings(p_a, P[movers], stationary)
-        places = p_a + radii[:, None] * np.array([_direction(a) for a in angles]).reshape(-1, 2)
+        places = p_a + radii[:, None] * direction(angles)
         shift = self._centring(p_a, places, stationary) if enclosed else np.zeros(2)
         v_a = attacker_velocity_estimate(obs, hunt.time_step)
         speeds = s.defender_max_speeds

@@ -19,7 +19,7 @@ def capturable_by_definition(scenario: Scenario) -> bool:
     """Can the hunting circle ever have the three members Eqs. 4–5 need?
 
     Its members are the defender robots plus obstacles standing in for them
-    (``hunting_circle.members``, NOTES E5 and E7): at most every defender and
+    (``hunting_circle.members``, docs/model.md, E5 and E7): at most every defender and
     every obstacle. With fewer than ``MIN_MEMBERS`` = 3 of them in all, the
     success test can never hold and the hunt fails by definition. True is only
     necessary for a capture: the obstacles may lie too far apart to serve.

@@ -6,7 +6,7 @@ obstacles or the defender": obstacles act over ``protective_distance`` from
 their surface, other defenders over twice ``min_separation``, so an approaching
 defender turns away before it breaks the separation the capture stage keeps.
 The printed ω(p_di − p'_di) would drive the defender away from the intercept
-(NOTES E3). With prediction off, or when no intercept exists (NOTES E8),
+(docs/model.md, E3). With prediction off, or when no intercept exists (docs/model.md, E8),
 p'_di is the attacker's current position (pure pursuit).
 """
 
@@ -32,7 +32,7 @@ def approach_target(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: fl
 
 def approach_velocity(scenario: Scenario, p_d: np.ndarray, target: np.ndarray, speed: float,
                       others: np.ndarray) -> np.ndarray:
-    """Eq. 6 with the sign of NOTES E3, capped at ``speed``; ``others`` are the other defenders."""
+    """Eq. 6 with the sign of docs/model.md, E3, capped at ``speed``; ``others`` are the other defenders."""
     hunt = scenario.hunt
     avoid = obstacle_repulsion(p_d, scenario.obstacle_centres, scenario.obstacle_radii,
                                hunt.protective_distance, hunt.eta)

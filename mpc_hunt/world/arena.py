@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 Arena = tuple[float, float, float, float]
 
 
-def outside(arena: Arena, p) -> bool:
+def beyond_edge(arena: Arena, p) -> bool:
     """True when ``p`` lies strictly beyond an edge of ``arena``.
 
     A non-finite point is not outside: the simulator ends such a run with its own cause.
@@ -40,4 +40,4 @@ def margin(arena: Arena, points) -> np.ndarray:
 
 def attacker_escaped(scenario: Scenario, p_a) -> bool:
     """Has the attacker at ``p_a`` left the scenario's arena? Never, when the scenario has no arena."""
-    return scenario.arena is not None and outside(scenario.arena, p_a)
+    return scenario.arena is not None and beyond_edge(scenario.arena, p_a)

@@ -26,7 +26,7 @@ def perceives(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarra
 
 
 def nominal_velocity(scenario: Scenario) -> np.ndarray:
-    """The attacker's nominal intent, capped at its max speed (NOTES E6)."""
+    """The attacker's nominal intent, capped at its max speed (docs/model.md, E6)."""
     a = scenario.attacker
     return nominal_intent(np.array(a.nominal_velocity), a.max_speed)
 

@@ -20,7 +20,6 @@ import numpy as np
 from mpc_hunt.world.scenario import Scenario
 
 SCALE = 1e-9       # m: the largest move of a start along each axis
-MAX_MEMBERS = 64   # an ensemble's size, at most
 
 
 def perturbed(scenario: Scenario, rng: np.random.Generator, scale: float = SCALE) -> Scenario:
@@ -46,7 +45,7 @@ def widened(b: dict, fraction: float, floor: float) -> tuple[float, float]:
     return b["min"] - margin, b["max"] + margin
 
 
-def outside(value: float | None, b: dict | None, fraction: float, floor: float) -> bool:
+def outside_band(value: float | None, b: dict | None, fraction: float, floor: float) -> bool:
     """True when ``value`` leaves the widened band (or exists where the ensemble had none, or the reverse)."""
     if value is None or b is None:
         return (value is None) != (b is None)

@@ -1,11 +1,11 @@
 """The artificial potential field (Eqs. 2, 3 and 9) in NumPy.
 
-Sign (NOTES E1): the printed η(1 − R³/|r|³)·r attracts; the text says the field
+Sign (docs/model.md, E1): the printed η(1 − R³/|r|³)·r attracts; the text says the field
 repels, so H(r) = η(R³/|r|³ − 1)·r for |r| < R and 0 beyond. It points along r
 (away from the source when r = p_target − p_source), is zero and continuous at
 |r| = R, and grows without bound as |r| → 0.
 
-Obstacles (NOTES E2): an obstacle's field is H applied to the offset from the
+Obstacles (docs/model.md, E2): an obstacle's field is H applied to the offset from the
 nearest point of its surface, with range ``protective_distance``. Measured from
 the centre, an obstacle of radius 1 m would exert no force outside itself with
 R = 1 m.
@@ -13,7 +13,8 @@ R = 1 m.
 Distances below ``FIELD_FLOOR`` are raised to it (the offset keeps its
 direction and takes the floor's length), so the field stays finite, and huge,
 at a contact or inside an obstacle instead of becoming NaN. Only an offset of
-exactly zero, which has no direction, gives no push.
+exactly zero, which has no direction, gives no push. The optimiser's field
+(:mod:`formulations.field`) is this one in CasADi, or rounded at |r| = R.
 """
 
 from __future__ import annotations
@@ -25,12 +26,19 @@ from mpc_hunt.world.geometry import norm, saturate
 FIELD_FLOOR = 1e-3
 
 
+def repulsion_gain(d, length, radius: float, eta: float, select=np.where):
+    """H(r)/|r| of Eq. 2: η (R³/d³ − 1) d/|r| for the floored distance d < R, else 0, with |r| = ``length``.
+
+    ``select`` is np.where here, casadi.if_else in the optimiser's field (:mod:`formulations.field`).
+    """
+    return select(d < radius, eta * (radius**3 / d**3 - 1.0), 0.0) * d / length
+
+
 def repulsion(r: np.ndarray, radius: float, eta: float) -> np.ndarray:
     """H(r) of Eq. 2 for vectors ``r`` of shape (..., 2): repulsive, zero for |r| ≥ radius."""
     r = np.asarray(r, dtype=float)
     length = norm(r)
-    d = np.maximum(length, FIELD_FLOOR)
-    gain = np.where(d < radius, eta * (radius**3 / d**3 - 1.0), 0.0) * d / np.where(length > 0, length, 1.0)
+    gain = repulsion_gain(np.maximum(length, FIELD_FLOOR), np.where(length > 0, length, 1.0), radius, eta)
     return r * gain[..., None]
 
 
@@ -49,14 +57,14 @@ def surface_offset(p: np.ndarray, centres: np.ndarray, radii: np.ndarray) -> np.
 
 def obstacle_repulsion(p: np.ndarray, centres: np.ndarray, radii: np.ndarray,
                        radius: float, eta: float) -> np.ndarray:
-    """Σ_o H(r_o) of Eq. 3 (NOTES E2: distances from the surface)."""
+    """Σ_o H(r_o) of Eq. 3 (docs/model.md, E2: distances from the surface)."""
     if len(radii) == 0:
         return np.zeros(2)
     return repulsion(surface_offset(p, centres, radii), radius, eta).sum(axis=0)
 
 
 def nominal_intent(nominal_velocity: np.ndarray, max_speed: float) -> np.ndarray:
-    """The attacker's nominal velocity capped at its max speed (NOTES E6).
+    """The attacker's nominal velocity capped at its max speed (docs/model.md, E6).
 
     The paper's [0.2, −0.2] exceeds v_a,max = 0.03 m/s; an attacker cannot intend
     a speed it cannot reach, so the printed vector keeps its direction and is

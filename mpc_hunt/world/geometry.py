@@ -28,8 +28,13 @@ def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
     return v * np.expand_dims(scale, -1)
 
 
+def direction(angle) -> np.ndarray:
+    """The unit vector (cos θ, sin θ) of ``angle``; for an array of angles, one per row."""
+    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+
+
 def unit(v: np.ndarray) -> np.ndarray:
-    """``v`` divided by its norm (zero vectors stay zero)."""
+    """``v`` divided by its norm over the last axis; a zero vector has no direction and stays zero."""
     v = np.asarray(v, dtype=float)
     n = norm(v)
     return v / np.expand_dims(np.where(n > 0, n, 1.0), -1)

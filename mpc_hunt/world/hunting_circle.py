@@ -1,6 +1,6 @@
 """The hunting circle: its members, the herding target (Eqs. 10–11) and the success test (Eqs. 4–5).
 
-Members (NOTES E5, E7): every defender robot, plus obstacles used as stationary
+Members (docs/model.md, E5, E7): every defender robot, plus obstacles used as stationary
 defenders. An obstacle joins when its surface lies within the given radius of
 the attacker; when there are fewer than three robots, the nearest obstacles are
 recruited until the circle has three members, since three are the fewest that
@@ -83,7 +83,7 @@ def success_test(p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, ra
     """Eqs. 4–5: at least three members, every one within R_hunt, the attacker enclosed and at their centre.
 
     Members here are all robots plus the obstacles whose surface lies within
-    R_hunt (NOTES E7). Eq. 4's equality is read as "within ``centre_tolerance``
+    R_hunt (docs/model.md, E7). Eq. 4's equality is read as "within ``centre_tolerance``
     of the centroid" together with strict enclosure (the attacker inside the
     members' convex hull), which is what "surrounded" requires.
     """

@@ -3,7 +3,7 @@
 The attacker is assumed to keep its current velocity v_a (Eq. 7: the intercept
 lies on its line of motion). The intercept is the earliest point the defender,
 moving straight at speed s_d, reaches at the same time as the attacker (Eq. 8,
-read with speeds, NOTES E8): the smallest t ≥ 0 with |w + v_a t| = s_d t,
+read with speeds, docs/model.md, E8): the smallest t ≥ 0 with |w + v_a t| = s_d t,
 w = p_a − p_d, i.e. (|v_a|² − s_d²) t² + 2 (w·v_a) t + |w|² = 0.
 
 When no such t exists (an attacker at least as fast as the defender and moving

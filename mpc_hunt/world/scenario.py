@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from mpc_hunt.world.arena import Arena, outside
+from mpc_hunt.world.arena import Arena, beyond_edge
 from mpc_hunt.world.behaviours import BEHAVIOURS
 from mpc_hunt.errors import ScenarioError
 
@@ -300,7 +300,7 @@ def check_positions(scenario: Scenario, attacker: tuple[str, Vector],
     obstacle (on its boundary counts as inside); no two robots on the same spot.
     """
     where, p_a = attacker
-    if scenario.arena is not None and outside(scenario.arena, p_a):
+    if scenario.arena is not None and beyond_edge(scenario.arena, p_a):
         raise ScenarioError(f"{where}: {list(p_a)} lies outside the arena {list(scenario.arena)}")
     robots = [attacker, *defenders]
     for where, p in robots:

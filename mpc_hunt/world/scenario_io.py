@@ -17,6 +17,7 @@ from pathlib import Path
 import tomli_w
 
 from mpc_hunt.errors import ScenarioError, UnknownNameError
+from mpc_hunt.world.names import shipped_name
 from mpc_hunt.world.scenario import LIMITS_DOC, Attacker, Defender, HuntParameters, Obstacle, Scenario, key_shown
 
 DEFAULT_SCENARIO = "paper-obstacles"
@@ -171,15 +172,15 @@ def builtin_scenario(name: str) -> Scenario:
     return loads_scenario(text, f"built-in scenario {name}")
 
 
+def builtin_name(name_or_file: str | Path) -> str | None:
+    """The built-in scenario ``name_or_file`` names, or None when it is a TOML file; else an unknown name."""
+    return shipped_name(name_or_file, builtin_names(), "scenario", ".toml", "a built-in")
+
+
 def resolve_scenario(name_or_file: str | Path | None = None) -> Scenario:
     """A built-in name, or a path to a TOML file; ``None`` gives the default scenario."""
     if name_or_file is None:
         return builtin_scenario(DEFAULT_SCENARIO)
-    text = str(name_or_file)
-    if text in builtin_names():
-        return builtin_scenario(text)
-    if text.endswith(".toml") or Path(text).exists():
-        return load_scenario(text)
-    raise UnknownNameError(f"unknown scenario {text!r}: neither a built-in "
-                           f"({', '.join(builtin_names())}) nor an existing .toml file")
+    name = builtin_name(name_or_file)
+    return load_scenario(str(name_or_file)) if name is None else builtin_scenario(name)
 

@@ -27,7 +27,10 @@ import numpy as np
 from mpc_hunt.world.geometry import dot2, saturate
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
+def _normal(v: np.ndarray) -> np.ndarray:
+    """The unit vector along the 2-vector ``v``; (1, 0) for a zero vector, as two defenders at one point
+    need some direction apart (:func:`~mpc_hunt.world.geometry.unit` keeps it zero). Its length is
+    ``np.hypot``'s, whose last bit the committed hunts depend on."""
     length = float(np.hypot(*v))
     return v / length if length > 0 else np.array([1.0, 0.0])
 
@@ -47,12 +50,12 @@ def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np
         p = positions[i]
         rows = []     # (a, b): a · v ≥ b
         for j in planned:
-            n = _unit(p - planned_next[j])
+            n = _normal(p - planned_next[j])
             gap = dot2(n, p - planned_next[j])
             rows.append((time_step * n, min(min_separation, gap) - gap))
         for j in movers:
             if j != i:
-                m, n = 0.5 * (p + positions[j]), _unit(p - positions[j])
+                m, n = 0.5 * (p + positions[j]), _normal(p - positions[j])
                 gap = dot2(n, p - m)
                 rows.append((time_step * n, min(0.5 * min_separation, gap) - gap))
         out[i] = onto_half_planes(out[i], rows, speeds[i])

@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from conftest import ATTACKER, DEFENDERS, problem_at
-from formulations import ms_nlp, smooth_field, stage_model
+from formulations import field, ms_nlp, stage_model
 from mpc_hunt import CaptureProblem, CaptureSolver, solve
 from mpc_hunt.world.field import repulsion
 from mpc_hunt.capture.plan import shift_plan
@@ -22,7 +22,7 @@ widths = floats(min_value=1e-4, max_value=0.05)
 
 def _smooth(r, w):
     v = ca.DM(np.asarray(r, dtype=float))
-    return np.array(smooth_field.repulsion(v, R, ETA, w)).ravel()
+    return np.array(field.repulsion(v, R, ETA, w)).ravel()
 
 
 @pytest.mark.parametrize("horizon", [1, 3])
@@ -53,14 +53,14 @@ def test_smoothed_field_is_c1_across_its_band_edges(w, side, angle):
     """Value and Jacobian of H meet from both sides of |r| = R ± w (and the ramp is C² there)."""
     direction = np.array([np.cos(angle), np.sin(angle)])
     r = ca.SX.sym("r", 2)
-    field = smooth_field.repulsion(r, R, ETA, w)
-    H = ca.Function("H", [r], [field, ca.jacobian(field, r)])
+    value = field.repulsion(r, R, ETA, w)
+    H = ca.Function("H", [r], [value, ca.jacobian(value, r)])
     edge, h = R + side * w, 1e-7 * w
     (v_in, J_in), (v_out, J_out) = [map(np.array, H((edge + s * h) * direction)) for s in (-1, 1)]
     np.testing.assert_allclose(v_in, v_out, atol=1e-5 * w)
     np.testing.assert_allclose(J_in, J_out, atol=1e-4)
     z = ca.SX.sym("z")
-    ramp = ca.Function("ramp", [z], [ca.hessian(smooth_field.ramp(z, w), z)[0]])
+    ramp = ca.Function("ramp", [z], [ca.hessian(field.ramp(z, w), z)[0]])
     assert abs(float(ramp(side * w - h)) - float(ramp(side * w + h))) <= 1e-3 / w
 
 
@@ -69,7 +69,7 @@ def test_smoothing_takes_the_kink_out_of_the_field():
     r = ca.SX.sym("r", 2)
     jump = []
     for w in (0.0, stage_model.SMOOTHING):
-        J = ca.Function("J", [r], [ca.jacobian(smooth_field.repulsion(r, R, ETA, w), r)])
+        J = ca.Function("J", [r], [ca.jacobian(field.repulsion(r, R, ETA, w), r)])
         jump.append(np.abs(np.array(J([R - 1e-9, 0.0])) - np.array(J([R + 1e-9, 0.0]))).max())
     assert jump[0] == pytest.approx(3 * ETA, rel=1e-6) and jump[1] < 1e-5
 

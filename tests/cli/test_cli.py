@@ -132,7 +132,7 @@ def test_solve_at_a_state_file(capsys, tmp_path):
     (["solve", "--formulation", "qp", "--backend", "ipopt"], "does not solve formulation 'qp'"),
     (["solve", "--time-limit", "nan"], "--time-limit: must be a positive finite number"),
     (["scenarios", "--output", "x.toml"], "--output needs --write"),
-    (["simulate", "--time-budget", "0.05"], "backend hpipm takes no time limit"),
+    (["simulate", "--time-limit", "0.05"], "backend hpipm takes no time limit"),
     (["compare", "--pair", "rti:hpipm", "--time-limit", "0.1"], "backend hpipm takes none"),
     (["compare", "--seed", "-1"], "--seed: must not be negative"),
     (["problems", "--build", "x.json", "--seed", "-1"], "--seed: must not be negative"),

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mpc_hunt.world.arena import attacker_escaped, outside
+from mpc_hunt.world.arena import attacker_escaped, beyond_edge
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.sweep.random_scenario import (ScenarioRanges, dumps_ranges, load_ranges, loads_ranges, random_scenario,
                                       ranges_from_dict, ranges_to_dict, ranges_with, sweep_rng, sweep_scenario)
@@ -300,7 +300,7 @@ def test_paper_scenarios_have_no_arena_and_never_escape():
 def test_attacker_escaped(p, escaped):
     s = dataclasses.replace(builtin_scenario("paper-open"), arena=(0.0, 0.0, 20.0, 20.0))
     assert attacker_escaped(s, np.array(p)) is escaped
-    assert outside(s.arena, p) is escaped
+    assert beyond_edge(s.arena, p) is escaped
 
 
 def test_arena_round_trips_through_toml():

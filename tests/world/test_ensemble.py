@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mpc_hunt import builtin_scenario
-from mpc_hunt.world.ensemble import SCALE, band, outside, perturbed, widened
+from mpc_hunt.world.ensemble import SCALE, band, outside_band, perturbed, widened
 from mpc_hunt.world.geometry import dot2
 from strategies import floats
 
@@ -36,7 +36,7 @@ def test_the_same_generator_gives_the_same_member():
 def test_every_member_lies_in_its_band(xs):
     b = band(xs)
     assert b["min"] <= b["median"] <= b["max"]
-    assert not any(outside(x, b, 0.0, 0.0) for x in xs)
+    assert not any(outside_band(x, b, 0.0, 0.0) for x in xs)
 
 
 @given(values, floats(min_value=0.0, max_value=2.0), floats(min_value=0.0, max_value=1.0))
@@ -45,9 +45,9 @@ def test_the_band_widens_by_its_width_or_the_floor(xs, fraction, floor):
     low, high = widened(b, fraction, floor)
     margin = max(fraction * (b["max"] - b["min"]), floor)
     assert low == b["min"] - margin and high == b["max"] + margin
-    assert outside(high + 1e-3 + abs(high) * 1e-9, b, fraction, floor)
-    assert outside(None, b, fraction, floor) and outside(1.0, None, fraction, floor)
-    assert not outside(None, None, fraction, floor)
+    assert outside_band(high + 1e-3 + abs(high) * 1e-9, b, fraction, floor)
+    assert outside_band(None, b, fraction, floor) and outside_band(1.0, None, fraction, floor)
+    assert not outside_band(None, None, fraction, floor)
 
 
 @given(st.tuples(floats(min_value=-1e100, max_value=1e100), floats(min_value=-1e100, max_value=1e100)),

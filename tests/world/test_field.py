@@ -1,4 +1,4 @@
-"""Tests of the artificial potential field (mpc_hunt/world/field.py, NOTES E1, E2, E6)."""
+"""Tests of the artificial potential field (mpc_hunt/world/field.py, docs/model.md, E1, E2, E6)."""
 
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ def expected_magnitude(d: float, radius: float, eta: float) -> float:
     return eta * (radius**3 / d**3 - 1.0) * d if d < radius else 0.0
 
 
-# --- repulsion H (Eq. 2, NOTES E1) -------------------------------------------------------------
+# --- repulsion H (Eq. 2, docs/model.md, E1) ----------------------------------------------------
 
 @FAST
 @given(radius=radii, eta=etas, frac=floats(min_value=0.01, max_value=0.999), angle=angles)
@@ -136,7 +136,7 @@ def test_repulsion_batches_over_leading_axes():
     np.testing.assert_array_equal(out[0, 1], [0.0, 0.0])
 
 
-# --- obstacles measured from the surface (NOTES E2) --------------------------------------------
+# --- obstacles measured from the surface (docs/model.md, E2) -----------------------------------
 
 def test_obstacle_of_radius_one_still_pushes_point_half_a_metre_from_its_surface():
     centres, rad = np.array([[0.0, 0.0]]), np.array([1.0])
@@ -206,7 +206,7 @@ def test_obstacle_repulsion_sums_obstacles_and_handles_none():
                                   np.zeros(2))
 
 
-# --- nominal intent (NOTES E6) -----------------------------------------------------------------
+# --- nominal intent (docs/model.md, E6) --------------------------------------------------------
 
 def test_nominal_intent_caps_paper_vector_keeping_direction():
     v = nominal_intent(np.array([0.2, -0.2]), 0.03)

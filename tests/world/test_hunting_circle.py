@@ -1,4 +1,4 @@
-"""Tests of the hunting circle (Eqs. 4–5, 10–12, NOTES E5, E7) and the geometry helpers."""
+"""Tests of the hunting circle (Eqs. 4–5, 10–12, docs/model.md, E5, E7) and the geometry helpers."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Tests of trajectory prediction (Eqs. 7–8, NOTES E8) and the approach law (Eq. 6, NOTES E3)."""
+"""Tests of trajectory prediction (Eqs. 7–8, docs/model.md, E8) and the approach law (Eq. 6, docs/model.md, E3)."""
 
 from __future__ import annotations
 

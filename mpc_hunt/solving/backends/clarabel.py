@@ -32,12 +32,8 @@ class ConicLayout:
     """How the rows of ``A`` map onto stacked, signed rows ``b − A'x ∈ K`` (fixed per structure)."""
 
     def __init__(self, data: QPData):
-        m, n = data.A.shape
-        cone_rows = np.zeros(m, dtype=bool)
-        for start, size in data.cones:
-            cone_rows[start:start + size] = True
-        upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
-        lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
+        n = data.A.shape[1]
+        upper, lower = data.bounded_rows()
         self.nonnegative = len(upper) + len(lower)
         # Each stacked row: the source row of A and its sign (+1: u − Ax ≥ 0 or a cone row, −1: Ax − l ≥ 0).
         rows = [(r, 1.0) for r in upper] + [(r, -1.0) for r in lower] \

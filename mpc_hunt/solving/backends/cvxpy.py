@@ -16,6 +16,7 @@ import numpy as np
 
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.solving.backends.base import Backend
+from mpc_hunt.solving.backends.clarabel import ClarabelBackend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 
@@ -40,8 +41,7 @@ class CvxpyBackend(Backend):
     accepts = ("qp", "socp")
     package = "cvxpy"
     install = "cvxpy"
-    ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
-                "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
+    ACCURACY = ClarabelBackend.ACCURACY      # Clarabel's tolerances (any other solver gets the default)
 
     def __init__(self, time_limit: float | None = None, accuracy: str = "default", solver: str = "CLARABEL",
                  **options):
@@ -52,11 +52,7 @@ class CvxpyBackend(Backend):
         import cvxpy as cp
 
         m, n = data.A.shape
-        cone_rows = np.zeros(m, dtype=bool)
-        for start, size in data.cones:
-            cone_rows[start:start + size] = True
-        upper = np.flatnonzero(np.isfinite(data.u) & ~cone_rows)
-        lower = np.flatnonzero(np.isfinite(data.l) & ~cone_rows)
+        upper, lower = data.bounded_rows()
         x, J, c, lin = cp.Variable(n), cp.Parameter(data.J.shape), cp.Parameter(data.c.shape), cp.Parameter(n)
         A, b, bl = cp.Parameter((m, n)), cp.Parameter(m), cp.Parameter(m)
         constraints = []
