@@ -35,6 +35,7 @@ from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.errors import ScenarioError, UnknownNameError
 from mpc_hunt.world.hunt_state import HuntState, read_json, state_from_dict
+from mpc_hunt.world.names import shipped_name
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import scenario_from_dict, scenario_to_dict
 
@@ -217,10 +218,5 @@ def builtin_problem_set(name: str = "default") -> ProblemSet:
 
 def resolve_problem_set(name_or_file: str | Path) -> ProblemSet:
     """A shipped set by name, or a problem set file."""
-    text = str(name_or_file)
-    if text in builtin_problem_sets():
-        return builtin_problem_set(text)
-    if text.endswith(".json") or Path(text).exists():
-        return load_problem_set(text)
-    raise UnknownNameError(f"unknown problem set {text!r}: neither shipped ({', '.join(builtin_problem_sets())}) "
-                           f"nor an existing .json file")
+    name = shipped_name(name_or_file, builtin_problem_sets(), "problem set", ".json")
+    return load_problem_set(name_or_file) if name is None else builtin_problem_set(name)
