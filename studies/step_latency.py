@@ -45,25 +45,29 @@ from dataclasses import replace
 from importlib.metadata import version
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
 
 from mpc_hunt.solving import registry
-from mpc_hunt.cli.common import count, stop_at_once
+from mpc_hunt.arguments import count
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
-from step_exported import exported_c, exported_lines
-from step_floor import floor_lines, qp_floor
-from step_loop import loop_latency, loop_lines, loop_targets
-from step_profile import rti_profile
-from study_check import check_result
+from studies.step_exported import exported_c, exported_lines
+from studies.step_floor import floor_lines, qp_floor
+from studies.step_loop import loop_latency, loop_lines, loop_targets
+from studies.step_profile import rti_profile
+from studies.study_check import check_result
 
 try:
-    from do_mpc_peer import DoMPCPeer
+    from studies.do_mpc_peer import DoMPCPeer
 except ImportError:                 # do-mpc is an optional extra: pip install -e .[peers]
     DoMPCPeer = None
 

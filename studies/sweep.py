@@ -1,7 +1,7 @@
 """Random hunts at scale: the default sweep strategies on 500 random hunts (docs/robustness.md).
 
-Runs ``mpc-hunt sweep --hunts 500 --seed 1`` with the default strategies
-(``mpc_hunt.sweep.runner.DEFAULT_STRATEGIES``) and the default scenario ranges into
+Runs the sweep of ``mpc-hunt sweep --hunts 500 --seed 1`` (``mpc_hunt.sweep.stored_run``) with the default
+strategies (``mpc_hunt.sweep.runner.DEFAULT_STRATEGIES``) and the default scenario ranges into
 ``studies/sweep/sweep.db``, resuming it if it exists; then reruns the first
 ``SAMPLE`` hunts of each strategy ``MEMBERS`` times with every start moved by a
 nanometre (``ensemble.json``: which outcomes a last-bit difference flips, and
@@ -25,23 +25,27 @@ import sqlite3
 import sys
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
-from mpc_hunt.cli.commands import main as mpc_hunt
-from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.cli.sweep import typical_hunts_figure
+from mpc_hunt.plots.capture_region import plot_capture_regions
 from mpc_hunt.world.ensemble import SCALE, band, outside, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
-from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
+from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local, tasks
 from mpc_hunt.sweep.plots import write_plots
 from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.sweep.summary import best_strategy, summarise, table
+from mpc_hunt.sweep.typical import typical_hunts
 
-from docs_block import read_block, write_block
-from study_check import check_result
+from studies.docs_block import read_block, write_block
+from studies.study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "sweep"
 DB = OUT / "sweep.db"
@@ -166,7 +170,9 @@ def write(machine: dict) -> None:
     summaries = summarise(rows)
     walls = wall_times(rows)
     write_plots(rows, OUT)
-    typical_hunts_figure(rows, summaries, OUT)
+    typical = typical_hunts(rows, summaries)
+    if typical:
+        plot_capture_regions(typical, OUT / "typical_hunts.png")
     (OUT / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(),
                                                   "strategies": summaries, "wall_time": walls}, indent=1) + "\n",
                                       encoding="utf-8")
@@ -281,6 +287,21 @@ def check() -> list[str]:
     return errors
 
 
+def run_sweep() -> int:
+    """Run (or resume) the sweep into sweep.db and print its summary, as ``mpc-hunt sweep --hunts HUNTS --seed SEED
+    --output sweep.db --json [--resume]`` does."""
+    store = SweepStore(DB, arguments(), resume=DB.exists())
+    try:
+        stopped = run_into(store, tasks(arguments()["strategies"], HUNTS, SEED, ScenarioRanges(), store.done()))
+        print(json.dumps({"strategies": summarise(store.rows())}))     # the summary so far, if stopped
+    finally:
+        store.close()
+    if stopped:
+        print(f"mpc-hunt sweep: {stopped}; finished hunts are in {DB} (continue with --resume)", file=sys.stderr)
+        return 2
+    return 0
+
+
 def forget(strategies: list[str]) -> None:
     """Drop these strategies' hunts from sweep.db and their members from ensemble.json: the run redoes them."""
     store = SweepStore(DB, arguments(), resume=True)
@@ -313,8 +334,11 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     OUT.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
-    code = mpc_hunt(["sweep", "--hunts", str(HUNTS), "--seed", str(SEED), "--output", str(DB), "--json"]
-                    + (["--resume"] if DB.exists() else []))
+    try:
+        code = run_sweep()
+    except MpcHuntError as exc:
+        print(f"mpc-hunt sweep: error: {exc}", file=sys.stderr)
+        return 2
     if code:
         return code
     machine["load_average_end"] = load_average()

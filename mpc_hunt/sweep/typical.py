@@ -1,4 +1,5 @@
-"""A strategy's typical captured and typical lost hunt, chosen from a sweep's rows, and a row's hunt rerun.
+"""A strategy's typical captured and typical lost hunt, chosen from a sweep's rows, and a row's hunt rerun (the best
+strategy's two, rerun, are a sweep report's figure).
 
 Typical captured: the capture whose time is nearest the strategy's median capture time.
 Typical lost: among the reachable hunts it lost, those lost by the commonest cause; of them, the one whose
@@ -15,8 +16,9 @@ import numpy as np
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.runner import Strategy, hunt_rngs
-from mpc_hunt.world.behaviours import with_behaviour
-from mpc_hunt.world.belief import parse_belief
+from mpc_hunt.sweep.summary import best_strategy
+from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, with_behaviour
+from mpc_hunt.world.belief import Belief, parse_belief
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import loads_scenario
 
@@ -48,3 +50,20 @@ def rerun(row: dict) -> tuple[Scenario, HuntResult]:
     world, belief_rng = hunt_rngs(row["seed"], row["index"])
     controller = Strategy.parse(row["strategy"]).controller_for(scenario, parse_belief(row["belief"]), belief_rng)
     return scenario, simulate(scenario, controller, rng=world)
+
+
+def typical_hunts(rows: list[dict], summaries: list[dict]) -> list[tuple[HuntResult, Scenario, str]]:
+    """The best strategy's typical captured and lost hunt, rerun: (result, scenario, title) each, as
+    :func:`mpc_hunt.plots.capture_region.plot_capture_regions` draws them; [] when it has neither."""
+    if not summaries:
+        return []
+    strategy = best_strategy(summaries)
+    cases = []
+    for kind, row in typical_rows(rows, strategy).items():
+        scenario, result = rerun(row)
+        how = (f"captured at {row['capture_time_s']:.0f} s" if kind == "captured"
+               else f"lost ({row['cause']}), closest approach {row['min_attacker_distance_m']:.2f} m")
+        against = "" if (row["attacker"], row["belief"]) == (DEFAULT_BEHAVIOUR, Belief().label()) else \
+            f" vs {row['attacker']}, belief {row['belief']}"
+        cases.append((result, scenario, f"typical {kind}: {strategy}{against}, {row['name']}\n{how}"))
+    return cases
