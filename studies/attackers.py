@@ -21,8 +21,11 @@ import sqlite3
 import sys
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
-from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.plots.capture_region import plot_capture_regions
@@ -35,7 +38,7 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from study_check import check_result
+from studies.study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"

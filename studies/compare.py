@@ -19,6 +19,9 @@ import json
 import sys
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 from tqdm import tqdm
 
@@ -27,11 +30,11 @@ from mpc_hunt.bench.compare import MODES, planned_solves, run_compare
 from mpc_hunt.bench.compare_rows import best_known, gap
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.bench.problem_set import builtin_problem_set
-from mpc_hunt.cli.common import stop_at_once
-from mpc_hunt.cli.compare_report import write_report
+from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.plots.compare_report import write_report
 
-from docs_block import read_block, write_block
-from study_check import check_result
+from studies.docs_block import read_block, write_block
+from studies.study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "compare"
 HORIZONS, SEED, STARTS, ACCURACY = [1, 5, 10], 0, 4, "default"

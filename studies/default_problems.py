@@ -30,6 +30,9 @@ import argparse
 import sys
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
 from mpc_hunt import builtin_names, builtin_scenario
@@ -42,10 +45,10 @@ from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.bench.problem_set import ProblemSet, dumps_problem_set, load_problem_set
 from mpc_hunt.bench.random_states import random_entries
-from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.scenario_io import scenario_to_dict
 
-from study_check import check_result
+from studies.study_check import check_result
 
 TARGET = Path(__file__).resolve().parents[1] / "mpc_hunt" / "bench" / "problems" / "default.json"
 EVERY, RUN_LENGTH, RANDOM_PER_CASE, SEED = 560, 4, 2, 0

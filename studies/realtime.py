@@ -22,15 +22,19 @@ import sys
 import time
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.cli.common import count, stop_at_once
+from mpc_hunt.arguments import count
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
-from docs_block import read_block, write_block
-from study_check import check_result
+from studies.docs_block import read_block, write_block
+from studies.study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "realtime"
 SCENARIOS = ("paper-open", "paper-obstacles")

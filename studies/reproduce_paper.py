@@ -29,15 +29,18 @@ from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
 from mpc_hunt import builtin_scenario, simulate
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, perturbed, widened
-from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
 from mpc_hunt.plots.hunt import plot_hunt
 
-from study_check import check_result
+from studies.study_check import check_result
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "reproduction"
 SCENARIOS = ("paper-open", "paper-obstacles")

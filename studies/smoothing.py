@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, simulate
-from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.attacker import perceives
 
 SCENARIOS = ("paper-open", "paper-obstacles")

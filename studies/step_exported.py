@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from mpc_hunt import CaptureSolver
-from step_loop import reference_run
+from studies.step_loop import reference_run
 
 EXPORTED = ("rti", "stage-sqp")
 MODES = ("robust", "balance")

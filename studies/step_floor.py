@@ -29,7 +29,7 @@ from mpc_hunt.solving import registry
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.capture.solution import WarmStart
 
-from step_profile import rti_profile
+from studies.step_profile import rti_profile
 
 
 def perfect_warm_start(problems: list) -> dict | None:

@@ -37,33 +37,36 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import sys
 import time
 from dataclasses import replace
 from importlib.metadata import version
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
 
 from mpc_hunt.solving import registry
-from mpc_hunt.cli.common import count, stop_at_once
+from mpc_hunt.arguments import count
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.strategy import applied_plan, warm_plan
+from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
-from step_exported import exported_c, exported_lines
-from step_floor import floor_lines, qp_floor
-from step_loop import loop_latency, loop_lines, loop_targets
-from step_profile import rti_profile
-from study_check import check_result
+from studies.step_exported import exported_c, exported_lines
+from studies.step_floor import floor_lines, qp_floor
+from studies.step_loop import loop_latency, loop_lines, loop_targets
+from studies.step_profile import rti_profile
+from studies.study_check import check_result
 
 try:
-    from do_mpc_peer import DoMPCPeer
+    from studies.do_mpc_peer import DoMPCPeer
 except ImportError:                 # do-mpc is an optional extra: pip install -e .[peers]
     DoMPCPeer = None
 
@@ -77,17 +80,6 @@ GROWTH_STATES = 15
 MAX_STATES = 1_000      # --states: every pair solves each of them
 BASELINE = ("nlp", "ipopt")
 PEER = ("do-mpc", "ipopt (peer)")
-
-
-def machine() -> dict:
-    model = ""
-    if Path("/proc/cpuinfo").exists():
-        model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                      if line.startswith("model name")), "")
-    import casadi
-    return {"platform": platform.platform(), "cpu": model, "cores": os.cpu_count(),
-            "load_average": os.getloadavg(), "python": platform.python_version(), "casadi": casadi.__version__,
-            "numpy": np.__version__}
 
 
 def closed_loop_states(size: int) -> ProblemSet:
@@ -416,7 +408,7 @@ def run(args) -> tuple[ProblemSet, dict]:
     else:
         problem_set = closed_loop_states(args.states)
     pairs = args.pairs or registry.pairs()
-    before = machine()
+    before = describe_machine()
     peer = DoMPCPeer is not None and not args.no_peer
     rows = latency(problem_set, pairs, peer)
     result = {"machine": before, "latency": rows}
@@ -432,7 +424,7 @@ def run(args) -> tuple[ProblemSet, dict]:
     first = [problem_set.problem(e, HORIZON) for e in entries]
     result["exported_c"] = exported_c(first, args.blasfeo)
     result["loop"] = loop_latency([p for p in first if p.structure == first[0].structure])
-    result["machine"]["load_average_after"] = os.getloadavg()
+    result["machine"]["load_average_end"] = load_average()
     return problem_set, result
 
 
@@ -446,9 +438,9 @@ def write_report(args, problem_set: ProblemSet, result: dict) -> None:
             "Regenerate with `python studies/step_latency.py` (all pairs, growth included"
             + (", `--blasfeo DIR`: a BLASFEO of the wheel's version built for this CPU" if args.blasfeo else "")
             + "). Measured in one run "
-            f"on {m['cpu'] or m['platform']} ({m['cores']} cores, shared: load average {m['load_average'][0]:.1f} "
-            f"before, {m['load_average_after'][0]:.1f} after), {m['platform']}, Python {m['python']}, "
-            f"CasADi {m['casadi']}. Absolute times drift on a shared machine; the ratios are from the same run.", "",
+            f"on {m['cpu']} ({m['cores']} cores, shared: load average {m['load_average'][0]:.1f} "
+            f"before, {m['load_average_end'][0]:.1f} after), {m['system']}, Python {m['python']}, "
+            f"CasADi {m['packages']['casadi']}. Absolute times drift on a shared machine; the ratios are from the same run.", "",
             f"## Latency at N_d = 3, N = {HORIZON}", "",
             f"{problem_set.description} Medians over {len(problem_set.problems) - 1} warm-started steps (the first, "
             "which sets up, excluded). *step*: state in → plan out, the shared evaluator excluded; *all-in*: with "

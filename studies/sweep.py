@@ -1,7 +1,7 @@
 """Random hunts at scale: the default sweep strategies on 500 random hunts (docs/robustness.md).
 
-Runs ``mpc-hunt sweep --hunts 500 --seed 1`` with the default strategies
-(``mpc_hunt.sweep.runner.DEFAULT_STRATEGIES``) and the default scenario ranges into
+Runs the sweep of ``mpc-hunt sweep --hunts 500 --seed 1`` (``mpc_hunt.sweep.stored_run``) with the default
+strategies (``mpc_hunt.sweep.runner.DEFAULT_STRATEGIES``) and the default scenario ranges into
 ``studies/sweep/sweep.db``, resuming it if it exists; then reruns the first
 ``SAMPLE`` hunts of each strategy ``MEMBERS`` times with every start moved by a
 nanometre (``ensemble.json``: which outcomes a last-bit difference flips, and
@@ -25,10 +25,12 @@ import sqlite3
 import sys
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
-from mpc_hunt.cli.commands import main as mpc_hunt
-from mpc_hunt.cli.common import stop_at_once
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
@@ -36,13 +38,14 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.plots.typical_hunts import plot_typical_hunts
-from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local
+from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local, tasks
 from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.sweep.summary import best_strategy, summarise, table
 from mpc_hunt.sweep.typical import typical_hunts
 
-from docs_block import read_block, write_block
-from study_check import check_result
+from studies.docs_block import read_block, write_block
+from studies.study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "sweep"
 DB = OUT / "sweep.db"
@@ -282,6 +285,21 @@ def check() -> list[str]:
     return errors
 
 
+def run_sweep() -> int:
+    """Run (or resume) the sweep into sweep.db and print its summary, as ``mpc-hunt sweep --hunts HUNTS --seed SEED
+    --output sweep.db --json [--resume]`` does."""
+    store = SweepStore(DB, arguments(), resume=DB.exists())
+    try:
+        stopped = run_into(store, tasks(arguments()["strategies"], HUNTS, SEED, ScenarioRanges(), store.done()))
+        print(json.dumps({"strategies": summarise(store.rows())}))     # the summary so far, if stopped
+    finally:
+        store.close()
+    if stopped:
+        print(f"mpc-hunt sweep: {stopped}; finished hunts are in {DB} (continue with --resume)", file=sys.stderr)
+        return 2
+    return 0
+
+
 def forget(strategies: list[str]) -> None:
     """Drop these strategies' hunts from sweep.db and their members from ensemble.json: the run redoes them."""
     store = SweepStore(DB, arguments(), resume=True)
@@ -314,8 +332,11 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     OUT.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
-    code = mpc_hunt(["sweep", "--hunts", str(HUNTS), "--seed", str(SEED), "--output", str(DB), "--json"]
-                    + (["--resume"] if DB.exists() else []))
+    try:
+        code = run_sweep()
+    except MpcHuntError as exc:
+        print(f"mpc-hunt sweep: error: {exc}", file=sys.stderr)
+        return 2
     if code:
         return code
     machine["load_average_end"] = load_average()

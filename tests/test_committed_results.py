@@ -28,11 +28,11 @@ def test_committed_results_match_the_code(study):
 
 
 def _study(name: str):
-    sys.path.insert(0, str(ROOT / "studies"))
+    sys.path.insert(0, str(ROOT))
     try:
-        return importlib.import_module(name)
+        return importlib.import_module(f"studies.{name}")
     finally:
-        sys.path.remove(str(ROOT / "studies"))
+        sys.path.remove(str(ROOT))
 
 
 def test_the_reproduction_check_fails_for_a_one_percent_change_of_the_field_gain():

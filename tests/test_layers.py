@@ -47,19 +47,50 @@ def test_the_import_contracts_hold():
     assert "5 kept, 0 broken" in run.stdout
 
 
-def _private_imports(path: Path) -> list[str]:
-    """``from mpc_hunt.X… import _name`` (or formulations.…) in ``path`` reaching into another subpackage."""
-    tree = ast.parse(path.read_text(encoding="utf-8"))
-    here = ".".join(path.relative_to(ROOT).with_suffix("").parts[:2])
-    return [f"{path.relative_to(ROOT)}: {node.module}.{alias.name}" for node in ast.walk(tree)
-            if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] in TOP
-            and ".".join(node.module.split(".")[:2]) != here
-            for alias in node.names if alias.name.startswith("_") and not alias.name.startswith("__")]
+STUDIES = {f.stem for f in (ROOT / "studies").glob("*.py")}
 
 
-def test_no_module_imports_a_private_name_of_another_package():
+def _imported(source: str) -> list[str]:
+    """Every name an import in ``source`` binds, in full: ``a.b.c`` for ``from a.b import c`` and ``import a.b.c``."""
+    return [f"{node.module}.{alias.name}" if isinstance(node, ast.ImportFrom) else alias.name
+            for node in ast.walk(ast.parse(source)) if isinstance(node, (ast.Import, ast.ImportFrom))
+            and not (isinstance(node, ast.ImportFrom) and (node.level or not node.module)) for alias in node.names]
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not name.startswith("__")
+
+
+def _forbidden_imports(source: str, path: str) -> list[str]:
+    """Imports in ``source`` (of the file ``path``, from the root) of a private name or module (``_name``) of
+    another subpackage of mpc_hunt or formulations; in a study, also of the command line (``mpc_hunt.cli``) and
+    of another study by its bare name: the studies use the package's public API, and one another as
+    ``studies.…``."""
+    here = ".".join(Path(path).with_suffix("").parts[:2])
+    names = _imported(source)
+    hits = [n for n in names if n.split(".")[0] in TOP and ".".join(n.split(".")[:2]) != here
+            and any(_private(part) for part in n.split(".")[1:])]
+    if Path(path).parent == Path("studies"):
+        hits += [n for n in names if n.split(".")[:2] == ["mpc_hunt", "cli"] or n.split(".")[0] in STUDIES]
+    return [f"{path}: {n}" for n in hits]
+
+
+def test_no_module_imports_a_private_name_of_another_package_nor_a_study_the_command_line():
     files = [f for top in ("mpc_hunt", "formulations", "studies") for f in (ROOT / top).rglob("*.py")]
-    assert [hit for f in files for hit in _private_imports(f)] == []
+    assert [hit for f in files for hit in _forbidden_imports(f.read_text(encoding="utf-8"),
+                                                             f.relative_to(ROOT).as_posix())] == []
+
+
+def test_the_import_check_finds_a_study_reaching_past_the_public_api():
+    source = ("from mpc_hunt.cli.common import count\nimport mpc_hunt.cli.commands\nfrom mpc_hunt import cli\n"
+              "from mpc_hunt.sweep.runner import _drawn\nfrom mpc_hunt.solving._hidden import x\n"
+              "from study_check import check_result\nimport docs_block\n"
+              "from studies.study_check import check_result\nfrom mpc_hunt.interrupt import stop_at_once\n")
+    assert [hit.split(": ")[1] for hit in _forbidden_imports(source, "studies/x.py")] == [
+        "mpc_hunt.sweep.runner._drawn", "mpc_hunt.solving._hidden.x", "mpc_hunt.cli.common.count",
+        "mpc_hunt.cli.commands", "mpc_hunt.cli", "study_check.check_result", "docs_block"]
+    assert _forbidden_imports(source, "mpc_hunt/cli/x.py") == ["mpc_hunt/cli/x.py: mpc_hunt.sweep.runner._drawn",
+                                                              "mpc_hunt/cli/x.py: mpc_hunt.solving._hidden.x"]
 
 
 def test_import_mpc_hunt_loads_no_solver():

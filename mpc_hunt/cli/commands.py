@@ -23,9 +23,10 @@ from mpc_hunt.solving.backends.hpipm import MODES as HPIPM_MODES
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
-                                 check_writable, count, non_negative, positive_float, seed, stop_at_once)
+from mpc_hunt.arguments import count, non_negative, positive_float, seed
+from mpc_hunt.cli.common import MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief, check_writable
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
 from mpc_hunt.world.belief import Belief
@@ -449,7 +450,7 @@ def _compare(args) -> int:
     from mpc_hunt.bench.compare_rows import rows as score_rows
     from mpc_hunt.bench.machine import describe_machine, load_average
     from mpc_hunt.bench.problem_set import resolve_problem_set
-    from mpc_hunt.cli.compare_report import write_report
+    from mpc_hunt.plots.compare_report import write_report
     from mpc_hunt.plots.compare import plot_compare
 
     pairs = check_pairs(args.pair)

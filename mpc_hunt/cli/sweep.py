@@ -6,7 +6,8 @@ import json
 import sys
 from pathlib import Path
 
-from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count, count, seed
+from mpc_hunt.arguments import count, seed
+from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.behaviours import BEHAVIOURS, DEFAULT_BEHAVIOUR
 from mpc_hunt.world.belief import Belief
@@ -74,8 +75,9 @@ def _ranges(args):
 
 
 def sweep(args) -> int:
-    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Strategy, connect_dask, run_dask, run_local, tasks
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Strategy, connect_dask, tasks
     from mpc_hunt.sweep.store import SweepStore
+    from mpc_hunt.sweep.stored_run import run_into
     from mpc_hunt.sweep.random_scenario import ranges_to_dict
 
     strategies = [Strategy.parse(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
@@ -90,19 +92,8 @@ def sweep(args) -> int:
     client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None    # before any file is written
     store = SweepStore(args.output, arguments, resume=args.resume)
     todo = tasks(strategies, args.hunts, args.seed, ranges, store.done(), attackers, beliefs)
-    rows = run_dask(todo, client) if client else run_local(todo, args.workers)
-    stopped = None
     with Progress(len(todo), "sweep", quiet=args.json, unit="hunts") as update:
-        try:
-            for finished, row in enumerate(rows, 1):
-                store.add(row)
-                if update:
-                    update(finished)
-        except KeyboardInterrupt:
-            stopped = "interrupted"
-            rows.close()
-        except MpcHuntError as exc:     # workers or the cluster lost, a scenario that cannot be drawn
-            stopped = f"error: {exc}"
+        stopped = run_into(store, todo, args.workers, client, update)
     code = _report(store.rows(), args.json, None)    # the summary so far, if stopped
     store.close()
     if stopped:

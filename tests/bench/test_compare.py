@@ -11,7 +11,7 @@ import pytest
 import mpc_hunt.bench.compare as compare
 from mpc_hunt.solving.accuracy import accuracy_table
 from mpc_hunt.cli.commands import main
-from mpc_hunt.cli.compare_report import write_report
+from mpc_hunt.plots.compare_report import write_report
 from mpc_hunt.bench.compare import check_pairs, run_compare
 from mpc_hunt.bench.compare_rows import rows
 from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE

@@ -1,0 +1,25 @@
+"""Ctrl-C that ends a command (of ``mpc-hunt`` or a study) at once, with nothing written."""
+
+from __future__ import annotations
+
+import os
+import signal
+from contextlib import contextmanager
+
+
+@contextmanager
+def stop_at_once(command: str):
+    """Ctrl-C ends the command at once, status 130, with nothing written.
+
+    Not by KeyboardInterrupt: a solver such as IPOPT takes it as a request to end its current solve, and the
+    command would run on to its end. Output is written after this block, so nothing is half-written.
+    """
+    def _exit(signum, frame):
+        os.write(2, f"mpc-hunt {command}: interrupted: nothing written\n".encode())
+        os._exit(128 + signum)
+
+    previous = signal.signal(signal.SIGINT, _exit)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
