@@ -14,18 +14,19 @@ same scenario always gives the same result.
 
 from __future__ import annotations
 
-import math
 from typing import Callable
 
 import numpy as np
 
 from mpc_hunt.world.behaviours import make_behaviour
+from mpc_hunt.world.behaviours.base import Behaviour
 from mpc_hunt.world.belief import believed
-from mpc_hunt.world.geometry import norm, saturate
+from mpc_hunt.world.geometry import norm
 from mpc_hunt.sim.hunt_result import HuntResult
+from mpc_hunt.sim.world_step import moved, standing, steps
 from mpc_hunt.world.hunting_circle import success_test
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.world.arena import attacker_escaped, margin
+from mpc_hunt.world.arena import margin
 from mpc_hunt.control.controller import Controller, Observation
 from mpc_hunt.control.strategy import HuntingStrategy
 
@@ -35,25 +36,23 @@ DEFAULT_SEED = 0
 def simulate(scenario: Scenario, controller: Controller | None = None, *, prediction: bool = True,
              until: Callable[[Observation], bool] | None = None,
              progress: Callable[[float], None] | None = None,
-             rng: np.random.Generator | None = None) -> HuntResult:
+             rng: np.random.Generator | None = None, behaviour: Behaviour | None = None) -> HuntResult:
     """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT) built on the
     defenders' default belief (:func:`mpc_hunt.world.belief.believed`), never on the world's behaviour.
 
     ``rng`` draws whatever the attacker's behaviour draws (``noisy``); without one, a generator seeded
-    with ``DEFAULT_SEED``, so the same scenario always gives the same hunt.
+    with ``DEFAULT_SEED``, so the same scenario always gives the same hunt. ``behaviour`` moves the attacker
+    instead of the scenario's (a policy under training, say).
 
     ``until`` stops the run (termination ``"stopped"``) before the first
     observation it returns true for; that observation is the last recorded state.
     ``progress``, if given, is called with the simulated time after each step.
     """
     controller = controller or HuntingStrategy(believed(scenario), prediction=prediction)
-    behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)
-    hunt = scenario.hunt
-    T = hunt.time_step
-    max_steps = int(math.ceil(hunt.time_limit / T - 1e-9))
-    hold_steps = int(math.ceil(hunt.hold_time / T - 1e-9))
-    speeds = scenario.defender_max_speeds
-    centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
+    if behaviour is None:
+        behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)
+    T = scenario.hunt.time_step
+    max_steps, hold_steps = steps(scenario)
 
     p_a = np.array(scenario.attacker.start, dtype=float)
     p_d = scenario.defender_starts.copy()
@@ -78,22 +77,14 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
         fallbacks += cmd.fallback
         velocity = behaviour.velocity(p_a, p_d)
         previous = p_a.copy()
-        p_d = p_d + T * saturate(np.where(stopped[:, None], 0.0, cmd.velocities), speeds)
-        p_a = p_a + T * velocity
+        p_a, p_d = moved(scenario, p_a, p_d, cmd.velocities, velocity, stopped)
         attacker_path.append(p_a.copy()); defender_paths.append(p_d.copy())
         stages.append(cmd.capture_stage); intercepts.append(cmd.intercepts)
-        if not (np.all(np.isfinite(p_a)) and np.all(np.isfinite(p_d))):
-            termination = "non_finite_state"
-            break
-        if attacker_escaped(scenario, p_a):
-            termination = "attacker_escaped"
-            break
-        held = held + 1 if success_test(p_a, p_d, centres, radii, hunt.hunt_radius,
-                                        hunt.centre_tolerance).holds else 0
+        ended, held = standing(scenario, p_a, p_d, held, hold_steps)
         if progress is not None:
             progress((step + 1) * T)
-        if held >= hold_steps:
-            termination = "captured"
+        if ended is not None:
+            termination = ended
             break
     return _result(scenario, controller, np.array(attacker_path), np.array(defender_paths), np.array(stages),
                    np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks,

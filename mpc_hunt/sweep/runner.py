@@ -30,7 +30,7 @@ from collections import deque
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from typing import Generator, Iterator, Sequence
+from typing import Any, Callable, Generator, Iterator, Sequence
 
 import numpy as np
 
@@ -199,26 +199,27 @@ def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, 
             for a in attackers for b in beliefs if (s, a, b, seed, i) not in done]
 
 
-def run_local(todo: list[Hunt], workers: int | None = None) -> Iterator[dict]:
-    """Rows as hunts finish, on local worker processes; stops cleanly when the caller stops iterating."""
+def run_local(todo: list, workers: int | None = None, work: Callable[[Any], dict] | None = None) -> Iterator[dict]:
+    """Rows as hunts finish, on local worker processes; stops cleanly when the caller stops iterating. ``work``
+    (default :func:`run_hunt`; a module-level function, so that it pickles) turns a task into its row."""
     workers = workers or os.cpu_count() or 1
     waiting = deque(todo)
     for _ in range(MAX_WORKER_DEATHS + 1):
-        if not (yield from _run_pool(waiting, workers)):
+        if not (yield from _run_pool(waiting, workers, work or run_hunt)):
             return
     raise SweepStopped(f"local worker processes died {MAX_WORKER_DEATHS + 1} times (killed? out of memory?)")
 
 
-def _run_pool(waiting: deque, workers: int) -> Generator[dict, None, bool]:
+def _run_pool(waiting: deque, workers: int, work: Callable[[Any], dict]) -> Generator[dict, None, bool]:
     """Run the hunts ``waiting`` on one pool, yielding rows; True if a worker died (unfinished hunts wait again)."""
     pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(os.getpid(),))
-    running: dict[Future, Hunt] = {}
+    running: dict[Future, Any] = {}
     broken = False
     try:
         while (waiting or running) and not broken:
             while waiting and len(running) < 2 * workers:
                 task = waiting.popleft()
-                running[pool.submit(_interruptible_hunt, task)] = task
+                running[pool.submit(_interruptible, work, task)] = task
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             broken = any(isinstance(f.exception(), BrokenProcessPool) for f in finished)
             if broken:      # every running hunt is lost with the pool; some may have finished first
@@ -246,15 +247,15 @@ def _start_worker(sweep_pid: int) -> None:
             os._exit(1)
 
 
-def _interruptible_hunt(task: Hunt) -> dict:
-    """``run_hunt`` in a local worker, which ignores Ctrl-C except while it runs a hunt: then it exits at once.
+def _interruptible(work: Callable[[Any], dict], task) -> dict:
+    """``work(task)`` in a local worker, which ignores Ctrl-C except while it runs a hunt: then it exits at once.
 
     Not by KeyboardInterrupt: a solver such as IPOPT catches it as a request to end its solve, and the
     hunt would run on to its end before the sweep could stop.
     """
     signal.signal(signal.SIGINT, _exit_now)
     try:
-        return run_hunt(task)
+        return work(task)
     finally:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 

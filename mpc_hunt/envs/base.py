@@ -1,0 +1,50 @@
+"""What the Gymnasium environments share: the hunts, the episode, the spaces, seeding and rendering."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+
+from mpc_hunt.envs.episode import Episode
+from mpc_hunt.envs.hunts import Hunts
+from mpc_hunt.envs.observation import observation_space
+from mpc_hunt.errors import MpcHuntError
+
+RENDER_MODES = ["rgb_array"]
+
+
+class HuntEnv(gym.Env):
+    """One side of a hunt as a Gymnasium environment; the other side is scripted (the subclass's)."""
+
+    metadata = {"render_modes": RENDER_MODES, "render_fps": 10}
+
+    def __init__(self, hunts: Hunts, render_mode: str | None = None):
+        if render_mode is not None and render_mode not in RENDER_MODES:
+            raise MpcHuntError(f"render_mode: one of {RENDER_MODES} or None, not {render_mode!r}")
+        self.hunts, self.render_mode = hunts, render_mode
+        self.observation_space = observation_space(hunts.defenders, hunts.max_obstacles,
+                                                   max(hunts.attacker_speed, hunts.defender_speed))
+        self.episode: Episode | None = None
+
+    def new_episode(self, seed: int | None, options: dict | None) -> np.random.Generator:
+        """Seed (Gymnasium's ``np_random``), draw the hunt, start its episode; the generator for what else the
+        reset draws (the other side's randomness)."""
+        super().reset(seed=seed)
+        world, other = self.np_random.spawn(2)
+        self.episode = Episode(self.hunts.draw(world, options), self.hunts.max_obstacles)
+        return other
+
+    @property
+    def scenario(self):
+        return None if self.episode is None else self.episode.scenario
+
+    def started(self) -> Episode:
+        if self.episode is None:
+            raise MpcHuntError("step: call reset() first")
+        return self.episode
+
+    def info(self) -> dict:
+        return self.started().info()
+
+    def render(self):
+        return self.episode.image() if self.render_mode == "rgb_array" and self.episode is not None else None

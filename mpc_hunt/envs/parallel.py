@@ -1,0 +1,85 @@
+"""A hunt as a PettingZoo ``ParallelEnv``: the attacker and every defender are agents, all acting at once.
+
+Agents ``attacker`` and ``defender_0`` … ``defender_{n−1}``. Each observes the
+whole state (:mod:`mpc_hunt.envs.observation`); the attacker's action is its
+velocity within ± the fastest attacker the hunts hold, a defender's its own
+velocity within ± the fastest defender's speed (the world caps each at its
+robot's speed and keeps the attacker out of obstacles). The attacker receives
+the reward of :mod:`mpc_hunt.envs.episode`, every defender its negative. When the
+hunt ends every agent is done (``terminations`` for a capture, an escape or a
+non-finite state; ``truncations`` at the time limit) and ``agents`` empties.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+from gymnasium import spaces
+from pettingzoo import ParallelEnv
+
+from mpc_hunt.envs.base import RENDER_MODES
+from mpc_hunt.envs.episode import Episode
+from mpc_hunt.envs.hunts import DEFAULT_DEFENDERS, Hunts
+from mpc_hunt.envs.observation import observation_space
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.sweep.random_scenario import ScenarioRanges
+from mpc_hunt.world.scenario import Scenario
+
+ATTACKER = "attacker"
+
+
+class HuntParallelEnv(ParallelEnv):
+    """Every robot of a hunt as an agent (the module's docstring)."""
+
+    metadata = {"name": "mpc_hunt_v0", "render_modes": RENDER_MODES, "render_fps": 10, "is_parallelizable": True}
+
+    def __init__(self, scenario: Scenario | None = None, ranges: ScenarioRanges | None = None,
+                 defenders: int = DEFAULT_DEFENDERS, render_mode: str | None = None):
+        if render_mode is not None and render_mode not in RENDER_MODES:
+            raise MpcHuntError(f"render_mode: one of {RENDER_MODES} or None, not {render_mode!r}")
+        self.hunts, self.render_mode = Hunts(scenario, ranges, defenders), render_mode
+        self.possible_agents = [ATTACKER] + [f"defender_{i}" for i in range(self.hunts.defenders)]
+        self.agents: list[str] = []
+        self.episode: Episode | None = None
+        self._observation = observation_space(self.hunts.defenders, self.hunts.max_obstacles,
+                                              max(self.hunts.attacker_speed, self.hunts.defender_speed))
+
+    @functools.cache
+    def observation_space(self, agent: str) -> spaces.Box:
+        return self._observation
+
+    @functools.cache
+    def action_space(self, agent: str) -> spaces.Box:
+        speed = self.hunts.attacker_speed if agent == ATTACKER else self.hunts.defender_speed
+        return spaces.Box(-speed, speed, shape=(2,), dtype=np.float64)
+
+    def reset(self, seed: int | None = None, options: dict | None = None):
+        rng = np.random.default_rng(seed)
+        self.episode = Episode(self.hunts.draw(rng, options), self.hunts.max_obstacles)
+        self.agents = list(self.possible_agents)
+        observation = self.episode.observation()
+        return {a: observation.copy() for a in self.agents}, {a: self.episode.info() for a in self.agents}
+
+    def step(self, actions: dict):
+        if not self.agents:
+            raise MpcHuntError("step: the hunt has ended; call reset()")
+        e = self.episode
+        team = np.array([actions[a] for a in self.possible_agents[1:]], dtype=float)
+        outcome = e.step(team, e.attacker_move(actions[ATTACKER]))
+        observation = e.observation()
+        agents = self.agents
+        rewards = {a: outcome.reward if a == ATTACKER else -outcome.reward for a in agents}
+        observations = {a: observation.copy() for a in agents}
+        terminations = {a: outcome.terminated for a in agents}
+        truncations = {a: outcome.truncated for a in agents}
+        infos = {a: e.info() for a in agents}
+        if outcome.terminated or outcome.truncated:
+            self.agents = []
+        return observations, rewards, terminations, truncations, infos
+
+    def render(self):
+        return self.episode.image() if self.render_mode == "rgb_array" and self.episode is not None else None
+
+    def close(self) -> None:
+        self.episode = None

@@ -1,0 +1,63 @@
+"""Between the environments and the simulator: the project's controllers as policies, any policy as an attacker.
+
+:class:`ControllerPolicy` plays the defenders of a :class:`~mpc_hunt.envs.DefenderEnv`
+with a controller of the project (a baseline for a learned team, or the expert of
+imitation learning). :class:`PolicyAttacker` moves the simulator's attacker by
+any policy of the attacker's observation (a trained agent of
+:class:`~mpc_hunt.envs.AttackerEnv`): ``simulate(scenario, behaviour=PolicyAttacker(scenario, policy))``.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.controllers import SOLVING, make_controller
+from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.envs.observation import observe
+from mpc_hunt.world.behaviours.base import keep_out
+from mpc_hunt.world.belief import Belief
+from mpc_hunt.world.geometry import saturate
+from mpc_hunt.world.scenario import Scenario
+
+
+class ControllerPolicy:
+    """``policy(observation) → the team's velocities`` by ``controller`` for the hunt ``env`` plays, built anew
+    when the environment starts a hunt (its observation's time is 0)."""
+
+    def __init__(self, env, controller: str = RECOMMENDED_CONTROLLER, options: dict | None = None,
+                 belief: Belief = Belief(), seed: int = 0):
+        self.env, self.name, self.belief = env, controller, belief
+        self.options = dict(RECOMMENDED if controller in SOLVING else {}) if options is None else dict(options)
+        self.rng = np.random.default_rng(seed)
+        self.controller = None
+
+    def __call__(self, observation: np.ndarray) -> np.ndarray:
+        if self.controller is None or observation[0] == 0.0:
+            self.controller = make_controller(self.name, self.env.scenario, belief=self.belief, rng=self.rng,
+                                              **self.options)
+        return self.controller.command(self.env.episode.controller_observation()).velocities
+
+
+class PolicyAttacker:
+    """An attacker behaviour (:mod:`mpc_hunt.world.behaviours`) moved by ``policy(observation) → velocity``,
+    capped at v_a and kept out of every obstacle as an environment's attacker is."""
+
+    def __init__(self, scenario: Scenario, policy: Callable[[np.ndarray], np.ndarray],
+                 max_obstacles: int | None = None):
+        self.scenario, self.policy = scenario, policy
+        self.max_obstacles = len(scenario.obstacles) if max_obstacles is None else max_obstacles
+        self.steps = 0
+        self.last: tuple[np.ndarray, np.ndarray] | None = None
+
+    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
+        T = self.scenario.hunt.time_step
+        v_a, v_d = (np.zeros(2), np.zeros_like(p_d)) if self.last is None else \
+            ((p_a - self.last[0]) / T, (p_d - self.last[1]) / T)
+        observation = observe(self.scenario, self.steps * T, p_a, v_a, p_d, v_d, self.max_obstacles)
+        self.steps += 1
+        self.last = (np.array(p_a, dtype=float), np.array(p_d, dtype=float))
+        wish = saturate(np.asarray(self.policy(observation), dtype=float).reshape(2), self.scenario.attacker.max_speed)
+        return keep_out(self.scenario, p_a, wish)

@@ -1,0 +1,91 @@
+"""``learned``: an evader whose heading is a small linear policy, trained against the recommended controller.
+
+With defenders sensed (within its sensing radius), the attacker runs at full
+speed along the unit vector of W·φ, where φ (:func:`features`) describes the
+sensed defenders in the frame of the attacker's intent (so the policy is the same
+whatever the intent's direction): the inverse-square flee direction, the bisector
+of the widest angular gap, the direction to the sensed defenders' centroid, each a
+unit vector; the nearest one's distance and that centroid's, per sensing radius;
+the fraction of the team sensed; and a constant. The heading is bent by the
+obstacles' field and kept out of every obstacle like every evader's
+(:func:`mpc_hunt.world.behaviours.base.heading`); with nobody sensed, it is the
+paper's undisturbed attacker. W (2 × :data:`FEATURES`) is trained by the
+cross-entropy method against the recommended controller (``python
+studies/train_attacker.py``, docs/model.md) and shipped in ``learned.json``
+beside this file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from importlib import resources
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mpc_hunt.errors import ScenarioError
+from mpc_hunt.world.behaviours.base import heading, sensed, sensing_radius, undisturbed
+from mpc_hunt.world.behaviours.flee import flee_direction
+from mpc_hunt.world.behaviours.gap import widest_gap
+from mpc_hunt.world.field import nominal_intent
+from mpc_hunt.world.geometry import norm, unit
+
+if TYPE_CHECKING:
+    from mpc_hunt.world.scenario import Scenario
+
+FEATURES = 10
+PARAMETERS = "learned.json"
+
+
+def features(p_a: np.ndarray, near: np.ndarray, team: int, radius: float, intent: np.ndarray) -> np.ndarray:
+    """φ of the module's docstring for the sensed defenders ``near`` (k ≥ 1 rows) of a team of ``team``, in the
+    frame whose x axis is the intent (the world's x axis for an attacker with no intent)."""
+    angle = math.atan2(intent[1], intent[0]) if np.hypot(*intent) > 0 else 0.0
+    c, s = math.cos(angle), math.sin(angle)
+    rotate = np.array([[c, s], [-s, c]])                       # world → intent frame
+    start, width = widest_gap(p_a, near)
+    gap = np.array([math.cos(start + 0.5 * width), math.sin(start + 0.5 * width)])
+    centre = near.mean(axis=0) - p_a
+    return np.concatenate([rotate @ unit(flee_direction(p_a, near)), rotate @ gap, rotate @ unit(centre),
+                           [norm(near - p_a).min() / radius, norm(centre) / radius, len(near) / team, 1.0]])
+
+
+def heading_of(weights: np.ndarray, phi: np.ndarray, intent: np.ndarray) -> np.ndarray:
+    """The policy's heading W·φ, turned back from the intent frame into the world's."""
+    angle = math.atan2(intent[1], intent[0]) if np.hypot(*intent) > 0 else 0.0
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]]) @ (weights @ phi)
+
+
+def shipped_weights() -> np.ndarray:
+    """The trained W shipped with the package."""
+    data = json.loads(resources.files("mpc_hunt.world.behaviours").joinpath(PARAMETERS).read_text(encoding="utf-8"))
+    return checked_weights(data["weights"])
+
+
+def checked_weights(weights) -> np.ndarray:
+    """W as a (2, FEATURES) array of finite numbers, or a one-line ScenarioError."""
+    w = np.asarray(weights, dtype=float)
+    if w.shape != (2, FEATURES) or not np.all(np.isfinite(w)):
+        raise ScenarioError(f"learned attacker: weights must be 2 × {FEATURES} finite numbers, got shape {w.shape}")
+    return w
+
+
+class LearnedAttacker:
+    """Along the trained policy's heading while defenders are sensed (the module's docstring)."""
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator, weights: np.ndarray | None = None):
+        self.scenario = scenario
+        self.radius = sensing_radius(scenario)
+        self.team = len(scenario.defenders)
+        a = scenario.attacker
+        self.intent = nominal_intent(np.array(a.nominal_velocity), a.max_speed)
+        self.weights = shipped_weights() if weights is None else checked_weights(weights)
+
+    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
+        near = sensed(p_a, p_d, self.radius)
+        if not len(near):
+            return undisturbed(self.scenario, p_a)
+        phi = features(p_a, near, self.team, self.radius, self.intent)
+        return heading(self.scenario, p_a, heading_of(self.weights, phi, self.intent))

@@ -1,0 +1,191 @@
+"""Train the ``learned`` attacker: the cross-entropy method on its linear policy, against the recommended controller.
+
+The policy is :mod:`mpc_hunt.world.behaviours.learned`'s W (2 × 10 numbers). Each generation draws
+``--population`` candidates W ~ N(μ, σ²) (the first is μ itself), plays each against the recommended
+controller (``mpc_hunt.control.recommended``: enclose on rti/HPIPM, N = 10, built on the defenders' default
+belief) on the same ``--episodes`` random hunts (common random numbers), scores a hunt 1 when the attacker is
+not captured and t_capture / time limit when it is (surviving longer is better), and moves μ and σ to the mean
+and spread of the best quarter. Training hunts are the sweep's random scenarios (its default ranges, the ones
+the attackers study plays on: a smaller arena or a shorter limit were tried and let an attacker that stands
+still win by the time limit or the arena's edge, which teaches nothing), each reachable by the defenders
+(:func:`mpc_hunt.sweep.reachability.reachable`), drawn from seeds of their own
+(``SeedSequence([TRAIN_SEED, generation, episode])``), never the sweeps' or the attackers study's. The final μ
+is written as the shipped weights; the attackers study (``python studies/attackers.py``) plays every
+strategy against it on hunts it never trained on.
+
+    python studies/train_attacker.py             # train (about 35 minutes on 2 cores), write the weights and the
+                                                 # curve (studies/train_attacker/, mpc_hunt/world/behaviours/)
+    python studies/train_attacker.py --check     # the shipped weights are the committed run's final mean
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
+import numpy as np
+
+from mpc_hunt.arguments import count
+from mpc_hunt.bench.machine import describe_machine, machine_lines
+from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
+from mpc_hunt.sweep.reachability import reachable
+from mpc_hunt.sweep.runner import run_local
+from mpc_hunt.world.behaviours.learned import FEATURES, PARAMETERS, LearnedAttacker, shipped_weights
+from mpc_hunt.world.scenario import Scenario
+
+from studies.study_check import check_result
+
+OUT = Path(__file__).resolve().parent / "train_attacker"
+WEIGHTS = Path(__file__).resolve().parents[1] / "mpc_hunt" / "world" / "behaviours" / PARAMETERS
+COMMAND = "python studies/train_attacker.py"
+TRAIN_SEED = 24_601          # the training hunts' own seed: no sweep or study draws from it
+RANGES = ScenarioRanges()
+GENERATIONS, POPULATION, EPISODES = 10, 10, 3
+ELITE = 0.25                 # the fraction of the population μ and σ are refitted to
+SIGMA_FLOOR = 0.05           # σ never collapses below this (exploration while the fitness is noisy)
+MAX_DRAWS = 100              # scenarios drawn per episode before giving up on a reachable one
+
+
+@dataclass(frozen=True)
+class Episode:
+    """One hunt of one candidate: its weights (as a list, so the task pickles as plain data) and the scenario."""
+
+    candidate: int
+    index: int
+    weights: tuple[tuple[float, ...], ...]
+    scenario: Scenario
+
+
+def episode(task: Episode) -> dict:
+    """The candidate's attacker against the recommended controller on the task's hunt; its fitness."""
+    scenario = task.scenario
+    controller = make_controller(RECOMMENDED_CONTROLLER, scenario, **RECOMMENDED)
+    attacker = LearnedAttacker(scenario, np.random.default_rng(0), np.array(task.weights))
+    result = simulate(scenario, controller, behaviour=attacker)
+    fitness = 1.0 if not result.captured else result.capture_time / scenario.hunt.time_limit
+    return {"candidate": task.candidate, "episode": task.index, "fitness": fitness,
+            "termination": result.termination}
+
+
+def training_hunt(generation: int, index: int) -> Scenario:
+    """Episode ``index`` of ``generation``: the first reachable draw of its own seed."""
+    rng = np.random.default_rng(np.random.SeedSequence([TRAIN_SEED, generation, index]))
+    for _ in range(MAX_DRAWS):
+        scenario = random_scenario(rng, RANGES, name=f"train-{generation}-{index}")
+        if reachable(scenario):
+            return scenario
+    raise MpcHuntError(f"no reachable training hunt in {MAX_DRAWS} draws (generation {generation}, episode {index})")
+
+
+def generation_tasks(generation: int, mean: np.ndarray, spread: np.ndarray, population: int,
+                     episodes: int) -> tuple[np.ndarray, list[Episode]]:
+    """The candidates of ``generation`` (the first is μ) and their episodes, every candidate on the same hunts."""
+    rng = np.random.default_rng(np.random.SeedSequence([TRAIN_SEED, generation]))
+    candidates = mean + spread * rng.standard_normal((population, *mean.shape))
+    candidates[0] = mean
+    hunts = [training_hunt(generation, e) for e in range(episodes)]
+    tasks = [Episode(k, e, tuple(map(tuple, candidates[k].tolist())), hunts[e])
+             for k in range(population) for e in range(episodes)]
+    return candidates, tasks
+
+
+def train(generations: int, population: int, episodes: int, workers: int) -> dict:
+    """The cross-entropy method of the module's docstring; progress on stderr, the curve returned."""
+    mean, spread = np.zeros((2, FEATURES)), np.ones((2, FEATURES))
+    elite = max(2, int(round(ELITE * population)))
+    curve, start = [], time.perf_counter()
+    for g in range(generations):
+        candidates, tasks = generation_tasks(g, mean, spread, population, episodes)
+        fitness = np.zeros((population, episodes))
+        for row in run_local(tasks, workers, work=episode):
+            fitness[row["candidate"], row["episode"]] = row["fitness"]
+        score = fitness.mean(axis=1)
+        best = np.argsort(-score)[:elite]
+        curve.append({"generation": g, "mean_candidate": float(score[0]), "elite": float(score[best].mean()),
+                      "best": float(score[best[0]]), "population": float(score.mean()),
+                      "spread": float(spread.mean()), "wall_time_s": time.perf_counter() - start})
+        mean = candidates[best].mean(axis=0)
+        spread = np.maximum(candidates[best].std(axis=0), SIGMA_FLOOR)
+        print(f"generation {g + 1}/{generations}: μ's fitness {score[0]:.3f}, elite {score[best].mean():.3f}, "
+              f"σ {spread.mean():.3f} ({time.perf_counter() - start:.0f} s)", file=sys.stderr, flush=True)
+    return {"curve": curve, "weights": mean.tolist()}
+
+
+def write(result: dict, settings: dict, machine: dict, out: Path, weights: Path) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "results.json").write_text(json.dumps({"machine": machine, "settings": settings, **result}, indent=1)
+                                      + "\n", encoding="utf-8")
+    weights.write_text(json.dumps({"weights": result["weights"], "trained_by": COMMAND, "settings": settings},
+                                  indent=1) + "\n", encoding="utf-8")
+    lines = ["# The `learned` attacker's training", "",
+             f"`{COMMAND}` ({settings['generations']} generations of {settings['population']} candidates, "
+             f"{settings['episodes']} hunts each against `{settings['against']}`; "
+             f"{result['curve'][-1]['wall_time_s'] / 60:.0f} min). Fitness of a hunt: 1 when the attacker is not "
+             "captured, t_capture / time limit when it is; a candidate's is its mean over the generation's hunts. "
+             "Each generation's hunts are new draws, so the curve is noisy: its trend, not a value, is the result. "
+             "How the trained attacker fares on hunts it never saw: studies/attackers/README.md.", "",
+             "| generation | μ | elite mean | best | population mean | mean σ |",
+             "| ---: | ---: | ---: | ---: | ---: | ---: |"]
+    lines += [f"| {c['generation'] + 1} | {c['mean_candidate']:.3f} | {c['elite']:.3f} | {c['best']:.3f} | "
+              f"{c['population']:.3f} | {c['spread']:.3f} |" for c in result["curve"]]
+    lines += ["", *machine_lines(machine)]
+    (out / "README.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def check(out: Path) -> list[str]:
+    """The shipped weights are the committed run's final μ; the committed curve has one row per generation."""
+    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    errors = []
+    if not np.array_equal(np.array(committed["weights"]), shipped_weights()):
+        errors.append(f"mpc_hunt/world/behaviours/{PARAMETERS}: not the final weights of results.json")
+    if len(committed["curve"]) != committed["settings"]["generations"]:
+        errors.append("results.json: the curve does not have one row per generation")
+    return errors
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--generations", type=count(100), default=GENERATIONS, help="1 to 100")
+    parser.add_argument("--population", type=count(64), default=POPULATION, help="candidates a generation, 4 to 64")
+    parser.add_argument("--episodes", type=count(20), default=EPISODES, help="hunts per candidate, 1 to 20")
+    parser.add_argument("--workers", type=count(64), default=2, help="local worker processes")
+    parser.add_argument("--output", type=Path, default=OUT, help="the study's folder (default studies/train_attacker)")
+    parser.add_argument("--weights", type=Path, default=WEIGHTS, help="where to write the trained weights")
+    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    args = parser.parse_args(argv)
+    if args.check:
+        return check_result(check(args.output), "studies/train_attacker", COMMAND)
+    if args.population < 4:
+        parser.error(f"--population: at least 4, got {args.population}")
+    settings = {"generations": args.generations, "population": args.population, "episodes": args.episodes,
+                "elite": ELITE, "sigma_floor": SIGMA_FLOOR, "train_seed": TRAIN_SEED,
+                "against": f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:"
+                           f"{RECOMMENDED['horizon']}",
+                "ranges": "the sweep's defaults"}
+    try:
+        result = train(args.generations, args.population, args.episodes, args.workers)
+    except KeyboardInterrupt:
+        print("interrupted: nothing written (the weights and the curve are written when training ends)",
+              file=sys.stderr)
+        return 130
+    except MpcHuntError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    write(result, settings, describe_machine(), args.output, args.weights)
+    print(f"wrote {args.weights} and {args.output / 'README.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
