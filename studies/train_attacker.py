@@ -3,9 +3,11 @@
 The policy is :mod:`mpc_hunt.world.behaviours.learned`'s W (2 × 10 numbers). Each generation draws
 ``--population`` candidates W ~ N(μ, σ²) (the first is μ itself), plays each against the recommended
 controller (``mpc_hunt.control.recommended``: enclose on rti/HPIPM, N = 10, built on the defenders' default
-belief) on the same ``--episodes`` random hunts (common random numbers), scores a hunt 1 when the attacker is
-not captured and t_capture / time limit when it is (surviving longer is better), and moves μ and σ to the mean
-and spread of the best quarter. Training hunts are the sweep's random scenarios (its default ranges, the ones
+belief) on the same ``--episodes`` random hunts (common random numbers), and moves μ and σ to the mean and
+spread of the best quarter. A hunt scores t_capture / time limit when the attacker is captured (surviving
+longer is better), 1 when the time limit comes, and 1 + ½ (1 − t_escape / time limit) when it leaves the arena
+(escaping, and sooner, is better still: without this the many candidates that merely survive would tie, and
+the best quarter would be drawn at random among them). Training hunts are the sweep's random scenarios (its default ranges, the ones
 the attackers study plays on: a smaller arena or a shorter limit were tried and let an attacker that stands
 still win by the time limit or the arena's edge, which teaches nothing), each reachable by the defenders
 (:func:`mpc_hunt.sweep.reachability.reachable`), drawn from seeds of their own
@@ -73,7 +75,13 @@ def episode(task: Episode) -> dict:
     controller = make_controller(RECOMMENDED_CONTROLLER, scenario, **RECOMMENDED)
     attacker = LearnedAttacker(scenario, np.random.default_rng(0), np.array(task.weights))
     result = simulate(scenario, controller, behaviour=attacker)
-    fitness = 1.0 if not result.captured else result.capture_time / scenario.hunt.time_limit
+    limit = scenario.hunt.time_limit
+    if result.captured:
+        fitness = result.capture_time / limit
+    elif result.termination == "attacker_escaped":
+        fitness = 1.0 + 0.5 * (1.0 - result.times[-1] / limit)
+    else:
+        fitness = 1.0
     return {"candidate": task.candidate, "episode": task.index, "fitness": fitness,
             "termination": result.termination}
 
@@ -131,8 +139,9 @@ def write(result: dict, settings: dict, machine: dict, out: Path, weights: Path)
     lines = ["# The `learned` attacker's training", "",
              f"`{COMMAND}` ({settings['generations']} generations of {settings['population']} candidates, "
              f"{settings['episodes']} hunts each against `{settings['against']}`; "
-             f"{result['curve'][-1]['wall_time_s'] / 60:.0f} min). Fitness of a hunt: 1 when the attacker is not "
-             "captured, t_capture / time limit when it is; a candidate's is its mean over the generation's hunts. "
+             f"{result['curve'][-1]['wall_time_s'] / 60:.0f} min). Fitness of a hunt: t_capture / time limit when the "
+             "attacker is captured, 1 at the time limit, 1 + ½ (1 − t_escape / time limit) when it escapes; a "
+             "candidate's is its mean over the generation's hunts. "
              "Each generation's hunts are new draws, so the curve is noisy: its trend, not a value, is the result. "
              "How the trained attacker fares on hunts it never saw: studies/attackers/README.md.", "",
              "| generation | μ | elite mean | best | population mean | mean σ |",
