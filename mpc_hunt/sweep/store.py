@@ -56,6 +56,16 @@ ADDED = ("edge_race_lost",)       # columns a previous version did not write: re
 LEGACY_COLUMNS = [c for c in COLUMNS if c not in LEGACY and c not in ADDED]      # a file of the previous version
 
 
+EXTENSIBLE = ("strategies", "attackers", "beliefs")     # a resumed sweep may add to these (its rows stay valid)
+
+
+def extends(new: dict, old: dict) -> bool:
+    """Whether the sweep ``new`` is ``old`` with more strategies, attackers or beliefs and nothing else changed:
+    every hunt of ``old`` is one of ``new`` (the same scenario, seed and generators), so its rows stay."""
+    return new.keys() == old.keys() and all(new[k] == old[k] for k in new if k not in EXTENSIBLE) and \
+        all(set(old[k]) <= set(new[k]) for k in EXTENSIBLE)
+
+
 def current_arguments(arguments: dict) -> dict:
     """A sweep's arguments as this version writes them: a previous version's have no ``attackers`` and
     ``beliefs``, and ran only :data:`LEGACY`'s."""
@@ -100,11 +110,16 @@ class SweepStore:
             raise MpcHuntError(f"{self.path}: written by an earlier mpc-hunt, whose sweeps ran only --attacker "
                                f"{LEGACY['attacker']} --belief {LEGACY['belief']}; continue it with those alone, "
                                "or give another --output")
-        if self.arguments != arguments:
-            raise MpcHuntError(f"{self.path}: --resume with other arguments than the sweep it holds ({stored[0]})")
+        if self.arguments != arguments and (self.legacy or not extends(arguments, self.arguments)):
+            raise MpcHuntError(f"{self.path}: --resume with other arguments than the sweep it holds ({stored[0]}); "
+                               f"only more {', '.join(EXTENSIBLE)} may be added")
         if stored[1] != np.__version__:
             raise MpcHuntError(f"{self.path}: its scenarios were drawn with numpy {stored[1]}; this is numpy "
                                f"{np.__version__}, which may draw others from the same seeds")
+        if self.arguments != arguments:     # extended: the file now holds the larger sweep
+            with self.db:
+                self.db.execute("update sweep set arguments = ?", (json.dumps(arguments, sort_keys=True),))
+            self.arguments = arguments
 
     def _stored_arguments(self, stored: tuple) -> dict:
         """The sweep's arguments as the file holds them, checked to be what the code writes (a previous

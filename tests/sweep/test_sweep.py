@@ -546,3 +546,30 @@ def test_the_committed_results_file_of_the_previous_version_reads(tmp_path):
     assert store.legacy and len(rows) == len(store.arguments["strategies"]) * store.arguments["hunts"]
     assert {(r["attacker"], r["belief"]) for r in rows} == {("apf", "exact")}
     assert [s["strategy"] for s in summarise(rows)] == sorted(store.arguments["strategies"])
+
+
+def test_a_sweep_meets_the_learned_attacker(tmp_path):
+    """The trained attacker is a behaviour like the others: ``--attacker learned`` runs and is stored as such."""
+    path = tmp_path / "learned.db"
+    summary = _sweep(["sweep", "--hunts", "1", "--seed", "4", "--strategy", "voronoi", "--attacker", "learned",
+                      "--set", "time_limit=20", "--set", "arena=[0, 0, 6, 6]", "--set", "n_obstacles=0", "--json",
+                      "--workers", "1", "--output", str(path)])
+    assert [(s["strategy"], s["attacker"], s["hunts"]) for s in summary["strategies"]] == [("voronoi", "learned", 1)]
+    rows = SweepStore(path).rows()
+    assert len(rows) == 1 and 'behaviour = "learned"' in rows[0]["scenario_toml"]
+
+
+def test_a_resumed_sweep_may_add_an_attacker_and_keeps_what_it_ran(two_by_two, tmp_path):
+    """More strategies, attackers or beliefs extend a results file (its rows stay valid); other changes do not."""
+    path = tmp_path / "extended.db"
+    shutil.copy(two_by_two[0], path)
+    kept = SweepStore(path).rows()
+    more = [*TWO_BY_TWO[:13], "--attacker", "flee", *TWO_BY_TWO[13:]]
+    _sweep([*more, "--workers", "1", "--output", str(path), "--resume"])
+    store = SweepStore(path)
+    rows, arguments = store.rows(), store.arguments
+    store.close()
+    assert arguments["attackers"] == ["apf", "noisy", "flee"] and len(rows) == 24
+    assert [r for r in rows if r in kept] == kept
+    with pytest.raises(MpcHuntError, match="only more strategies, attackers, beliefs"):
+        SweepStore(path, {**arguments, "seed": 5}, resume=True)

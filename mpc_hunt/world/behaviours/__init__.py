@@ -3,7 +3,8 @@
 ``apf`` is the paper's attacker (Eqs. 2 and 9; :mod:`mpc_hunt.world.attacker`),
 the default, which every scenario without a ``behaviour`` keeps. The others are
 evaders from the pursuit–evasion literature (docs/model.md, "Attacker
-behaviours"): ``flee``, ``gap``, ``voronoi`` and ``noisy``. Every behaviour
+behaviours"): ``flee``, ``gap``, ``voronoi`` and ``noisy``; ``learned`` is a policy trained against the
+recommended controller (``python studies/train_attacker.py``). Every behaviour
 senses defenders within a radius, moves at most v_a, is repelled by obstacles
 (Eq. 3) and never steps into one (:mod:`mpc_hunt.world.behaviours.base`).
 """
@@ -27,6 +28,7 @@ BEHAVIOURS = {
     "gap": "mpc_hunt.world.behaviours.gap:GapAttacker",
     "voronoi": "mpc_hunt.world.behaviours.voronoi:VoronoiAttacker",
     "noisy": "mpc_hunt.world.behaviours.noisy:NoisyAttacker",
+    "learned": "mpc_hunt.world.behaviours.learned:LearnedAttacker",
 }
 DEFAULT_BEHAVIOUR = "apf"
 
