@@ -42,6 +42,7 @@ class HuntParallelEnv(ParallelEnv):
         self.possible_agents = [ATTACKER] + [f"defender_{i}" for i in range(self.hunts.defenders)]
         self.agents: list[str] = []
         self.episode: Episode | None = None
+        self.rng: np.random.Generator | None = None
         self._observation = observation_space(self.hunts.defenders, self.hunts.max_obstacles,
                                               max(self.hunts.attacker_speed, self.hunts.defender_speed))
 
@@ -55,8 +56,9 @@ class HuntParallelEnv(ParallelEnv):
         return spaces.Box(-speed, speed, shape=(2,), dtype=np.float64)
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        rng = np.random.default_rng(seed)
-        self.episode = Episode(self.hunts.draw(rng, options), self.hunts.max_obstacles)
+        if seed is not None or self.rng is None:      # as Gymnasium's: an unseeded reset goes on with the stream
+            self.rng = np.random.default_rng(seed)
+        self.episode = Episode(self.hunts.draw(self.rng, options), self.hunts.max_obstacles)
         self.agents = list(self.possible_agents)
         observation = self.episode.observation()
         return {a: observation.copy() for a in self.agents}, {a: self.episode.info() for a in self.agents}

@@ -43,6 +43,12 @@ def test_a_seed_gives_the_same_hunt_and_another_seed_another():
     first, again, other = (AttackerEnv(controller="voronoi").reset(seed=s)[0] for s in (3, 3, 4))
     np.testing.assert_array_equal(first, again)
     assert not np.array_equal(first, other)
+    runs = []
+    for _ in range(2):                          # after a seeded reset, unseeded ones go on with its stream
+        env = HuntParallelEnv()
+        runs.append([env.reset(seed=5)[0]["attacker"]] + [env.reset()[0]["attacker"] for _ in range(2)])
+    np.testing.assert_array_equal(np.array(runs[0]), np.array(runs[1]))
+    assert not np.array_equal(runs[0][0], runs[0][1])
 
 
 def test_the_observation_is_the_state_in_physical_units_field_by_field():
