@@ -9,6 +9,7 @@ planned defender positions. See docs/formulations.md for the mathematics.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -175,7 +176,7 @@ class CaptureProblem:
         """The radius the hunting circle contracts to: R_hunt / 2."""
         return 0.5 * self.scenario.hunt.hunt_radius
 
-    @property
+    @cached_property
     def structure(self) -> Structure:
         """What fixes a formulation's sizes and expressions (:class:`~mpc_hunt.capture.structure.Structure`)."""
         nc = int(self.controlled.sum())

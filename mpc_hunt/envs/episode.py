@@ -40,6 +40,13 @@ class Step:
     termination: str | None
 
 
+def attacker_move(scenario: Scenario, p_a: np.ndarray, action) -> np.ndarray:
+    """An agent's velocity for the attacker at ``p_a`` as the world allows it: capped at v_a, kept out of every
+    obstacle (as every attacker behaviour's)."""
+    wish = saturate(np.asarray(action, dtype=float).reshape(2), scenario.attacker.max_speed)
+    return keep_out(scenario, p_a, wish)
+
+
 class Episode:
     """The state of one hunt of ``scenario`` and its step (the module's docstring)."""
 
@@ -55,6 +62,7 @@ class Episode:
         self.trail = [self.attacker.copy()]
         arena = scenario.arena
         self.scale = NO_ARENA_DIAGONAL if arena is None else float(np.hypot(arena[2] - arena[0], arena[3] - arena[1]))
+        self.potential = self._potential()
 
     @property
     def time(self) -> float:
@@ -71,9 +79,7 @@ class Episode:
                            stopped if stopped.any() else None)
 
     def attacker_move(self, action) -> np.ndarray:
-        """An agent's velocity for the attacker as the world allows it: capped at v_a, kept out of obstacles."""
-        wish = saturate(np.asarray(action, dtype=float).reshape(2), self.scenario.attacker.max_speed)
-        return keep_out(self.scenario, self.attacker, wish)
+        return attacker_move(self.scenario, self.attacker, action)
 
     def info(self) -> dict:
         """What an environment's ``info`` holds: the time, how the hunt ended (None while it runs), its name."""
@@ -83,12 +89,13 @@ class Episode:
         """The state drawn (``render_mode="rgb_array"``): an (H, W, 3) uint8 array."""
         return state_image(self.scenario, self.time, self.attacker, self.defenders, self.trail)
 
-    def potential(self) -> float:
+    def _potential(self) -> float:
+        """Φ of the module's docstring at the current state."""
         return float(np.mean(norm(self.defenders - self.attacker))) / self.scale
 
     def step(self, defender_velocities, attacker_velocity: np.ndarray) -> Step:
         """One step of the world with these velocities (the defenders' capped at their speeds)."""
-        before = self.potential()
+        before = self.potential
         stopped = self.scenario.failed(self.time)
         previous_a, previous_d = self.attacker, self.defenders
         self.previous_attacker = previous_a.copy()
@@ -103,6 +110,7 @@ class Episode:
         ended, self.held = standing(self.scenario, self.attacker, self.defenders, self.held, self.hold_steps)
         truncated = ended is None and self.step_count >= self.max_steps
         self.termination = "time_limit" if truncated else ended
-        shaping = 0.0 if ended == "non_finite_state" else self.potential() - before
+        self.potential = self._potential()
+        shaping = 0.0 if ended == "non_finite_state" else self.potential - before
         reward = shaping + (OUTCOME[self.termination] if self.termination else 0.0)
         return Step(reward, ended is not None, truncated, self.termination)

@@ -16,29 +16,29 @@ import numpy as np
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.controllers import SOLVING, make_controller
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.envs.episode import attacker_move
 from mpc_hunt.envs.observation import observe
-from mpc_hunt.world.behaviours.base import keep_out
 from mpc_hunt.world.belief import Belief
-from mpc_hunt.world.geometry import saturate
 from mpc_hunt.world.scenario import Scenario
 
 
 class ControllerPolicy:
     """``policy(observation) → the team's velocities`` by ``controller`` for the hunt ``env`` plays, built anew
-    when the environment starts a hunt (its observation's time is 0)."""
+    for each hunt the environment starts."""
 
     def __init__(self, env, controller: str = RECOMMENDED_CONTROLLER, options: dict | None = None,
                  belief: Belief = Belief(), seed: int = 0):
         self.env, self.name, self.belief = env, controller, belief
         self.options = dict(RECOMMENDED if controller in SOLVING else {}) if options is None else dict(options)
         self.rng = np.random.default_rng(seed)
-        self.controller = None
+        self.episode = self.controller = None
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
-        if self.controller is None or observation[0] == 0.0:
-            self.controller = make_controller(self.name, self.env.scenario, belief=self.belief, rng=self.rng,
+        if self.episode is not self.env.episode:          # a new hunt: a new controller (it keeps memory)
+            self.episode = self.env.episode
+            self.controller = make_controller(self.name, self.episode.scenario, belief=self.belief, rng=self.rng,
                                               **self.options)
-        return self.controller.command(self.env.episode.controller_observation()).velocities
+        return self.controller.command(self.episode.controller_observation()).velocities
 
 
 class PolicyAttacker:
@@ -59,5 +59,4 @@ class PolicyAttacker:
         observation = observe(self.scenario, self.steps * T, p_a, v_a, p_d, v_d, self.max_obstacles)
         self.steps += 1
         self.last = (np.array(p_a, dtype=float), np.array(p_d, dtype=float))
-        wish = saturate(np.asarray(self.policy(observation), dtype=float).reshape(2), self.scenario.attacker.max_speed)
-        return keep_out(self.scenario, p_a, wish)
+        return attacker_move(self.scenario, p_a, self.policy(observation))

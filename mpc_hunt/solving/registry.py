@@ -110,7 +110,7 @@ def resolve(formulation: str, backend: str | None = None) -> Pair:
     if cls.kind not in solver.accepts:
         raise UnknownNameError(f"backend {backend!r} does not solve formulation {formulation!r} "
                                f"(use one of: {', '.join(compatible_backends(formulation))})")
-    if importlib.util.find_spec(solver.package) is None:
+    if not installed(backend):
         raise SolverNotFoundError(install_hint(backend))
     return Pair(cls, solver, backend)
 

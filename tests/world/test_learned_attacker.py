@@ -10,7 +10,7 @@ import pytest
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.world.behaviours.base import undisturbed
 from mpc_hunt.world.behaviours.flee import flee_direction
-from mpc_hunt.world.behaviours.learned import FEATURES, LearnedAttacker, features
+from mpc_hunt.world.behaviours.learned import FEATURES, LearnedAttacker, features, intent_frame
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Scenario
 
@@ -58,7 +58,7 @@ def test_the_policy_is_the_same_whatever_the_intents_direction(turn):
     turned = LearnedAttacker(_scenario(tuple(R @ [V_A, 0.0])), None, w).velocity(CENTRE,
                                                                                CENTRE + (near - CENTRE) @ R.T)
     np.testing.assert_allclose(turned, R @ here, atol=1e-12)
-    phi = features(CENTRE, near - 0.0, 3, 3.0, np.array([V_A, 0.0]))
+    phi = features(CENTRE, near, 3, 3.0, intent_frame(np.array([V_A, 0.0]))[0])
     assert phi.shape == (FEATURES,) and phi[-1] == 1.0 and phi[-2] == pytest.approx(1.0)
 
 

@@ -38,24 +38,22 @@ FEATURES = 10
 PARAMETERS = "learned.json"
 
 
-def features(p_a: np.ndarray, near: np.ndarray, team: int, radius: float, intent: np.ndarray) -> np.ndarray:
-    """φ of the module's docstring for the sensed defenders ``near`` (k ≥ 1 rows) of a team of ``team``, in the
-    frame whose x axis is the intent (the world's x axis for an attacker with no intent)."""
+def intent_frame(intent: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rotations into the frame whose x axis is the intent (the world's for an attacker with no intent) and
+    back."""
     angle = math.atan2(intent[1], intent[0]) if np.hypot(*intent) > 0 else 0.0
     c, s = math.cos(angle), math.sin(angle)
-    rotate = np.array([[c, s], [-s, c]])                       # world → intent frame
+    return np.array([[c, s], [-s, c]]), np.array([[c, -s], [s, c]])
+
+
+def features(p_a: np.ndarray, near: np.ndarray, team: int, radius: float, to_intent: np.ndarray) -> np.ndarray:
+    """φ of the module's docstring for the sensed defenders ``near`` (k ≥ 1 rows) of a team of ``team``, turned
+    into the intent's frame by ``to_intent`` (:func:`intent_frame`)."""
     start, width = widest_gap(p_a, near)
     gap = np.array([math.cos(start + 0.5 * width), math.sin(start + 0.5 * width)])
     centre = near.mean(axis=0) - p_a
-    return np.concatenate([rotate @ unit(flee_direction(p_a, near)), rotate @ gap, rotate @ unit(centre),
+    return np.concatenate([to_intent @ unit(flee_direction(p_a, near)), to_intent @ gap, to_intent @ unit(centre),
                            [norm(near - p_a).min() / radius, norm(centre) / radius, len(near) / team, 1.0]])
-
-
-def heading_of(weights: np.ndarray, phi: np.ndarray, intent: np.ndarray) -> np.ndarray:
-    """The policy's heading W·φ, turned back from the intent frame into the world's."""
-    angle = math.atan2(intent[1], intent[0]) if np.hypot(*intent) > 0 else 0.0
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s], [s, c]]) @ (weights @ phi)
 
 
 def shipped_weights() -> np.ndarray:
@@ -80,12 +78,12 @@ class LearnedAttacker:
         self.radius = sensing_radius(scenario)
         self.team = len(scenario.defenders)
         a = scenario.attacker
-        self.intent = nominal_intent(np.array(a.nominal_velocity), a.max_speed)
+        self.to_intent, self.to_world = intent_frame(nominal_intent(np.array(a.nominal_velocity), a.max_speed))
         self.weights = shipped_weights() if weights is None else checked_weights(weights)
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         near = sensed(p_a, p_d, self.radius)
         if not len(near):
             return undisturbed(self.scenario, p_a)
-        phi = features(p_a, near, self.team, self.radius, self.intent)
-        return heading(self.scenario, p_a, heading_of(self.weights, phi, self.intent))
+        phi = features(p_a, near, self.team, self.radius, self.to_intent)
+        return heading(self.scenario, p_a, self.to_world @ (self.weights @ phi))
