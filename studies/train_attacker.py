@@ -60,8 +60,8 @@ MAX_DRAWS = 100              # scenarios drawn per episode before giving up on a
 
 
 @dataclass(frozen=True)
-class Episode:
-    """One hunt of one candidate: its weights (as a list, so the task pickles as plain data) and the scenario."""
+class Trial:
+    """One hunt of one candidate: its weights and the scenario."""
 
     candidate: int
     index: int
@@ -69,7 +69,7 @@ class Episode:
     scenario: Scenario
 
 
-def episode(task: Episode) -> dict:
+def episode(task: Trial) -> dict:
     """The candidate's attacker against the recommended controller on the task's hunt; its fitness."""
     scenario = task.scenario
     controller = make_controller(RECOMMENDED_CONTROLLER, scenario, **RECOMMENDED)
@@ -87,7 +87,7 @@ def episode(task: Episode) -> dict:
 
 
 def training_hunt(generation: int, index: int) -> Scenario:
-    """Episode ``index`` of ``generation``: the first reachable draw of its own seed."""
+    """Hunt ``index`` of ``generation``: the first reachable draw of its own seed."""
     rng = np.random.default_rng(np.random.SeedSequence([TRAIN_SEED, generation, index]))
     for _ in range(MAX_DRAWS):
         scenario = random_scenario(rng, RANGES, name=f"train-{generation}-{index}")
@@ -97,13 +97,13 @@ def training_hunt(generation: int, index: int) -> Scenario:
 
 
 def generation_tasks(generation: int, mean: np.ndarray, spread: np.ndarray, population: int,
-                     episodes: int) -> tuple[np.ndarray, list[Episode]]:
+                     episodes: int) -> tuple[np.ndarray, list[Trial]]:
     """The candidates of ``generation`` (the first is μ) and their episodes, every candidate on the same hunts."""
     rng = np.random.default_rng(np.random.SeedSequence([TRAIN_SEED, generation]))
     candidates = mean + spread * rng.standard_normal((population, *mean.shape))
     candidates[0] = mean
     hunts = [training_hunt(generation, e) for e in range(episodes)]
-    tasks = [Episode(k, e, tuple(map(tuple, candidates[k].tolist())), hunts[e])
+    tasks = [Trial(k, e, tuple(map(tuple, candidates[k].tolist())), hunts[e])
              for k in range(population) for e in range(episodes)]
     return candidates, tasks
 
