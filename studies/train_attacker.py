@@ -15,7 +15,7 @@ still win by the time limit or the arena's edge, which teaches nothing), each re
 is written as the shipped weights; the attackers study (``python studies/attackers.py``) plays every
 strategy against it on hunts it never trained on.
 
-    python studies/train_attacker.py             # train (about 35 minutes on 2 cores), write the weights and the
+    python studies/train_attacker.py             # train (27 minutes on 2 cores here), write the weights and the
                                                  # curve (studies/train_attacker/, mpc_hunt/world/behaviours/)
     python studies/train_attacker.py --check     # the shipped weights are the committed run's final mean
 """
