@@ -7,7 +7,7 @@ from typing import ClassVar
 import numpy as np
 
 from mpc_hunt.capture.data import SolvesData
-from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
 from mpc_hunt.capture.structure import Structure
 
@@ -24,6 +24,8 @@ class Formulation:
     kind: ClassVar[str]
     default_backend: ClassVar[str]
     exact: ClassVar[frozenset[str]]     # the constraint families (evaluator names) it keeps exactly
+    per_robot: ClassVar[bool] = False   # one QP per robot (``distributed``), not one for the team
+    objectives: ClassVar[tuple[str, ...]] = OBJECTIVES     # the capture objectives it poses
 
     def prepare(self, structure: Structure) -> None:
         """Build (once, cached) the symbolic functions for ``structure``; timed as set-up."""

@@ -31,15 +31,32 @@ def reference_size(nc: int) -> int:
     return 2 * nc + 3
 
 
+# A robot's step (``Structure.robot``) adds, after its reference: its neighbour slots (the midpoints between it and
+# its nearest team-mates at step k), the rest of the team's push on the attacker at the team's predicted attacker
+# position ā_k, that push's Jacobian in the attacker's position (2×2, column by column), and ā_k itself.
+TEAM_STEP = ("pushed", 2), ("push_jacobian", 4), ("push_attacker", 2)
+
+
+def step_size(structure: Structure) -> int:
+    """Numbers in one step of the reference part of θ (:func:`reference_size`, and a robot's team terms)."""
+    size = reference_size(structure.planned)
+    return size + 2 * structure.fixed + sum(n for _, n in TEAM_STEP) if structure.robot else size
+
+
 def _layout(structure: Structure, steps: int | None = None) -> list[tuple[str, int]]:
     """θ's parts; ``enclose`` adds the arena, its weights and ``steps`` steps of the reference (by default the
-    structure's :attr:`~mpc_hunt.capture.structure.Structure.reference_steps`)."""
+    structure's :attr:`~mpc_hunt.capture.structure.Structure.reference_steps`). A robot's θ holds no held
+    defenders (its neighbours move, step by step), and adds the team's mean step (``length``, the objective's
+    scale) and the rest of the team's push on the attacker now (``pushed``)."""
     nc, nf, m = structure.planned, structure.fixed, structure.obstacles
     steps = structure.reference_steps if steps is None else steps
-    layout = [("attacker", 2), ("controlled", 2 * nc), ("held", 2 * nf), ("desired", 2), ("nominal", 2),
-              ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
+    layout = [("attacker", 2), ("controlled", 2 * nc), ("held", 0 if structure.robot else 2 * nf), ("desired", 2),
+              ("nominal", 2), ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
     if structure.objective == "enclose":
-        layout += [("arena", 4)] + [(s, 1) for s in ENCLOSE_SCALARS] + [("reference", steps * reference_size(nc))]
+        layout += [("arena", 4)] + [(s, 1) for s in ENCLOSE_SCALARS]
+        if structure.robot:
+            layout += [("length", 1), ("pushed", 2)]
+        layout += [("reference", steps * step_size(structure))]
     return layout
 
 
@@ -56,23 +73,43 @@ def parameter_size(structure: Structure, steps: int | None = None) -> int:
     return sum(size for _, size in _layout(structure, steps))
 
 
-def step_reference(p: dict, k: int, nc: int):
+def step_reference(p: dict, k: int, structure: Structure):
     """Step k's reference (k = 0..steps−1) from unpacked θ: (places (nc·2), attacker (2), weight)."""
-    size = reference_size(nc)
-    ref = p["reference"][k * size:(k + 1) * size]
+    nc = structure.planned
+    ref = p["reference"][k * step_size(structure):]
     return ref[:2 * nc], ref[2 * nc:2 * nc + 2], ref[2 * nc + 2]
 
 
-def stage_parameters(theta, structure: Structure, k: int):
-    """The θ of one stage (its own step of the reference) from the whole horizon's θ, for stage k = 1..N.
+def team_step(p: dict, structure: Structure) -> dict:
+    """A robot's team terms of its stage (θ of one stage, :data:`TEAM_STEP`): ``slots`` (K·2), ``pushed`` (2),
+    ``push_jacobian`` (2×2), ``push_attacker`` (2)."""
+    offset = reference_size(structure.planned)
+    out = {"slots": p["reference"][offset:offset + 2 * structure.fixed]}
+    offset += 2 * structure.fixed
+    for name, size in TEAM_STEP:
+        out[name] = p["reference"][offset:offset + size]
+        offset += size
+    out["push_jacobian"] = ca.reshape(out["push_jacobian"], 2, 2)
+    return out
 
-    For ``paper`` every stage shares θ. The last entry (the smoothing width) is kept.
+
+def stage_parameters(theta, structure: Structure, k: int):
+    """The θ of one stage (its own step of the reference) from the whole horizon's θ, for stage k = 0..N.
+
+    For ``paper`` every stage shares θ. Stage 0 has no reference of its own (its residuals are not part of the
+    objective) and takes stage 1's; a robot's stage 0 takes the push on the attacker where it stands now
+    (``pushed``: the attacker's first move follows from the state alone). The last entry (the smoothing width)
+    is kept.
     """
     if structure.objective == "paper":
         return theta
     common = parameter_size(structure, 0)
-    size = reference_size(structure.planned)
-    return ca.vertcat(theta[:common], theta[common + (k - 1) * size:common + k * size], theta[-1])
+    size = step_size(structure)
+    step = theta[common + (max(k, 1) - 1) * size:common + max(k, 1) * size]
+    if k == 0 and structure.robot:
+        p = unpack(theta, structure)
+        step = ca.vertcat(step[:size - 8], p["pushed"], ca.DM.zeros(4), p["attacker"])
+    return ca.vertcat(theta[:common], step, theta[-1])
 
 
 def parameter_vector(problem: CaptureProblem) -> np.ndarray:
@@ -100,6 +137,11 @@ def parameter_vector(problem: CaptureProblem) -> np.ndarray:
             "w_attacker": e.attacker, "w_edge": e.edge, "edge_margin": e.edge_margin,
             "reference": np.concatenate([ref.defenders[:, c].reshape(structure.horizon, -1), ref.attacker,
                                          ref.slot_weight[:, None]], axis=1)})
+    return pack(values, structure)
+
+
+def pack(values: dict, structure: Structure) -> np.ndarray:
+    """θ from its named parts (:func:`unpack`'s inverse), in the order of :func:`_layout`."""
     return np.concatenate([np.ravel(np.asarray(values[name], dtype=float)) for name, _ in _layout(structure)])
 
 
@@ -108,9 +150,10 @@ def enclose_residuals(p: dict, attacker, defenders: list, places, attacker_place
 
     Each controlled defender to its place, the attacker to its reference position, and the attacker's
     distance beyond the arena less ``edge_margin`` on each side, all per r̄_d (the mean step, so that a
-    step's worth of error costs about one: the QP is then as well scaled as the paper's).
+    step's worth of error costs about one: the QP is then as well scaled as the paper's; a robot planning apart
+    reads the team's from θ, so that its objective is the team's with the others held).
     """
-    length = ca.sum1(p["step_limits"]) / p["step_limits"].shape[0]
+    length = p["length"] if "length" in p else ca.sum1(p["step_limits"]) / p["step_limits"].shape[0]
     out = [ca.sqrt(weight) * (d - places[2 * i:2 * i + 2]) / length for i, d in enumerate(defenders)]
     out.append(ca.sqrt(p["w_attacker"]) * (attacker - attacker_place) / length)
     x_min, y_min, x_max, y_max = (p["arena"][j] for j in range(4))
@@ -166,7 +209,7 @@ class CaptureModel:
             attacker.append(p_a)
             force = self._resultant(p_a, team)
             if self.objective == "enclose":
-                residuals += enclose_residuals(p, p_a, team[:nc], *step_reference(p, k, nc))
+                residuals += enclose_residuals(p, p_a, team[:nc], *step_reference(p, k, self.structure))
             else:
                 residuals.append(ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"])
             for i in range(nc):

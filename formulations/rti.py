@@ -55,12 +55,12 @@ class LinearisedStages:
         theta = ca.SX.sym("theta", parameter_size(structure) + 1)
         D = ca.SX.sym("D", N * nd)                                     # the reference plan, steps 1..N
 
-        def stage(k):                                                  # θ of stage k ≥ 1 (its own reference)
-            return stage_parameters(theta, structure, max(k, 1))
+        def stage(k):                                                  # θ of stage k (its own reference)
+            return stage_parameters(theta, structure, k)
 
         p = unpack(theta, structure)
         S_x = st.S_x(stage(1))
-        exact = ca.vertcat(stage(1)[:-1], 0)
+        exact = ca.vertcat(stage(0)[:-1], 0)
         relaxable = ca.DM([f in RELAXABLE for f in st.families])
         nz = (N + 1) * nx + N * nu
         x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []

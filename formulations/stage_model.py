@@ -13,6 +13,14 @@ obstacles) as functions of one stage; a formulation lays them out over the
 horizon. θ is :func:`formulations.capture_model.parameter_vector` followed by
 the smoothing half-width w of :mod:`formulations.field` (w = 0: the
 paper's field).
+
+A robot planning apart (``Structure.robot``, the ``distributed`` formulation)
+has the state (p_a, p_d) of itself alone. The rest of the team pushes the
+attacker by F_k + J_k (p_a − ā_k), its push at the attacker's position ā_k
+predicted under the team's plans, to first order (exact at ā_k, where the
+robot's QP is linearised); its separation rows are to the midpoints m_j between
+its planned and each neighbour's planned position, |p_d − m_j| ≥ d_min / 2,
+so that two robots that each keep theirs are d_min apart whatever both do.
 """
 
 from __future__ import annotations
@@ -22,7 +30,7 @@ from functools import lru_cache
 import casadi as ca
 
 from formulations.base import separation_pairs
-from formulations.capture_model import enclose_residuals, parameter_size, step_reference, unpack
+from formulations.capture_model import enclose_residuals, parameter_size, step_reference, team_step, unpack
 from formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.structure import Structure
 
@@ -47,10 +55,16 @@ class StageModel:
         x, u = ca.SX.sym("x", self.nx), ca.SX.sym("u", self.nu)
         a = x[:2]
         defenders = [x[2 + 2 * i:4 + 2 * i] for i in range(nc)]
-        held = [p["held"][2 * j:2 * j + 2] for j in range(nf)]
+        held = [p["held"][2 * j:2 * j + 2] for j in range(0 if structure.robot else nf)]
 
         force = p["nominal"]
-        for d in defenders + held:
+        pushers, separation = defenders + held, p["min_separation"]
+        if structure.robot:
+            team = team_step(p, structure)
+            held = [team["slots"][2 * j:2 * j + 2] for j in range(nf)]
+            pushers, separation = defenders, separation / 2
+            force = force + team["pushed"] + ca.mtimes(team["push_jacobian"], a - team["push_attacker"])
+        for d in pushers:
             force = force + p["k_d"] * repulsion(a - d, p["perception_radius"], p["eta"], w)
         for o in range(m):
             force = force + p["k_o"] * obstacle_repulsion(a, p["centres"][2 * o:2 * o + 2], p["radii"][o],
@@ -60,7 +74,7 @@ class StageModel:
 
         distance = [norm(d - a) for d in defenders]
         if objective == "enclose":
-            residual = enclose_residuals(p, a, defenders, *step_reference(p, 0, nc))
+            residual = enclose_residuals(p, a, defenders, *step_reference(p, 0, structure))
         else:
             residual = [ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"]]
             residual += [ca.sqrt(p["w_ring"]) * (r - p["ring_radius"]) / p["hunt_radius"] for r in distance]
@@ -84,7 +98,7 @@ class StageModel:
             self.families.append("attacker_distance")
         for i, j in separation_pairs(nc, nf):
             rows.append(norm(defenders[i] - (defenders[j] if j < nc else held[j - nc])))
-            lower.append(p["min_separation"])
+            lower.append(separation)
             self.families.append("separation")
         self.path = ca.Function("path", [x, theta], [ca.vertcat(*rows), ca.vertcat(*lower)])
         steps = [ca.dot(u[2 * i:2 * i + 2], u[2 * i:2 * i + 2]) for i in range(nc)]

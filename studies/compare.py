@@ -44,7 +44,7 @@ GAP_RTOL, GAP_ATOL = 1e-3, 1e-6     # a rerun's gaps: solvers converge to their 
 
 def run(horizons: list[int], progress: bool = True):
     problem_set = builtin_problem_set("default")
-    pairs = registry.pairs()
+    pairs = registry.pairs(objective="paper")
     total = planned_solves(problem_set, len(pairs), horizons, list(MODES), STARTS)
     with tqdm(total=total, desc="compare", unit=" solves", file=sys.stderr, disable=not progress) as bar:
         return run_compare(problem_set, pairs, horizons, list(MODES), np.random.default_rng(SEED),
@@ -59,7 +59,7 @@ def check() -> list[str]:
     """What differs between the committed run and the code: inputs, then each N = 1 solve's non-timing outcome."""
     committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
     problems = [p.id for p in builtin_problem_set("default").problems]
-    wanted = {"problems": problems, "pairs": [f"{f}:{b}" for f, b in registry.pairs()], "horizons": HORIZONS,
+    wanted = {"problems": problems, "pairs": [f"{f}:{b}" for f, b in registry.pairs(objective="paper")], "horizons": HORIZONS,
               "modes": list(MODES), "accuracy": ACCURACY, "seed": SEED, "reference_starts": STARTS}
     errors = [f"settings.{k}: committed {committed['settings'].get(k)!r}, the code runs {v!r}"
               for k, v in wanted.items() if committed["settings"].get(k) != v]

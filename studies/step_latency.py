@@ -286,8 +286,8 @@ def check(out: Path) -> list[str]:
     committed = json.loads((out / "results.json").read_text(encoding="utf-8"))["latency"]
     rows = [r for r in committed if (r["formulation"], r["backend"]) != PEER]
     pairs = [(r["formulation"], r["backend"]) for r in rows]
-    if pairs != registry.pairs():
-        return [f"results.json: pairs {pairs}, the registry's are {registry.pairs()}"]
+    if pairs != registry.pairs(objective="paper"):
+        return [f"results.json: pairs {pairs}, the registry's are {registry.pairs(objective='paper')}"]
     problem_set = load_problem_set(out / "states.json")
     entries = problem_set.sequences()[f"{SCENARIO}/closed-loop"]
     problems = [lambda e=e: problem_set.problem(e, HORIZON) for e in entries]
@@ -407,7 +407,7 @@ def run(args) -> tuple[ProblemSet, dict]:
         problem_set = load_problem_set(args.out / "states.json")
     else:
         problem_set = closed_loop_states(args.states)
-    pairs = args.pairs or registry.pairs()
+    pairs = args.pairs or registry.pairs(objective="paper")
     before = describe_machine()
     peer = DoMPCPeer is not None and not args.no_peer
     rows = latency(problem_set, pairs, peer)

@@ -89,17 +89,20 @@ def planned_solves(problem_set: ProblemSet, pairs: int, horizons: list[int], mod
     return (starts * len(problem_set.problems) + pairs * (cold + loop)) * len(horizons)
 
 
-def check_pairs(asked: list[str] | None) -> list[tuple[str, str]]:
-    """``formulation:backend`` or ``formulation`` (all its installed backends); None: every installed pair."""
+def check_pairs(asked: list[str] | None, objective: str = "paper") -> list[tuple[str, str]]:
+    """``formulation:backend`` or ``formulation`` (all its installed backends); None: every installed pair whose
+    formulation poses ``objective``."""
     if not asked:
-        return registry.pairs()
+        return registry.pairs(objective=objective)
     out: list[tuple[str, str]] = []
     for text in asked:
         formulation, _, backend = text.partition(":")
+        if objective not in registry.formulation_class(formulation).objectives:
+            raise BenchmarkError(f"--pair {text}: formulation {formulation} does not pose the {objective} objective "
+                               f"(pick --objective {' or '.join(registry.formulation_class(formulation).objectives)})")
         if backend:
             chosen = [(formulation, registry.check_pair(formulation, backend))]
         else:
-            registry.formulation_class(formulation)
             chosen = [p for p in registry.pairs() if p[0] == formulation]
         out += [p for p in chosen if p not in out]
     return out

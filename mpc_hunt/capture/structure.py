@@ -13,15 +13,24 @@ from dataclasses import dataclass, replace
 
 @dataclass(frozen=True)
 class Structure:
-    """The defenders planned and held fixed, the obstacles, the horizon N and the objective."""
+    """The defenders planned and held fixed, the obstacles, the horizon N and the objective.
+
+    ``robot``: the problem of one robot of a team that plans apart (the ``distributed`` formulation): it plans
+    itself (``planned`` = 1); ``fixed`` counts its neighbour slots, the nearest team-mates at each step, whose
+    separation rows it keeps; the whole team's push on the attacker comes step by step in its parameters.
+    """
 
     planned: int
     fixed: int
     obstacles: int
     horizon: int
     objective: str = "paper"
+    robot: bool = False
 
     def __str__(self) -> str:
+        if self.robot:
+            return (f"one robot of a team with {self.fixed} neighbour slots, {self.obstacles} obstacles, "
+                    f"horizon {self.horizon}, objective {self.objective}")
         return (f"{self.planned} planned and {self.fixed} held defenders, {self.obstacles} obstacles, "
                 f"horizon {self.horizon}, objective {self.objective}")
 

@@ -453,7 +453,7 @@ def _compare(args) -> int:
     from mpc_hunt.plots.compare_report import write_report
     from mpc_hunt.plots.compare import plot_compare
 
-    pairs = check_pairs(args.pair)
+    pairs = check_pairs(args.pair, args.objective)
     check_output(args.csv, (".csv",), "--csv")
     check_folder(args.report, "--report")
     check_folder(args.plot, "--plot")

@@ -67,6 +67,11 @@ class CaptureLoop:
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
 
+    @property
+    def extras(self) -> dict:
+        """What a solution reports of the last step beyond the plan."""
+        return {"qps": self.qps}
+
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """Write ``problem``'s inputs into the arrays (the reference from ``warm_plan``, else every defender held)."""
         if problem.structure != self.structure:

@@ -25,6 +25,7 @@ FORMULATIONS = {
     "ms-nlp": "formulations.ms_nlp:MSNLPFormulation",
     "rti": "formulations.rti:RTIFormulation",
     "stage-sqp": "formulations.stage_sqp:StageSQPFormulation",
+    "distributed": "formulations.distributed:DistributedFormulation",
 }
 
 BACKENDS = {
@@ -78,9 +79,11 @@ def stage_form_message(formulation: str) -> str:
             f"(a control loop, the C export), not {formulation!r}")
 
 
-def pairs(installed_only: bool = True) -> list[tuple[str, str]]:
-    """Every (formulation, backend) that works together (by default, only installed backends)."""
-    return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)]
+def pairs(installed_only: bool = True, objective: str | None = None) -> list[tuple[str, str]]:
+    """Every (formulation, backend) that works together (by default, only installed backends), or only those
+    whose formulation poses ``objective``."""
+    return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)
+            if objective is None or objective in formulation_class(f).objectives]
 
 
 @dataclass(frozen=True)

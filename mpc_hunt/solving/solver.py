@@ -32,6 +32,7 @@ from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.loop import CaptureLoop
+from mpc_hunt.solving.team_loop import TeamLoop
 
 
 class CaptureSolver:
@@ -42,16 +43,21 @@ class CaptureSolver:
     keywords are the backend's options. ``raise_on_failure`` turns a failed
     status into :class:`~mpc_hunt.errors.SolverError`. The evaluator scores
     every plan, or with ``score=False`` only a failed solve's (what a
-    controller's fallback reads); its time is ``score_time``, apart. ``loop``
+    controller's fallback reads); its time is ``score_time``, apart. ``formulation_options`` go to the
+    formulation (``distributed``: ``rounds``, ``scheme``). ``loop``
     (default: whether the pair closes its step into one Function) solves on
     control loops; ``loop=False`` runs the formulation's own path.
     """
 
     def __init__(self, formulation: str = "nlp", backend: str | None = None, *,
                  time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
-                 score: bool = True, loop: bool | None = None, **backend_options):
+                 score: bool = True, loop: bool | None = None, formulation_options: dict | None = None,
+                 **backend_options):
         pair = registry.resolve(formulation, backend)
-        self.formulation = pair.formulation()
+        try:
+            self.formulation = pair.formulation(**(formulation_options or {}))
+        except (TypeError, ValueError) as exc:
+            raise MpcHuntError(f"formulation_options: {exc}") from None
         self.backend = pair.backend(time_limit=time_limit, accuracy=accuracy, **backend_options)
         self.stage_form = pair.closes_step
         if loop and not self.stage_form:
@@ -67,17 +73,24 @@ class CaptureSolver:
         """Forget the last duals: the next solve starts cold even when handed a plan."""
         self._duals = None
 
-    def loop(self, problem: CaptureProblem) -> CaptureLoop:
-        """The control loop's step for ``problem``'s structure, built on its first problem and kept."""
+    def loop(self, problem: CaptureProblem) -> CaptureLoop | TeamLoop:
+        """The control loop's step for ``problem``'s structure, built on its first problem and kept: a
+        :class:`TeamLoop` (one loop per robot) for a formulation that plans robot by robot."""
         if not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(self.formulation.name))
         loop = self._loops.get(problem.structure)
         if loop is None:
-            loop = self._loops[problem.structure] = CaptureLoop(problem, self.formulation, self.backend)
+            kind = TeamLoop if self.formulation.per_robot else CaptureLoop
+            loop = self._loops[problem.structure] = kind(problem, self.formulation, self.backend)
         return loop
 
     def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> Solution:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held."""
+        if problem.objective not in self.formulation.objectives:
+            return self._finish(Solution(
+                status=Status.ERROR, formulation=self.formulation.name, backend=self.backend.name,
+                message=f"formulation {self.formulation.name} poses the {', '.join(self.formulation.objectives)} "
+                        f"objective, not {problem.objective!r}"))
         if self.on_loops:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
@@ -122,24 +135,31 @@ class CaptureSolver:
         overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
         return Solution(status=status, message=loop.message, formulation=self.formulation.name,
                         backend=self.backend.name, x=loop.plan.reshape(-1).copy(), plan=plan,
-                        formulation_objective=float(loop.objective[0]) if status.usable else None,
+                        formulation_objective=float(loop.objective[0]) if status.usable and
+                        np.isfinite(loop.objective[0]) else None,
                         solver_time=solver_time, overhead_time=max(overhead, 0.0), setup_time=setup_time,
                         iterations=loop.iterations, warm_started=warm_plan is not None,
-                        extras={"qps": loop.qps}, **scores)
+                        extras=loop.extras, **scores)
 
-    def export(self, folder: Path, problem: CaptureProblem) -> list[Path]:
+    def export(self, folder: Path, problem: CaptureProblem, robot: int = 0) -> list[Path]:
         """The step of ``problem``'s structure, as this solver set it up, written as C sources for a robot's board
-        (:mod:`mpc_hunt.solving.export`); returns the files written."""
+        (:mod:`mpc_hunt.solving.export`); returns the files written. For a formulation that plans robot by robot,
+        the step of planned defender ``robot`` (0-based), its inputs from the team held where it stands."""
         from mpc_hunt.solving.export import write_step
 
         loop = self.loop(problem)
         loop.load(problem)
+        if isinstance(loop, TeamLoop):
+            if not 0 <= robot < problem.structure.planned:
+                raise MpcHuntError(f"robot: a planned defender's index from 0 to {problem.structure.planned - 1}, "
+                                   f"got {robot}")
+            loop = loop.robot_loop(robot)
         theta, reference = loop.theta.copy(), loop.reference.reshape(-1).copy()   # the step moves its reference
         if not loop.step().usable:
             raise MpcHuntError(f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
                                "nothing to compare the C step with")
-        return write_step(Path(folder), self.backend.generated_step(loop.step_function), self.formulation.iteration,
-                          problem.structure, theta, reference, loop.plan.reshape(-1))
+        return write_step(Path(folder), self.backend.generated_step(loop.step_function), loop.formulation.iteration,
+                          loop.structure, theta, reference, loop.plan.reshape(-1))
 
     def _finish(self, solution: Solution) -> Solution:
         return solution.raise_for_status() if self.raise_on_failure else solution

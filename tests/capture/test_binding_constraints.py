@@ -30,7 +30,7 @@ from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 
 def pairs() -> list[tuple[str, str]]:
     """Every (formulation, backend) pair: the one place that reads the registry."""
-    return sorted(registry.pairs())
+    return sorted(registry.pairs(objective="paper"))
 
 
 FAMILIES = list(CASES)

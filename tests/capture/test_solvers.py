@@ -12,7 +12,7 @@ from mpc_hunt import (CaptureProblem, CaptureSolver, SolverError, Status, Unknow
                       shift_plan, solve)
 from mpc_hunt.solving import registry
 
-PAIRS = pairs()
+PAIRS = pairs(objective="paper")
 
 
 @pytest.mark.parametrize("formulation,backend", PAIRS)

@@ -1,0 +1,231 @@
+"""``distributed``: every defender plans itself, one small stage QP per robot, as in the paper's Fig. 2.
+
+Robot i's QP is ``rti``'s (:mod:`formulations.rti`) for a structure of one robot
+(:attr:`~mpc_hunt.capture.structure.Structure.robot`): the state (p_a, p_di), 4
+numbers, and its own step, 2, at each stage, whatever the team's size. What the
+others do enters through the round's broadcast (:mod:`formulations.team_push`):
+
+- the attacker's response, linearised along the team's latest plans: its path
+  ā_k under them and the others' push on it to first order, so that robot i's
+  QP is the team's ``rti`` QP with the others' positions held at their plans;
+- the others' plans, fixed: a separation row to the midpoint between its plan
+  and each of its ``NEIGHBOURS`` nearest team-mates' at each step,
+  |p_di − m_ij| ≥ d_min / 2 (two robots that keep theirs stay d_min apart even
+  when both move in the same round). A row to a team-mate farther than
+  d_min + 2ρ at the reference (ρ = the trust region's diagonal, 2√2 r_d) can
+  never bind, as the robot stays within ρ of its reference; those nearer than
+  that beyond the slots are counted (``unseen_neighbours``), not modelled.
+
+Its objective is the team's ``enclose`` objective with the others held: its own
+places, the attacker's reference and the arena's edge, its own smoothness, at
+the team's scale (the mean step r̄_d).
+
+A control step makes ``rounds`` rounds. ``jacobi``: every robot solves from the
+same broadcast, so the robots run in parallel and a round costs one robot's QP;
+``gauss-seidel``: one after another, each from a broadcast with the plans of
+those before it (one broadcast per robot). A robot whose QP fails keeps its
+reference for the round, and the step reports that QP's status.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Callable
+
+import numpy as np
+
+from formulations.base import Formulation
+from formulations.capture_model import pack, parameter_vector, reference_size, unpack
+from formulations.qp import TRUST_REGION
+from formulations.rti import RTIFormulation, linearised_stages
+from formulations.team_push import team_push
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Solution, Status
+from mpc_hunt.capture.structure import Structure
+
+NEIGHBOURS = 8      # slots: 7 team-mates d_min apart fit within d_min + 2ρ of a robot at the paper's numbers
+SCHEMES = ("jacobi", "gauss-seidel")
+MAX_ROUNDS = 100
+
+
+def robot_structure(team: Structure) -> Structure:
+    """The structure of one robot's QP in a team of structure ``team``."""
+    return Structure(1, min(team.defenders - 1, NEIGHBOURS), team.obstacles, team.horizon, team.objective, robot=True)
+
+
+@dataclass
+class RobotProblem:
+    """One robot's step inputs: what :class:`~mpc_hunt.solving.loop.CaptureLoop` is built from and loads."""
+
+    structure: Structure
+    theta: np.ndarray
+    reference: np.ndarray
+    controlled: np.ndarray = field(default_factory=lambda: np.ones(1, dtype=bool))
+
+    @property
+    def horizon(self) -> int:
+        return self.structure.horizon
+
+
+class RobotStep(RTIFormulation):
+    """``rti`` for one robot's structure, its inputs handed over whole (a :class:`RobotProblem`)."""
+
+    def step_inputs(self, problem: RobotProblem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
+        return problem.theta, problem.reference
+
+
+class Team:
+    """A team's capture problem as its robots see it: the numbers they share, and each one's inputs."""
+
+    def __init__(self, problem: CaptureProblem, smoothing: float):
+        self.structure = problem.structure
+        self.robot = robot_structure(self.structure)
+        self.push = team_push(self.structure)
+        self.load(problem, smoothing)
+
+    def load(self, problem: CaptureProblem, smoothing: float) -> None:
+        """The team's numbers at ``problem`` (same structure)."""
+        s = self.structure
+        self.theta = np.append(parameter_vector(problem), smoothing)
+        self.parts = unpack(self.theta, s)
+        nc, N = s.planned, s.horizon
+        self.held = self.parts["held"].reshape(-1, 2)
+        steps = self.parts["reference"].reshape(N, reference_size(nc))
+        self.places = steps[:, :2 * nc].reshape(N, nc, 2)
+        self.attacker_reference = steps[:, 2 * nc:]                      # attacker (2), weight (1)
+        self.length = self.parts["step_limits"].mean()
+        self.reach = self.parts["min_separation"][0] + 2 * math.sqrt(2) * TRUST_REGION * self.parts["step_limits"]
+
+    def broadcast(self, plans: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """ā (N, 2), the pushes (N, n, 2) and their Jacobians (N, n, 4) under ``plans`` (N, n_c, 2)."""
+        N, n = self.structure.horizon, self.structure.defenders
+        path, pushes, jacobians = self.push(self.theta, plans.reshape(-1))
+        return (np.asarray(path).T, np.asarray(pushes).T.reshape(N, n, 2),
+                np.asarray(jacobians).T.reshape(N, n, 4))
+
+    def robot_inputs(self, i: int, broadcast: tuple, plans: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+        """Robot ``i``'s θ and reference from the round's ``broadcast`` and the team's ``plans`` (N, n_c, 2), and
+        how many team-mates within reach at some step have no slot."""
+        path, pushes, jacobians = broadcast
+        robot, p = self.robot, self.parts
+        N, K = robot.horizon, robot.fixed
+        mine = plans[:, i]
+        others = np.concatenate([np.delete(plans, i, axis=1), np.broadcast_to(self.held, (N, *self.held.shape))],
+                                axis=1)
+        distance = np.hypot(*(others - mine[:, None]).transpose(2, 0, 1))
+        nearest = np.argsort(distance, axis=1, kind="stable")[:, :K]
+        slots = (mine[:, None] + np.take_along_axis(others, nearest[:, :, None], axis=1)) / 2
+        unseen = int(max(0, (distance <= self.reach[i]).sum(axis=1).max() - K)) if K else 0
+        pushed = pushes.sum(axis=1) - pushes[:, i]
+        jacobian = jacobians.sum(axis=1) - jacobians[:, i]
+        team = np.zeros((N, 8))                                          # step k's team terms, k = 1..N
+        team[:-1] = np.concatenate([pushed[1:], jacobian[1:], path[1:]], axis=1)
+        steps = np.concatenate([self.places[:, i], self.attacker_reference, slots.reshape(N, -1), team], axis=1)
+        values = {**p, "controlled": p["controlled"][2 * i:2 * i + 2], "held": (),
+                  "step_limits": p["step_limits"][i:i + 1], "length": self.length, "pushed": pushed[0],
+                  "reference": steps}
+        return np.append(pack(values, robot), self.theta[-1]), mine.reshape(-1), unseen
+
+
+@dataclass
+class Rounds:
+    """What a step's rounds gave: the team's plans, the first failed QP's status and message, and counts."""
+
+    plans: np.ndarray
+    status: Status = Status.OPTIMAL
+    message: str = ""
+    iterations: int = 0
+    qps: int = 0
+    robot_times: list = field(default_factory=list)      # s, each robot QP's inputs and solve, in order
+    unseen_neighbours: int = 0
+
+    def extras(self, rounds: int) -> dict:
+        times = np.array(self.robot_times)
+        return {"qps": self.qps, "rounds": rounds, "robot_time_max": float(times.max()) if times.size else 0.0,
+                "unseen_neighbours": self.unseen_neighbours}
+
+
+# (robot, θ, reference) → (status, plan (N·2) or None, iterations, message)
+SolveRobot = Callable[[int, np.ndarray, np.ndarray], tuple]
+
+
+class DistributedFormulation(Formulation):
+    """One ``rti`` QP per robot, ``rounds`` rounds a step by ``scheme`` (module docstring)."""
+
+    name = "distributed"
+    kind = "ocp-qp"
+    default_backend = "hpipm"
+    exact = RTIFormulation.exact
+    smoothing = RTIFormulation.smoothing
+    per_robot = True
+    objectives = ("enclose",)     # the paper's objective plans only defenders within R_agg: nothing to distribute
+
+    def __init__(self, rounds: int = 1, scheme: str = "jacobi"):
+        if isinstance(rounds, bool) or not isinstance(rounds, int) or not 1 <= rounds <= MAX_ROUNDS:
+            raise ValueError(f"rounds: a whole number from 1 to {MAX_ROUNDS}, got {rounds!r}")
+        if scheme not in SCHEMES:
+            raise ValueError(f"scheme: one of {', '.join(SCHEMES)}, got {scheme!r}")
+        self.rounds, self.scheme = rounds, scheme
+
+    @cached_property
+    def robot_step(self) -> RobotStep:
+        """One robot's step, as the control loop and the C export run it."""
+        return RobotStep()
+
+    @property
+    def iteration(self):
+        return self.robot_step.iteration
+
+    def prepare(self, structure: Structure) -> None:
+        linearised_stages(robot_structure(structure))
+        team_push(structure)
+
+    def team(self, problem: CaptureProblem) -> Team:
+        return Team(problem, self.smoothing)
+
+    def robot_problem(self, team: Team, theta: np.ndarray, reference: np.ndarray) -> RobotProblem:
+        """One robot's step inputs, for its control loop."""
+        return RobotProblem(team.robot, theta, reference)
+
+    def run(self, team: Team, plans: np.ndarray, solve_robot: SolveRobot) -> Rounds:
+        """The step's rounds from the team's reference ``plans`` (N, n_c, 2), each robot's QP by ``solve_robot``."""
+        out = Rounds(np.array(plans, dtype=float))
+        for _ in range(self.rounds):
+            broadcast = team.broadcast(out.plans)
+            new = out.plans.copy()
+            for i in range(team.structure.planned):
+                t0 = time.perf_counter()
+                if self.scheme == "gauss-seidel" and i:
+                    broadcast = team.broadcast(new)
+                theta, reference, unseen = team.robot_inputs(i, broadcast, new if self.scheme == "gauss-seidel"
+                                                             else out.plans)
+                status, plan, iterations, message = solve_robot(i, theta, reference)
+                out.robot_times.append(time.perf_counter() - t0)
+                out.qps += 1
+                out.iterations += iterations
+                out.unseen_neighbours = max(out.unseen_neighbours, unseen)
+                if status.usable:
+                    new[:, i] = np.reshape(plan, (-1, 2))
+                elif out.status.usable:
+                    out.status, out.message = status, f"robot {i + 1}: {message or status.value}"
+            out.plans = new
+        return out
+
+    def solve(self, problem, backend, warm_plan, duals) -> Solution:
+        team = self.team(problem)
+        start = problem.x_from_plan(problem.held_plan() if warm_plan is None else warm_plan)
+        times = {"solver_time": 0.0, "setup_time": 0.0}
+
+        def solve_robot(i, theta, reference):
+            result = backend.solve(self.robot_step.stage_data(team.robot, (theta, reference)))
+            times["solver_time"] += result.solver_time
+            times["setup_time"] += result.setup_time
+            return result.status, result.x, result.iterations, result.message
+
+        out = self.run(team, start.reshape(problem.horizon, -1, 2), solve_robot)
+        x = out.plans.reshape(-1)
+        return Solution(status=out.status, message=out.message, x=x, plan=problem.plan_from_x(x),
+                        iterations=out.iterations, extras=out.extras(self.rounds), **times)

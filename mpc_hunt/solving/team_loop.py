@@ -1,0 +1,84 @@
+"""The distributed capture step for a control loop: one :class:`~mpc_hunt.solving.loop.CaptureLoop` per robot.
+
+A formulation that plans robot by robot (``distributed``) makes one small stage
+QP per robot, all of one structure (one robot, its neighbour slots), which the
+backend closes into one Function, set up once. ``TeamLoop`` holds a loop per
+robot, each with its own arrays, and runs the formulation's rounds on them:
+each round broadcasts the team's plans (what the UAV, or every robot, computes),
+then each robot writes its inputs into its loop's arrays and steps. On the
+robots, each runs :meth:`robot_step` for itself on its own board; here they run
+one after another, and each robot's time is kept (``robot_times``): the team's
+step, the robots in parallel, is the broadcast plus the slowest robot.
+
+    team = CaptureSolver("distributed", "hpipm-codegen").loop(problem)
+    for each control step:
+        team.load(problem, warm_plan)     # the state, and the plans to start from
+        status = team.step()              # team.plan: every planned defender's positions, steps 1..N
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Status
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.solving.loop import CaptureLoop
+
+
+class TeamLoop:
+    """The rounds of a robot-by-robot formulation on one :class:`CaptureLoop` per robot, for one team structure."""
+
+    def __init__(self, problem: CaptureProblem, formulation, backend):
+        self.formulation = formulation
+        self.structure = problem.structure
+        self.team = formulation.team(problem)
+        self.plan = problem.x_from_plan(problem.held_plan()).reshape(problem.horizon, -1, 2)
+        broadcast = self.team.broadcast(self.plan)
+        self.robots = []
+        for i in range(self.structure.planned):
+            theta, reference, _ = self.team.robot_inputs(i, broadcast, self.plan)
+            self.robots.append(CaptureLoop(formulation.robot_problem(self.team, theta, reference),
+                                           formulation.robot_step, backend))
+        self.step_function = self.robots[0].step_function
+        self.objective = np.full(1, np.nan)        # no one objective: each robot minimises its own
+        self.iterations = self.qps = 0
+        self.message = ""
+        self.robot_times: list[float] = []
+        self.unseen_neighbours = 0
+        self.extras: dict = {}
+
+    def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
+        """The team's numbers at ``problem``, and the plans to start from (``warm_plan``, else every one held)."""
+        if problem.structure != self.structure:
+            raise MpcHuntError(f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
+                               "build one loop per structure")
+        self.team.load(problem, self.formulation.smoothing)
+        start = problem.held_plan() if warm_plan is None else warm_plan
+        self.plan = problem.x_from_plan(start).reshape(problem.horizon, -1, 2)
+
+    def robot_loop(self, i: int) -> CaptureLoop:
+        """Robot ``i``'s loop with its inputs written from the broadcast of ``plan`` (what a robot steps, or
+        the C export writes)."""
+        theta, reference, _ = self.team.robot_inputs(i, self.team.broadcast(self.plan), self.plan)
+        loop = self.robots[i]
+        loop.theta[:] = theta
+        loop.reference.reshape(-1)[:] = reference
+        return loop
+
+    def robot_step(self, i: int, theta: np.ndarray, reference: np.ndarray) -> tuple:
+        """Robot ``i``'s QP from its inputs, on its loop: (status, plan, iterations, message)."""
+        loop = self.robots[i]
+        loop.theta[:] = theta
+        loop.reference.reshape(-1)[:] = reference
+        status = loop.step()
+        return status, loop.plan.reshape(-1), loop.iterations, loop.message
+
+    def step(self) -> Status:
+        """The formulation's rounds from ``plan``; the team's new plans go into ``plan``."""
+        out = self.formulation.run(self.team, self.plan, self.robot_step)
+        self.plan = out.plans
+        self.iterations, self.qps, self.message = out.iterations, out.qps, out.message
+        self.robot_times, self.unseen_neighbours = out.robot_times, out.unseen_neighbours
+        self.extras = out.extras(self.formulation.rounds)
+        return out.status
