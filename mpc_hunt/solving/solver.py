@@ -78,6 +78,8 @@ class CaptureSolver:
         :class:`TeamLoop` (one loop per robot) for a formulation that plans robot by robot."""
         if not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(self.formulation.name))
+        if problem.objective not in self.formulation.objectives:
+            raise MpcHuntError(self._objective_message(problem))
         loop = self._loops.get(problem.structure)
         if loop is None:
             kind = TeamLoop if self.formulation.per_robot else CaptureLoop
@@ -87,10 +89,8 @@ class CaptureSolver:
     def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> Solution:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held."""
         if problem.objective not in self.formulation.objectives:
-            return self._finish(Solution(
-                status=Status.ERROR, formulation=self.formulation.name, backend=self.backend.name,
-                message=f"formulation {self.formulation.name} poses the {', '.join(self.formulation.objectives)} "
-                        f"objective, not {problem.objective!r}"))
+            return self._finish(Solution(status=Status.ERROR, formulation=self.formulation.name,
+                                         backend=self.backend.name, message=self._objective_message(problem)))
         if self.on_loops:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
@@ -160,6 +160,10 @@ class CaptureSolver:
                                "nothing to compare the C step with")
         return write_step(Path(folder), self.backend.generated_step(loop.step_function), loop.formulation.iteration,
                           loop.structure, theta, reference, loop.plan.reshape(-1))
+
+    def _objective_message(self, problem: CaptureProblem) -> str:
+        return (f"objective: formulation {self.formulation.name} poses the {' or '.join(self.formulation.objectives)} "
+                f"objective, not {problem.objective!r}")
 
     def _finish(self, solution: Solution) -> Solution:
         return solution.raise_for_status() if self.raise_on_failure else solution
