@@ -38,7 +38,7 @@ from typing import Callable
 import numpy as np
 
 from formulations.base import Formulation
-from formulations.capture_model import pack, parameter_vector, reference_size, unpack
+from formulations.capture_model import pack, parameter_size, parameter_vector, reference_size, step_size, unpack
 from formulations.qp import TRUST_REGION
 from formulations.rti import RTIFormulation, linearised_stages
 from formulations.team_push import team_push
@@ -77,6 +77,20 @@ class RobotStep(RTIFormulation):
         return problem.theta, problem.reference
 
 
+@dataclass(frozen=True)
+class Broadcast:
+    """A round's broadcast under the team's ``plans`` (N, n, 2; the held defenders where they stand): the
+    attacker's path ``path`` (N, 2), each defender's push on it (N, n, 2) and that push's Jacobian (N, n, 4),
+    and their sums over the team."""
+
+    plans: np.ndarray
+    path: np.ndarray
+    pushes: np.ndarray
+    jacobians: np.ndarray
+    push: np.ndarray
+    jacobian: np.ndarray
+
+
 class Team:
     """A team's capture problem as its robots see it: the numbers they share, and each one's inputs."""
 
@@ -84,50 +98,67 @@ class Team:
         self.structure = problem.structure
         self.robot = robot_structure(self.structure)
         self.push = team_push(self.structure)
+        parts = unpack(np.arange(parameter_size(self.robot) + 1), self.robot)     # where each part sits in θ
+        self._at = {name: (int(v[0]), int(v[-1]) + 1) for name, v in parts.items() if len(v)}
         self.load(problem, smoothing)
 
     def load(self, problem: CaptureProblem, smoothing: float) -> None:
-        """The team's numbers at ``problem`` (same structure)."""
-        s = self.structure
-        self.theta = np.append(parameter_vector(problem), smoothing)
-        self.parts = unpack(self.theta, s)
+        """The team's numbers at ``problem`` (same structure), and the part of every robot's θ they fix."""
+        s, robot = self.structure, self.robot
         nc, N = s.planned, s.horizon
-        self.held = self.parts["held"].reshape(-1, 2)
-        steps = self.parts["reference"].reshape(N, reference_size(nc))
+        self.theta = np.append(parameter_vector(problem), smoothing)
+        p = unpack(self.theta, s)
+        self.held = p["held"].reshape(-1, 2)
+        self.controlled = p["controlled"].reshape(-1, 2)
+        self.step_limits = p["step_limits"]
+        self.reach = p["min_separation"][0] + 2 * math.sqrt(2) * TRUST_REGION * self.step_limits
+        steps = p["reference"].reshape(N, reference_size(nc))
         self.places = steps[:, :2 * nc].reshape(N, nc, 2)
-        self.attacker_reference = steps[:, 2 * nc:]                      # attacker (2), weight (1)
-        self.length = self.parts["step_limits"].mean()
-        self.reach = self.parts["min_separation"][0] + 2 * math.sqrt(2) * TRUST_REGION * self.parts["step_limits"]
+        reference = np.zeros((N, step_size(robot)))
+        reference[:, 2:5] = steps[:, 2 * nc:]                            # the attacker's reference, the weight
+        values = {**p, "controlled": np.zeros(2), "held": (), "step_limits": np.zeros(1),
+                  "length": self.step_limits.mean(), "pushed": np.zeros(2), "reference": reference}
+        self.template = np.append(pack(values, robot), smoothing)
 
-    def broadcast(self, plans: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """ā (N, 2), the pushes (N, n, 2) and their Jacobians (N, n, 4) under ``plans`` (N, n_c, 2)."""
+    def broadcast(self, plans: np.ndarray) -> Broadcast:
+        """The round's :class:`Broadcast` under the planned defenders' ``plans`` (N, n_c, 2)."""
         N, n = self.structure.horizon, self.structure.defenders
         path, pushes, jacobians = self.push(self.theta, plans.reshape(-1))
-        return (np.asarray(path).T, np.asarray(pushes).T.reshape(N, n, 2),
-                np.asarray(jacobians).T.reshape(N, n, 4))
+        pushes = np.asarray(pushes).T.reshape(N, n, 2)
+        jacobians = np.asarray(jacobians).T.reshape(N, n, 4)
+        team = np.concatenate([plans, np.broadcast_to(self.held, (N, *self.held.shape))], axis=1)
+        return Broadcast(team, np.asarray(path).T, pushes, jacobians, pushes.sum(axis=1), jacobians.sum(axis=1))
 
-    def robot_inputs(self, i: int, broadcast: tuple, plans: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
-        """Robot ``i``'s θ and reference from the round's ``broadcast`` and the team's ``plans`` (N, n_c, 2), and
-        how many team-mates within reach at some step have no slot."""
-        path, pushes, jacobians = broadcast
-        robot, p = self.robot, self.parts
-        N, K = robot.horizon, robot.fixed
-        mine = plans[:, i]
-        others = np.concatenate([np.delete(plans, i, axis=1), np.broadcast_to(self.held, (N, *self.held.shape))],
-                                axis=1)
-        distance = np.hypot(*(others - mine[:, None]).transpose(2, 0, 1))
-        nearest = np.argsort(distance, axis=1, kind="stable")[:, :K]
-        slots = (mine[:, None] + np.take_along_axis(others, nearest[:, :, None], axis=1)) / 2
-        unseen = int(max(0, (distance <= self.reach[i]).sum(axis=1).max() - K)) if K else 0
-        pushed = pushes.sum(axis=1) - pushes[:, i]
-        jacobian = jacobians.sum(axis=1) - jacobians[:, i]
-        team = np.zeros((N, 8))                                          # step k's team terms, k = 1..N
-        team[:-1] = np.concatenate([pushed[1:], jacobian[1:], path[1:]], axis=1)
-        steps = np.concatenate([self.places[:, i], self.attacker_reference, slots.reshape(N, -1), team], axis=1)
-        values = {**p, "controlled": p["controlled"][2 * i:2 * i + 2], "held": (),
-                  "step_limits": p["step_limits"][i:i + 1], "length": self.length, "pushed": pushed[0],
-                  "reference": steps}
-        return np.append(pack(values, robot), self.theta[-1]), mine.reshape(-1), unseen
+    def robot_inputs(self, i: int, broadcast: Broadcast) -> tuple[np.ndarray, np.ndarray, int]:
+        """Robot ``i``'s θ and reference from the round's ``broadcast``, and how many team-mates within reach at
+        some step have no slot."""
+        N, K = self.robot.horizon, self.robot.fixed
+        theta = self.template.copy()
+        at = self._at
+        theta[at["controlled"][0]:at["controlled"][1]] = self.controlled[i]
+        theta[at["step_limits"][0]] = self.step_limits[i]
+        pushed = broadcast.push - broadcast.pushes[:, i]                 # the others' push, steps 0..N−1
+        theta[at["pushed"][0]:at["pushed"][1]] = pushed[0]
+        steps = theta[at["reference"][0]:at["reference"][1]].reshape(N, -1)
+        steps[:, :2] = self.places[:, i]
+        mine = broadcast.plans[:, i]
+        offset = reference_size(1)
+        if K:
+            gap = broadcast.plans - mine[:, None]
+            distance = np.einsum("kjc,kjc->kj", gap, gap)
+            distance[:, i] = np.inf
+            nearest = np.argsort(distance, axis=1, kind="stable")[:, :K]
+            slots = steps[:, offset:offset + 2 * K].reshape(N, K, 2)
+            np.add(mine[:, None], np.take_along_axis(broadcast.plans, nearest[:, :, None], axis=1), out=slots)
+            slots *= 0.5
+            unseen = int(max(0, (distance <= self.reach[i] ** 2).sum(axis=1).max() - K))
+        else:
+            unseen = 0
+        offset += 2 * K                                                  # step k's team terms, k = 1..N−1
+        steps[:-1, offset:offset + 2] = pushed[1:]
+        steps[:-1, offset + 2:offset + 6] = broadcast.jacobian[1:] - broadcast.jacobians[1:, i]
+        steps[:-1, offset + 6:offset + 8] = broadcast.path[1:]
+        return theta, mine.reshape(-1), unseen
 
 
 @dataclass
@@ -200,8 +231,7 @@ class DistributedFormulation(Formulation):
                 t0 = time.perf_counter()
                 if self.scheme == "gauss-seidel" and i:
                     broadcast = team.broadcast(new)
-                theta, reference, unseen = team.robot_inputs(i, broadcast, new if self.scheme == "gauss-seidel"
-                                                             else out.plans)
+                theta, reference, unseen = team.robot_inputs(i, broadcast)
                 status, plan, iterations, message = solve_robot(i, theta, reference)
                 out.robot_times.append(time.perf_counter() - t0)
                 out.qps += 1

@@ -37,7 +37,7 @@ class TeamLoop:
         broadcast = self.team.broadcast(self.plan)
         self.robots = []
         for i in range(self.structure.planned):
-            theta, reference, _ = self.team.robot_inputs(i, broadcast, self.plan)
+            theta, reference, _ = self.team.robot_inputs(i, broadcast)
             self.robots.append(CaptureLoop(formulation.robot_problem(self.team, theta, reference),
                                            formulation.robot_step, backend))
         self.step_function = self.robots[0].step_function
@@ -60,7 +60,7 @@ class TeamLoop:
     def robot_loop(self, i: int) -> CaptureLoop:
         """Robot ``i``'s loop with its inputs written from the broadcast of ``plan`` (what a robot steps, or
         the C export writes)."""
-        theta, reference, _ = self.team.robot_inputs(i, self.team.broadcast(self.plan), self.plan)
+        theta, reference, _ = self.team.robot_inputs(i, self.team.broadcast(self.plan))
         loop = self.robots[i]
         loop.theta[:] = theta
         loop.reference.reshape(-1)[:] = reference
