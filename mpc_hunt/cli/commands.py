@@ -23,6 +23,7 @@ from mpc_hunt.solving.backends.hpipm import MODES as HPIPM_MODES
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
+from mpc_hunt.world.scenario import MAX_DEFENDERS
 from mpc_hunt.arguments import count, non_negative, positive_float, seed
 from mpc_hunt.cli.common import MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief, check_writable
 from mpc_hunt.errors import MpcHuntError
@@ -128,7 +129,8 @@ def build_parser() -> argparse.ArgumentParser:
                             "built at the state as the enclose controller's first step would (docs/formulations.md)")
 
     exp = sub.add_parser(
-        "export", help="write a stage-form capture step (rti, stage-sqp) as C sources for a robot's board",
+        "export", help="write a stage-form capture step (rti, stage-sqp, distributed) as C sources for a robot's "
+                       "board",
         description="Write, for the structure of the capture problem at a state (as `solve` poses it: --scenario, "
                     "--state, --horizon, --objective), the step of --formulation (linearisation, HPIPM, read-back; "
                     "stage-sqp repeats it to convergence) as C sources "
@@ -141,7 +143,10 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--horizon", type=count(MAX_HORIZON), default=10, metavar="N", help="default: 10")
     exp.add_argument("--objective", choices=OBJECTIVES, default="paper", help="default: paper")
     exp.add_argument("--formulation", default="rti", metavar="NAME",
-                     help="a stage-form step: rti (one QP a step, the default) or stage-sqp (QPs to convergence)")
+                     help="a stage-form step: rti (one QP a step, the default), stage-sqp (QPs to convergence) or "
+                          "distributed (one robot's own QP; with --objective enclose)")
+    exp.add_argument("--robot", type=count(MAX_DEFENDERS), default=1, metavar="I",
+                     help="distributed: the planned defender whose step to write, counted from 1 (default: 1)")
     exp.add_argument("--hpipm-mode", choices=HPIPM_MODES, default="robust",
                      help="HPIPM's mode: robust (the hpipm backend's, the default) or balance (Cholesky instead of "
                           "LQ factorisations: faster with a BLASFEO built for the board's CPU, `make BLASFEO=DIR`; "
@@ -396,8 +401,14 @@ def _export(args) -> int:
         raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
     with stop_at_once("export"):
         problem = posed_problem(scenario, _state(args, scenario), args.horizon, args.objective)
-        files = CaptureSolver(args.formulation, "hpipm", mode=args.hpipm_mode).export(args.output, problem)
-    print(f"wrote {len(files)} files for the structure ({problem.structure}) into {args.output}; build with "
+        if args.robot > problem.structure.planned:
+            raise MpcHuntError(f"--robot {args.robot}: {problem.structure.planned} defenders are planned at this "
+                               f"state (1 to {problem.structure.planned})")
+        files = CaptureSolver(args.formulation, "hpipm", mode=args.hpipm_mode).export(args.output, problem,
+                                                                                      robot=args.robot - 1)
+    structure = problem.structure if not registry.formulation_class(args.formulation).per_robot else \
+        f"robot {args.robot} of {problem.structure}"
+    print(f"wrote {len(files)} files for the structure ({structure}) into {args.output}; build with "
           f"make -C {shlex.quote(str(args.output))}, run with ./capture_step < input.txt")
     return 0
 

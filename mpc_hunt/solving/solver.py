@@ -151,8 +151,8 @@ class CaptureSolver:
         loop.load(problem)
         if isinstance(loop, TeamLoop):
             if not 0 <= robot < problem.structure.planned:
-                raise MpcHuntError(f"robot: a planned defender's index from 0 to {problem.structure.planned - 1}, "
-                                   f"got {robot}")
+                raise MpcHuntError(f"robot: {problem.structure.planned} defenders are planned (index 0 to "
+                                   f"{problem.structure.planned - 1}), not {robot}")
             loop = loop.robot_loop(robot)
         theta, reference = loop.theta.copy(), loop.reference.reshape(-1).copy()   # the step moves its reference
         if not loop.step().usable:

@@ -1,0 +1,357 @@
+"""How the capture step grows with the team: the centralised ``rti`` step beside the ``distributed`` one.
+
+For each team size N_d (:data:`SIZES`) the paper's second scenario with N_d
+defenders started evenly on a circle :data:`START_RADIUS` from the attacker,
+all at the paper's speed; the recommended controller (``enclose``, ``rti`` on
+``hpipm``, N = 10) hunts, and its consecutive states from the first in which a
+defender pushes the attacker (is within its perception radius) on are posed as
+the ``enclose`` capture problem (``posed_problem``). One run, side
+by side on one machine, the steps taking turns on each state:
+
+* **centralised**: ``CaptureSolver("rti", "hpipm-codegen").loop(problem)``, the
+  state loaded and one ``step()``: the team's QP, one call;
+* **distributed** (one Jacobi round): ``CaptureSolver("distributed",
+  "hpipm-codegen").loop(problem)`` (a :class:`~mpc_hunt.solving.team_loop.TeamLoop`):
+  the state loaded, the round's broadcast, and each robot's step (its inputs
+  from the broadcast, its QP on its own loop) timed apart, as each robot would
+  run it on its own board; *team*: load + broadcast + the slowest robot (the
+  robots in parallel);
+* **exported C**: one robot's step exported (``CaptureSolver.export``, built
+  with its Makefile at ``-O2`` against CasADi's HPIPM and BLASFEO), run on every
+  robot's inputs of every state: the median time of one robot's step in C;
+* **rounds**: what each Jacobi or Gauss–Seidel round buys: after k rounds from
+  the controller's warm start, the evaluator's objective of the team's plan
+  against the centralised ``stage-sqp`` plan (the ``rti`` QP iterated to
+  convergence: the team problem's local optimum), relative, and the largest
+  distance between the two plans; ``rti`` (one centralised QP) beside it.
+
+Each solver is warm-started from its own previous plan, shifted, as the
+controller does. Exponents: the least-squares slope of log(time) on log(N_d).
+
+    python studies/team_size.py [--out studies/team_size] [--sizes 3 6 …] [--states 20] [--reuse-states]
+    python studies/team_size.py --check     # the rounds table, rerun on the committed states
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import replace
+from pathlib import Path
+
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
+import numpy as np
+
+from mpc_hunt import CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
+from mpc_hunt.arguments import count
+from mpc_hunt.bench.machine import describe_machine, load_average
+from mpc_hunt.control.posing import posed_problem
+from mpc_hunt.control.strategy import applied_plan, warm_plan
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.world.hunt_state import HuntState
+from mpc_hunt.world.scenario import Defender
+
+from studies.study_check import check_result
+
+SCENARIO = "paper-obstacles"
+SIZES = (3, 6, 9, 12, 16, 20)
+START_RADIUS = 1.6          # m from the attacker: outside its perception radius, 20 robots 0.5 m apart
+STATES = 20
+HORIZON = 10
+MAX_SIZE, MAX_STATES = 40, 500
+ROUNDS = (1, 2, 3, 5, 10)
+ROUND_SIZES = (3, 6, 12)    # the rounds table's teams
+COMMAND = "python studies/team_size.py"
+GAP_TOL = 1e-6              # the check: the rounds table's gaps, relative (HPIPM's tolerance, with margin)
+
+
+def team_scenario(size: int):
+    """The paper's second scenario with ``size`` defenders evenly round the attacker at the paper's speed."""
+    base = builtin_scenario(SCENARIO)
+    a = np.asarray(base.attacker.start, dtype=float)
+    angles = 2 * np.pi * np.arange(size) / size
+    defenders = tuple(Defender((float(a[0] + START_RADIUS * np.cos(t)), float(a[1] + START_RADIUS * np.sin(t))),
+                               base.defenders[0].max_speed) for t in angles)
+    return replace(base, name=f"{SCENARIO}-{size}", defenders=defenders)
+
+
+def hunt_states(size: int, states: int) -> list[HuntState]:
+    """The recommended controller's states from the first in which a defender pushes the attacker (within its
+    perception radius) on, ``states`` of them (fewer if the hunt ends first)."""
+    scenario = team_scenario(size)
+    controller = make_controller("enclose", scenario, formulation="rti", backend="hpipm", horizon=HORIZON)
+    first = []
+
+    def until(obs) -> bool:
+        if not first and np.min(np.hypot(*(obs.defenders - obs.attacker).T)) < scenario.attacker.perception_radius:
+            first.append(obs.time)
+        return bool(first) and obs.time >= first[0] + (states - 0.5) * scenario.hunt.time_step
+
+    result = simulate(scenario, controller, until=until)
+    start = int(np.argmax(np.min(np.hypot(*(result.defenders - result.attacker[:, None]).transpose(2, 0, 1)), axis=1)
+                          < scenario.attacker.perception_radius))
+    return [HuntState(float(result.times[k]), result.attacker[k], result.defenders[k])
+            for k in range(start, min(start + states, len(result.times)))]
+
+
+def problems_of(size: int, states: list[HuntState]) -> list:
+    scenario = team_scenario(size)
+    return [posed_problem(scenario, s, HORIZON, "enclose") for s in states]
+
+
+def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
+    """The growth table's rows, and per size the robots' inputs and plans (for the exported C)."""
+    rows, robots = [], {}
+    for size, hunt in states.items():
+        problems = problems_of(size, hunt)
+        central = CaptureSolver("rti", "hpipm-codegen", score=False)
+        distributed = CaptureSolver("distributed", "hpipm-codegen", score=False)
+        c_loop, d_loop = central.loop(problems[0]), distributed.loop(problems[0])
+        applied = {"c": None, "d": None}
+        times = {k: [] for k in ("central", "robot", "team", "broadcast")}
+        inputs, plans, failed, unseen = [], [], 0, 0
+        for problem in problems:
+            warm = warm_plan(applied["c"], problem)
+            start = time.perf_counter()
+            c_loop.load(problem, warm)
+            status = c_loop.step()
+            times["central"].append(time.perf_counter() - start)
+            plan = problem.plan_with(c_loop.plan)
+            applied["c"] = (problem.signature, plan if status.usable else (warm if warm is not None
+                                                                           else problem.held_plan()))
+            warm = warm_plan(applied["d"], problem)
+            start = time.perf_counter()
+            d_loop.load(problem, warm)
+            loaded = time.perf_counter()
+            broadcast = d_loop.team.broadcast(d_loop.plan)
+            shared = time.perf_counter()
+            step_times, new = [], d_loop.plan.copy()
+            for i, loop in enumerate(d_loop.robots):
+                t0 = time.perf_counter()
+                theta, reference, seen = d_loop.team.robot_inputs(i, broadcast)
+                loop.theta[:] = theta
+                loop.reference.reshape(-1)[:] = reference
+                robot_status = loop.step()
+                step_times.append(time.perf_counter() - t0)
+                unseen = max(unseen, seen)
+                inputs.append(np.concatenate([theta, reference]))
+                plans.append(loop.plan.reshape(-1).copy())
+                if robot_status.usable:
+                    new[:, i] = loop.plan[:, 0]
+                else:
+                    failed += 1
+            times["robot"] += step_times
+            times["broadcast"].append(shared - loaded)
+            times["team"].append(shared - start + max(step_times))
+            applied["d"] = (problem.signature, problem.plan_with(new.reshape(-1)))
+        first = len(d_loop.robots)            # the first state, which builds, excluded
+        row = {"size": size, "states": len(problems), "central_ms": _median(times["central"][1:]),
+               "robot_ms": _median(times["robot"][first:]),
+               "broadcast_ms": _median(times["broadcast"][1:]), "team_ms": _median(times["team"][1:]),
+               "failed_robot_qps": failed, "unseen_neighbours": unseen,
+               "neighbour_slots": d_loop.team.robot.fixed}
+        rows.append(row)
+        robots[size] = (problems[0], inputs, plans)
+        print(f"N_d = {size}: centralised {row['central_ms']:.3f} ms; a robot {row['robot_ms']:.3f} ms "
+              f"team {row['team_ms']:.3f} ms", file=sys.stderr, flush=True)
+    return rows, robots
+
+
+def _median(values: list[float]) -> float:
+    return float(np.median(values)) * 1e3
+
+
+def exported(robots: dict) -> list[dict] | None:
+    """One robot's step in C per size: its median time on every robot's inputs, and the plans' difference."""
+    if shutil.which("make") is None or shutil.which("gcc") is None:
+        return None
+    rows = []
+    for size, (problem, inputs, plans) in robots.items():
+        with tempfile.TemporaryDirectory() as folder:
+            CaptureSolver("distributed", "hpipm-codegen").export(Path(folder), problem, robot=0)
+            subprocess.run(["make", "-s", "-B", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True,
+                           timeout=1800)
+            text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
+            run = subprocess.run([f"{folder}/capture_step", "--time"], capture_output=True, text=True, timeout=600,
+                                 input=text)
+        times = [float(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("time_us")]
+        out = np.array(run.stdout.split(), dtype=float)
+        rows.append({"size": size, "robot_c_ms": float(np.median(times[1:])) / 1e3, "exit": run.returncode,
+                     "max_plan_difference_m": float(np.max(np.abs(out - np.concatenate(plans))))})
+        print(f"N_d = {size}: a robot's step in C {rows[-1]['robot_c_ms']:.3f} ms", file=sys.stderr, flush=True)
+    return rows
+
+
+def rounds_table(states: dict[int, list[HuntState]]) -> list[dict]:
+    """Per size of :data:`ROUND_SIZES`, scheme and k of :data:`ROUNDS`: the gap to the centralised optimum."""
+    rows = []
+    for size in [s for s in ROUND_SIZES if s in states]:
+        problems = problems_of(size, states[size])
+        optimum = _closed_loop(CaptureSolver("stage-sqp", "hpipm"), problems)
+        solvers = {("rti", 1): CaptureSolver("rti", "hpipm")}
+        for scheme in ("jacobi", "gauss-seidel"):
+            for k in ROUNDS:
+                solvers[(scheme, k)] = CaptureSolver("distributed", "hpipm",
+                                                     formulation_options={"rounds": k, "scheme": scheme})
+        for (scheme, k), solver in solvers.items():
+            gaps, distances, failed = [], [], 0
+            for problem, warm, best in zip(problems, *optimum):
+                solution = solver.solve(problem, warm)
+                failed += not solution.success
+                plan = applied_plan(problem, solution, warm)[0]
+                gaps.append((evaluate(problem, plan).objective - best[1]) / abs(best[1]))
+                distances.append(float(np.max(np.abs(plan - best[0]))))
+            rows.append({"size": size, "scheme": scheme, "rounds": k, "median_gap": float(np.median(gaps)),
+                         "max_gap": float(np.max(gaps)), "max_distance_m": float(np.max(distances)),
+                         "failed": failed})
+            print(f"N_d = {size} {scheme} {k}: gap median {rows[-1]['median_gap']:.2e}", file=sys.stderr,
+                  flush=True)
+    return rows
+
+
+def _closed_loop(solver: CaptureSolver, problems: list) -> tuple[list, list]:
+    """The warm starts ``solver``'s own closed loop hands each state, and (its plan, objective) there."""
+    applied, warms, best = None, [], []
+    for problem in problems:
+        warm = warm_plan(applied, problem)
+        solution = solver.solve(problem, warm)
+        plan = applied_plan(problem, solution, warm)[0]
+        applied = (problem.signature, plan)
+        warms.append(warm)
+        best.append((plan, evaluate(problem, plan).objective))
+    return warms, best
+
+
+def exponent(sizes: list[int], values: list[float]) -> float:
+    return float(np.polyfit(np.log(sizes), np.log(values), 1)[0])
+
+
+def readme(results: dict) -> str:
+    m, rows = results["machine"], results["growth"]
+    sizes = [r["size"] for r in rows]
+    lines = ["# How the capture step grows with the team", "",
+             f"Regenerate with `{COMMAND}`. Measured in one run on {m['cpu']} ({m['cores']} cores, shared: load "
+             f"average {results['load_before'][0]:.1f} before, {results['load_after'][0]:.1f} after), {m['system']}, "
+             f"Python {m['python']}, CasADi {m['packages']['casadi']}. The steps took turns on each state; absolute times drift "
+             "on a shared machine, the ratios are from the same run.", "",
+             f"States: the paper's second scenario with N_d defenders started evenly {START_RADIUS} m from the "
+             f"attacker, hunted by the recommended controller (`enclose`, `rti`/`hpipm`, N = {HORIZON}); "
+             f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker (within its "
+             "perception radius), posed as the `enclose` problem. "
+             "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "
+             "and its step on its loop (`TeamLoop.robots[i]`); *team*: the "
+             "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
+             "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
+             "`step()`.", "",
+             "| N_d | centralised (ms) | a robot (ms) | broadcast (ms) | team (ms) | "
+             "centralised / team | neighbour slots | unseen neighbours | failed robot QPs |",
+             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    for r in rows:
+        lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['robot_ms']:.3f} | "
+                     f"{r['broadcast_ms']:.3f} | {r['team_ms']:.3f} | {r['central_ms'] / r['team_ms']:.1f} | "
+                     f"{r['neighbour_slots']} | {r['unseen_neighbours']} | {r['failed_robot_qps']} |")
+    lines += ["", "Exponents b of time ∝ N_d^b over N_d = " + ", ".join(map(str, sizes)) + ": centralised "
+              f"{exponent(sizes, [r['central_ms'] for r in rows]):.2f}; a robot "
+              f"{exponent(sizes, [r['robot_ms'] for r in rows]):.2f}; team "
+              f"{exponent(sizes, [r['team_ms'] for r in rows]):.2f}.", ""]
+    c = results["exported"]
+    if c is None:
+        lines += ["A robot's exported step was not measured: no `make` or `gcc` here.", ""]
+    else:
+        lines += ["**A robot's step exported as C** (`CaptureSolver(\"distributed\", \"hpipm-codegen\").export(folder, "
+                  "problem, robot=0)`, built with its Makefile at `-O2` against CasADi's HPIPM and BLASFEO, the "
+                  "wheel's generic build), run on every robot's inputs of every state: median time of one robot's "
+                  "step in pure C, and the largest difference from Python's plans.", "",
+                  "| N_d | a robot's step in C (ms) | plans within (m) | exit |", "| ---: | ---: | ---: | ---: |"]
+        lines += [f"| {r['size']} | {r['robot_c_ms']:.3f} | {r['max_plan_difference_m']:.1e} | {r['exit']} |"
+                  for r in c]
+        lines += ["", f"Exponent of a robot's C step: {exponent([r['size'] for r in c], [r['robot_c_ms'] for r in c]):.2f}.",
+                  ""]
+    lines += ["## What each round buys", "",
+              "From the controller's warm start, each step's plan after k rounds, against the centralised "
+              "`stage-sqp` plan (the team's `rti` QP iterated to convergence, in its own closed loop: the team "
+              "problem's local optimum): the evaluator's objective, relative gap (negative: lower than the "
+              "optimum's, which the linearised steps can reach where their plans break no constraint the "
+              "evaluator scores), and the largest distance between the plans. `rti`: one centralised QP. Each "
+              "on `hpipm`, on the same states.", "",
+              "| N_d | scheme | rounds | median gap | largest gap | largest distance (m) | failed |",
+              "| ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
+    lines += [f"| {r['size']} | {r['scheme']} | {r['rounds']} | {r['median_gap']:.2e} | {r['max_gap']:.2e} | "
+              f"{r['max_distance_m']:.1e} | {r['failed']} |" for r in results["rounds"]]
+    return "\n".join(lines) + "\n"
+
+
+def save_states(path: Path, states: dict[int, list[HuntState]]) -> None:
+    path.write_text(json.dumps({str(n): [s.to_dict() for s in hunt] for n, hunt in states.items()}) + "\n",
+                    encoding="utf-8")
+
+
+def load_states(path: Path) -> dict[int, list[HuntState]]:
+    data = json.loads(path.read_text(encoding="utf-8"))
+    return {int(n): [HuntState(s["time"], np.array(s["attacker"]), np.array(s["defenders"])) for s in hunt]
+            for n, hunt in data.items()}
+
+
+def check(out: Path) -> int:
+    """The committed rounds table, rerun on the committed states (deterministic, machine-independent: HPIPM on
+    the wheel's BLASFEO); the timings are the run's, not checked."""
+    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    states = load_states(out / "states.json")
+    errors = []
+    fresh = rounds_table(states)
+    for old, new in zip(committed["rounds"], fresh):
+        for key in ("median_gap", "max_gap"):
+            if not math.isclose(old[key], new[key], rel_tol=GAP_TOL, abs_tol=GAP_TOL):
+                errors.append(f"rounds N_d = {old['size']} {old['scheme']} {old['rounds']}: {key} {old[key]:.6e} "
+                              f"committed, {new[key]:.6e} now")
+    if len(fresh) != len(committed["rounds"]):
+        errors.append(f"rounds: {len(committed['rounds'])} rows committed, {len(fresh)} now")
+    if readme(committed) != (out / "README.md").read_text(encoding="utf-8"):
+        errors.append("README.md is not what results.json renders")
+    return check_result(errors, "team_size", COMMAND)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "team_size")
+    parser.add_argument("--sizes", type=count(MAX_SIZE), nargs="+", default=list(SIZES))
+    parser.add_argument("--states", type=count(MAX_STATES), default=STATES)
+    parser.add_argument("--reuse-states", action="store_true", help="the states in OUT/states.json")
+    parser.add_argument("--check", action="store_true")
+    args = parser.parse_args(argv)
+    with stop_at_once("team_size"):             # Ctrl-C: nothing written, the committed files kept
+        try:
+            if args.check:
+                return check(args.out)
+            if args.reuse_states:
+                states = load_states(args.out / "states.json")
+            else:
+                states = {n: hunt_states(n, args.states) for n in args.sizes}
+            before = load_average()
+            growth, robots = timed_sizes(states)
+            c = exported(robots)
+            results = {"machine": describe_machine(), "load_before": before, "growth": growth, "exported": c,
+                       "rounds": rounds_table(states)}
+            results["load_after"] = load_average()
+        except MpcHuntError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+    args.out.mkdir(parents=True, exist_ok=True)
+    save_states(args.out / "states.json", states)
+    (args.out / "results.json").write_text(json.dumps(results, indent=1) + "\n", encoding="utf-8")
+    (args.out / "README.md").write_text(readme(results), encoding="utf-8")
+    print(readme(results))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
