@@ -11,7 +11,9 @@ others do enters through the round's broadcast (:mod:`formulations.team_push`):
 - the others' plans, fixed: a separation row to the midpoint between its plan
   and each of its ``NEIGHBOURS`` nearest team-mates' at each step,
   |p_di − m_ij| ≥ d_min / 2 (two robots that keep theirs stay d_min apart even
-  when both move in the same round). A row to a team-mate farther than
+  when both move in the same round; so a row its reference breaks is relaxed to
+  the reference's value, never to where the robot stands, :mod:`formulations.rti`).
+  A row to a team-mate farther than
   d_min + 2ρ at the reference (ρ = the trust region's diagonal, 2√2 r_d) can
   never bind, as the robot stays within ρ of its reference; those nearer than
   that beyond the slots are counted (``unseen_neighbours``), not modelled.

@@ -62,6 +62,11 @@ class LinearisedStages:
         S_x = st.S_x(stage(1))
         exact = ca.vertcat(stage(0)[:-1], 0)
         relaxable = ca.DM([f in RELAXABLE for f in st.families])
+        # A robot planning apart (``distributed``) relaxes its separation rows to its reference's values, not the
+        # held plan's: its team-mates keep theirs to the same midpoints from their references, so where it stands
+        # may be where one of them plans to go; a round's references are d_min apart whenever the last plans were,
+        # and the rows then hold unrelaxed.
+        from_reference = ca.DM([f == "separation" for f in st.families])
         nz = (N + 1) * nx + N * nu
         x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []
         constant = 0                                                   # |ε|² at the reference
@@ -87,6 +92,8 @@ class LinearisedStages:
                 # Path rows c + C ξ ≥ 0, those the held plan breaks relaxed to its values (as nlp): their inner
                 # approximation then keeps each true distance at least as large as holding would.
                 at_held = st.state(held[k], stage(k))[2]
+                if structure.robot:
+                    at_held = ca.if_else(from_reference, c, at_held)
                 c_rows.append(_place(C, col, nz))
                 c_lower.append(ca.if_else(relaxable, ca.fmin(at_held, 0), 0) - c)
                 c_upper.append(ca.DM.inf(c.shape[0]))
