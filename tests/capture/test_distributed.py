@@ -107,7 +107,7 @@ def test_the_loop_gives_the_formulations_own_plans_to_the_bit(backend, options):
                    {k: b.extras[k] for k in ("qps", "rounds", "unseen_neighbours")}
             assert a.extras["qps"] == problem.structure.planned * options.get("rounds", 1)
             assert np.abs(a.plan - problem.held_plan()).max() > 5e-3                       # the robots moved
-            pushes = DistributedFormulation().team(problem).broadcast(a.x.reshape(HORIZON, -1, 2))[1]
+            pushes = DistributedFormulation().team(problem).broadcast(a.x.reshape(HORIZON, -1, 2)).pushes
             assert np.abs(pushes).max() > 0.1
             warm = shift_plan(b.plan)
             problem = _problem(problem.scenario, b.plan[0], TEAM_PLACES, active=problem.controlled,
@@ -174,7 +174,8 @@ def test_the_broadcast_is_the_attackers_model_and_each_robot_rolls_it_out(polar,
     plans = (problem.x_from_plan(problem.held_plan()).reshape(N, -1, 2)
              + 0.008 * np.cumsum(np.reshape(moves[:N * s.planned * 2], (N, s.planned, 2)), axis=0))
     team = DistributedFormulation().team(problem)
-    path, pushes, jacobians = team.broadcast(plans)
+    broadcast = team.broadcast(plans)
+    path, pushes, jacobians = broadcast.path, broadcast.pushes, broadcast.jacobians
     positions = np.concatenate([problem.defender_positions[None], problem.plan_with(plans.reshape(-1))[:-1]])
     order = np.concatenate([np.flatnonzero(problem.controlled), np.flatnonzero(~problem.controlled)])
     np.testing.assert_array_equal(path[0], problem.attacker_position)
@@ -200,7 +201,7 @@ def test_the_broadcast_is_the_attackers_model_and_each_robot_rolls_it_out(polar,
             numeric = np.column_stack([(push(path[k] + e) - push(path[k] - e)) / (2 * h) for e in h * np.eye(2)])
             np.testing.assert_allclose(jacobians[k, slot].reshape(2, 2, order="F"), numeric, rtol=1e-5, atol=1e-6)
     for i in range(s.planned):
-        theta_i, reference, _ = team.robot_inputs(i, (path, pushes, jacobians), plans)
+        theta_i, reference, _ = team.robot_inputs(i, broadcast)
         np.testing.assert_array_equal(reference, plans[:, i].ravel())
         start = np.concatenate([problem.attacker_position, positions[0][order[i]]])
         rolled = _rolled_out(theta_i, reference, team.robot, start)
@@ -238,8 +239,8 @@ def _rows_to_the_reference(monkeypatch):
     the midpoints): its θ's slots moved from the midpoint to the team-mate's reference, its d_min doubled."""
     midpoint_inputs = distributed.Team.robot_inputs
 
-    def robot_inputs(team, i, broadcast, plans):
-        theta, reference, unseen = midpoint_inputs(team, i, broadcast, plans)
+    def robot_inputs(team, i, broadcast):
+        theta, reference, unseen = midpoint_inputs(team, i, broadcast)
         robot, N = team.robot, team.robot.horizon
         parts = unpack(theta, robot)                                   # views into θ
         offset = reference_size(1)
@@ -370,7 +371,7 @@ def test_a_robots_exported_step_prints_its_plan_of_the_teams_first_round(tmp_pat
     assert plan.shape == expected.shape
     np.testing.assert_allclose(plan, expected, rtol=0, atol=1e-9)
     for robot in (-1, 4):
-        with pytest.raises(MpcHuntError, match=f"robot: .*from 0 to 3, got {robot}"):
+        with pytest.raises(MpcHuntError, match=f"robot: 4 defenders are planned \\(index 0 to 3\\), not {robot}"):
             solver.export(tmp_path / "bad", problem, robot=robot)
 
 
