@@ -1,0 +1,264 @@
+"""The distributed capture stage beside the centralised one on random hunts, against every attacker, and in teams.
+
+Two sweeps of the sweep machinery (``mpc_hunt.sweep.runner``), each into its own file in
+``studies/team_sweep/`` (resumed if it exists, so an interrupted run continues):
+
+* ``attackers.db``: the first ``--hunts`` hunts of the sweep ``--seed`` (default ranges, docs/robustness.md),
+  each run by the recommended controller (``enclose``, ``rti`` on ``hpipm``, N = 10) and by the same
+  controller with its capture stage distributed (``distributed``: one QP per robot, one Jacobi round a step),
+  against every attacker behaviour (docs/model.md, E13), exact belief;
+* ``teams.db``: the first ``--team-hunts`` hunts of the same seed with 6 to 12 defenders (``n_defenders`` =
+  [6, 12]), the paper's attacker, both controllers: how long their solves take in teams (a distributed step
+  is here every robot's QP one after another in one process; on the robots, the slowest robot's).
+
+Then writes ``studies/team_sweep/`` (README.md, summary.json with the machine).
+
+    python studies/team_sweep.py                 # run (or resume), then write the report
+    python studies/team_sweep.py --hunts 300     # the draws of the sweep `mpc-hunt sweep --hunts 300 --seed 4`
+    python studies/team_sweep.py --check         # the committed report is the files' summary for the code's
+                                                 # strategies and ranges; the distributed stage's quickest capture
+                                                 # per attacker still captures
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sqlite3
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
+from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
+from mpc_hunt.sweep.runner import Hunt, Strategy, run_hunt, run_local
+from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.summary import summarise, table
+from mpc_hunt.world.behaviours import BEHAVIOURS
+
+from studies.study_check import check_result
+
+OUT = Path(__file__).resolve().parent / "team_sweep"
+COMMAND = "python studies/team_sweep.py"
+HUNTS, TEAM_HUNTS, SEED = 100, 20, 4
+MAX_HUNTS = 1000
+CENTRAL, DISTRIBUTED = "enclose:rti:hpipm:10", "enclose:distributed:hpipm:10"
+STRATEGIES = (CENTRAL, DISTRIBUTED)
+TEAM_ATTACKER = "apf"
+TEAMS = (6, 12)               # n_defenders of the teams' sweep
+
+
+def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list[Hunt]]]:
+    """Per file: its arguments and every hunt of it."""
+    default = ranges_to_dict(ScenarioRanges())
+    teams = ranges_to_dict(replace(ScenarioRanges(), n_defenders=TEAMS))
+    labels = [Strategy.parse(s).label for s in STRATEGIES]
+    return {
+        "attackers.db": ({"strategies": labels, "attackers": list(BEHAVIOURS), "hunts": hunts, "seed": seed,
+                          "ranges": default},
+                         [Hunt(s, seed, i, default, attacker=a) for i in range(hunts) for s in STRATEGIES
+                          for a in BEHAVIOURS]),
+        "teams.db": ({"strategies": labels, "attackers": [TEAM_ATTACKER], "hunts": team_hunts, "seed": seed,
+                      "ranges": teams},
+                     [Hunt(s, seed, i, teams, attacker=TEAM_ATTACKER) for i in range(team_hunts) for s in STRATEGIES]),
+    }
+
+
+def _key(hunt: Hunt) -> tuple:
+    return hunt.strategy, hunt.attacker, hunt.belief, hunt.seed, hunt.index
+
+
+def run(folder: Path, hunts: int, team_hunts: int, seed: int) -> None:
+    for name, (arguments, hunts_of) in sweeps(hunts, team_hunts, seed).items():
+        db = folder / name
+        store = SweepStore(db, arguments, resume=db.exists())
+        try:
+            done = store.done()
+            work = [h for h in hunts_of if _key(h) not in done]
+            print(f"{name}: {len(work)} hunts to run", file=sys.stderr)
+            for finished, row in enumerate(run_local(work), 1):
+                store.add(row)
+                if finished % 20 == 0:
+                    print(f"{name}: {finished} / {len(work)}", file=sys.stderr, flush=True)
+        finally:
+            store.close()
+        with sqlite3.connect(db) as conn:      # one self-contained file to commit, not a write-ahead log
+            conn.execute("pragma journal_mode=delete")
+
+
+def _rows(db: Path) -> list[dict]:
+    store = SweepStore(db)
+    try:
+        return store.rows()
+    finally:
+        store.close()
+
+
+def _cell(s: dict, kind: str) -> str:
+    key = "success_rate" if kind == "all" else f"success_rate_{kind}"
+    total = {"all": s["hunts"] - s["uncapturable_by_definition"], "comfortable": s["comfortable"],
+             "reachable": s["hunts"] - s["unreachable"] - s["uncapturable_by_definition"]}[kind]
+    rate, (lo, hi) = s[key], s[f"{key}_ci95"]
+    won = round(rate * total) if rate is not None else 0
+    return f"{won} / {total}" + ("" if rate is None else f" ({100 * lo:.0f}–{100 * hi:.0f} %)")
+
+
+def within(summaries: list[dict], kind: str = "all") -> dict[str, bool]:
+    """Per attacker: whether the distributed stage's capture rate lies in the centralised one's 95 % interval."""
+    key = "success_rate" if kind == "all" else f"success_rate_{kind}"
+    by = {(s["strategy"], s["attacker"]): s for s in summaries}
+    out = {}
+    for a in dict.fromkeys(s["attacker"] for s in summaries):
+        central, mine = by.get((CENTRAL, a)), by.get((DISTRIBUTED, a))
+        if central and mine and central[key] is not None and mine[key] is not None:
+            lo, hi = central[f"{key}_ci95"]
+            out[a] = lo <= mine[key] <= hi
+    return out
+
+
+def headline(attackers: list[dict], teams: list[dict]) -> list[str]:
+    lines = []
+    for kind in ("all", "comfortable"):
+        inside = within(attackers, kind)
+        by = {(s["strategy"], s["attacker"]): s for s in attackers}
+        lines += [f"Captured / {'' if kind == 'all' else 'comfortable '}hunts (95 % interval), exact belief; "
+                  "*inside*: the distributed rate within the centralised one's interval:", "",
+                  f"| attacker | `{CENTRAL}` | `{DISTRIBUTED}` | inside |", "| --- | ---: | ---: | --- |"]
+        lines += [f"| {a} | {_cell(by[(CENTRAL, a)], kind)} | {_cell(by[(DISTRIBUTED, a)], kind)} | "
+                  f"{ {True: 'yes', False: 'no', None: '–'}[inside.get(a)]} |" for a in BEHAVIOURS
+                  if (CENTRAL, a) in by and (DISTRIBUTED, a) in by]
+        lines.append("")
+    lines += ["Safety over every hunt of both sweeps (obstacle collisions, defender contacts, arena exits; the "
+              "least obstacle clearance and defender separation):", "",
+              "| sweep | strategy | collisions and contacts | arena exits | least clearance (m) | least separation (m) |",
+              "| --- | --- | ---: | ---: | ---: | ---: |"]
+    for sweep, summaries in (("attackers", attackers), ("teams", teams)):
+        for strategy in STRATEGIES:
+            mine = [s for s in summaries if s["strategy"] == strategy]
+            clear = [s["min_obstacle_clearance_m"] for s in mine if s["min_obstacle_clearance_m"] is not None]
+            apart = [s["min_defender_separation_m"] for s in mine if s["min_defender_separation_m"] is not None]
+            lines.append(f"| {sweep} | `{strategy}` | {sum(s['collisions'] for s in mine)} | "
+                         f"{sum(s['failures'].get('outside_arena', 0) for s in mine)} | "
+                         f"{min(clear, default=float('nan')):.3f} | {min(apart, default=float('nan')):.3f} |")
+    lines += ["", f"Teams of {TEAMS[0]} to {TEAMS[1]} defenders ({TEAM_ATTACKER} attacker): the solve times per "
+              "control step (the distributed stage's: every robot's QP one after another here):", "",
+              "| strategy | captured / hunts | median of the hunts' median solve (ms) | largest solve (ms) | "
+              "solves over the time step |", "| --- | ---: | ---: | ---: | ---: |"]
+    for s in teams:
+        over = s["over_time_step_share"]
+        lines.append(f"| `{s['strategy']}` | {_cell(s, 'all')} | {1e3 * (s['solve_time_p50_median_s'] or 0):.2f} | "
+                     f"{1e3 * (s['solve_time_max_s'] or 0):.1f} | "
+                     f"{'–' if over is None else f'{100 * over:.2f} %'} |")
+    return lines + [""]
+
+
+def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: dict) -> str:
+    return "\n".join([
+        "# The distributed capture stage on random hunts", "",
+        f"Regenerate with `{COMMAND} --hunts {arguments['attackers.db']['hunts']} --team-hunts "
+        f"{arguments['teams.db']['hunts']}`. The first {arguments['attackers.db']['hunts']} hunts of the sweep with "
+        f"seed {arguments['attackers.db']['seed']} (default ranges, docs/robustness.md), each run by the "
+        f"recommended controller (`{CENTRAL}`) and by the same controller with its capture stage distributed "
+        f"(`{DISTRIBUTED}`: one QP per robot, one Jacobi round a step, docs/formulations.md) against every attacker "
+        f"behaviour, exact belief; and the first {arguments['teams.db']['hunts']} hunts of the same seed with "
+        f"{TEAMS[0]} to {TEAMS[1]} defenders. One row per hunt in `attackers.db` and `teams.db` "
+        "(`mpc-hunt sweep-report studies/team_sweep/attackers.db` recomputes a table).", "",
+        *headline(attackers, teams), "## Every summary", "", "Attackers:", "", table(attackers), "",
+        "Teams:", "", table(teams), "", "## Machine", "", *machine_lines(machine), ""])
+
+
+def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -> None:
+    plan = sweeps(hunts, team_hunts, seed)
+    summaries = {name: summarise(_rows(folder / name)) for name in plan}
+    arguments = {name: args for name, (args, _) in plan.items()}
+    (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments,
+                                                     "summaries": summaries}, indent=1) + "\n", encoding="utf-8")
+    (folder / "README.md").write_text(report(summaries["attackers.db"], summaries["teams.db"], machine, arguments),
+                                      encoding="utf-8")
+
+
+def check(folder: Path) -> list[str]:
+    committed = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    a, t = committed["arguments"]["attackers.db"], committed["arguments"]["teams.db"]
+    plan = sweeps(a["hunts"], t["hunts"], a["seed"])
+    errors = []
+    for name, (arguments, hunts_of) in plan.items():
+        if committed["arguments"][name] != json.loads(json.dumps(arguments)):
+            errors.append(f"summary.json: the strategies, attackers or ranges of {name} are not the study's")
+            continue
+        rows = _rows(folder / name)
+        if json.loads(json.dumps(summarise(rows))) != committed["summaries"][name]:
+            errors.append(f"summary.json: not the summary of {name}")
+        done = {(r["strategy"], r["attacker"], r["belief"], r["seed"], r["index"]) for r in rows}
+        missing = [h for h in hunts_of if _key(h) not in done]
+        if missing:
+            errors.append(f"{name}: {len(missing)} hunts of the study are missing (resume it)")
+    if (folder / "README.md").read_text(encoding="utf-8") != report(
+            committed["summaries"]["attackers.db"], committed["summaries"]["teams.db"], committed["machine"],
+            committed["arguments"]):
+        errors.append("README.md: not what summary.json renders")
+    if errors:
+        return errors
+    for row in quickest_captures(_rows(folder / "attackers.db")):
+        new = run_hunt(Hunt(row["strategy"], a["seed"], row["index"], a["ranges"], attacker=row["attacker"]))
+        if new["outcome"] != "captured":
+            errors.append(f"{row['strategy']} against {row['attacker']}, hunt {row['index']}: captured at "
+                          f"{row['capture_time_s']:.1f} s in attackers.db, now {new['outcome']} ({new['cause']})")
+    return errors
+
+
+def quickest_captures(rows: list[dict]) -> list[dict]:
+    """Per attacker, the distributed stage's quickest capture: the hunts --check reruns (the quickest is the
+    farthest from the time limit, so a last-bit difference moves its time, not its outcome)."""
+    out = []
+    for attacker in BEHAVIOURS:
+        won = [r for r in rows if (r["strategy"], r["attacker"], r["outcome"]) == (DISTRIBUTED, attacker, "captured")]
+        if won:
+            out.append(min(won, key=lambda r: (r["capture_time_s"], r["index"])))
+    return out
+
+
+def hunts_count(text: str) -> int:
+    value = int(text) if text.isdigit() else 0
+    if not 1 <= value <= MAX_HUNTS:
+        raise argparse.ArgumentTypeError(f"expected a whole number from 1 to {MAX_HUNTS}, got {text!r}")
+    return value
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--hunts", type=hunts_count, default=HUNTS, help=f"hunts per attacker (default {HUNTS})")
+    parser.add_argument("--team-hunts", type=hunts_count, default=TEAM_HUNTS,
+                        help=f"hunts with {TEAMS[0]}–{TEAMS[1]} defenders (default {TEAM_HUNTS})")
+    parser.add_argument("--seed", type=int, default=SEED, help=f"the sweep's seed (default {SEED})")
+    parser.add_argument("--output", type=Path, default=OUT, help="the folder to write (default studies/team_sweep)")
+    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    args = parser.parse_args(argv)
+    if args.check:
+        with stop_at_once("team sweep study"):
+            return check_result(check(args.output), "studies/team_sweep", COMMAND)
+    if not 0 <= args.seed < 2**63:
+        parser.error(f"--seed: expected a whole number from 0 to 2**63 - 1, got {args.seed}")
+    args.output.mkdir(parents=True, exist_ok=True)
+    machine = describe_machine()
+    try:
+        run(args.output, args.hunts, args.team_hunts, args.seed)
+    except KeyboardInterrupt:
+        print(f"interrupted: finished hunts are in {args.output}; rerun to continue", file=sys.stderr)
+        return 130
+    except MpcHuntError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    machine["load_average_end"] = load_average()
+    write(args.output, machine, args.hunts, args.team_hunts, args.seed)
+    print(f"wrote {args.output / 'README.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
