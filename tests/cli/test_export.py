@@ -76,3 +76,34 @@ def test_an_output_that_is_a_file_is_one_line(tmp_path, capsys):
     assert main(["export", "--output", str(tmp_path / "taken")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "not a folder" in err
+
+
+@pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
+def test_one_robots_distributed_step_prints_pythons_plan(tmp_path, capsys):
+    """--robot picks whose step; its C prints the plan Python's robot loop gave from the same inputs."""
+    folders = {}
+    for robot in ("1", "3"):
+        folders[robot] = tmp_path / f"robot{robot}"
+        assert main(["export", "--scenario", "paper-obstacles", "--horizon", "3", "--formulation", "distributed",
+                     "--objective", "enclose", "--robot", robot, "--output", str(folders[robot])]) == 0
+        assert f"robot {robot} of " in capsys.readouterr().out
+    inputs = {r: np.loadtxt(f / "input.txt") for r, f in folders.items()}
+    assert inputs["1"].shape == inputs["3"].shape and not np.array_equal(inputs["1"], inputs["3"])
+    folder = folders["3"]
+    subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O1"], check=True, capture_output=True, timeout=300)
+    with open(folder / "input.txt") as stdin:
+        run = subprocess.run([str(folder / "capture_step")], stdin=stdin, capture_output=True, text=True,
+                             timeout=60)
+    assert run.returncode == 0, run.stderr
+    np.testing.assert_allclose(np.array(run.stdout.split(), dtype=float), np.loadtxt(folder / "expected.txt"),
+                               rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--robot", "4"], "--robot 4: 3 defenders are planned at this state (1 to 3)"),
+    (["--objective", "paper"], "formulation distributed poses the enclose objective, not 'paper'")])
+def test_a_robot_that_is_not_there_or_the_papers_objective_is_one_line(tmp_path, capsys, arguments, message):
+    command = ["export", "--formulation", "distributed", "--objective", "enclose", "--output", str(tmp_path / "x")]
+    assert main(command + arguments) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and not (tmp_path / "x").exists()
