@@ -434,7 +434,10 @@ def _scenarios(args) -> int:
 def _backends(args) -> int:
     for f in registry.FORMULATIONS:
         cls = registry.formulation_class(f)
-        print(f"formulation {f} (emits {cls.kind}; default backend {cls.default_backend}): "
+        notes = "; one QP per robot" if cls.per_robot else ""
+        if set(cls.objectives) != set(OBJECTIVES):
+            notes += f"; objective {' or '.join(cls.objectives)} only"
+        print(f"formulation {f} (emits {cls.kind}; default backend {cls.default_backend}{notes}): "
               f"{', '.join(registry.compatible_backends(f))}")
     for b in registry.BACKENDS:
         cls = registry.backend_class(b)
