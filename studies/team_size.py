@@ -48,14 +48,18 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
+import casadi as ca
 import numpy as np
 
+from formulations.rti import linearised_stages
 from mpc_hunt import CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
 from mpc_hunt.arguments import count
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.solving.backends.conic_step import QP_KEYS
+from mpc_hunt.solving.backends.hpipm import HpipmBackend
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Defender
@@ -63,6 +67,7 @@ from mpc_hunt.world.scenario import Defender
 from studies.study_check import check_result
 
 SCENARIO = "paper-obstacles"
+REPEATS = 3                 # HPIPM alone: the fastest of this many solves of each QP (the least disturbed)
 SIZES = (3, 6, 9, 12, 16, 20)
 START_RADIUS = 1.6          # m from the attacker: outside its perception radius, 20 robots 0.5 m apart
 STATES = 20
@@ -108,6 +113,27 @@ def problems_of(size: int, states: list[HuntState]) -> list:
     return [posed_problem(scenario, s, HORIZON, "enclose") for s in states]
 
 
+class HpipmAlone:
+    """HPIPM alone on a step's own QP: the stage QP linearised apart (``rti``'s graph for ``structure``) and
+    solved by CasADi's ``hpipm`` plugin with the backend's options; the fastest of :data:`REPEATS` solves."""
+
+    def __init__(self, structure):
+        graph = linearised_stages(structure)
+        qp = [graph.qp[key] for key in QP_KEYS]
+        self.linearise = ca.Function("linearise", graph.inputs, qp)
+        self.hpipm = ca.conic("capture", "hpipm", {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
+                              {"error_on_fail": False, **HpipmBackend().conic_options(graph)})
+
+    def time(self, theta: np.ndarray, reference: np.ndarray) -> float:
+        data = dict(zip(QP_KEYS, self.linearise(theta, reference)))
+        best = math.inf
+        for _ in range(REPEATS):
+            start = time.perf_counter()
+            self.hpipm(**data)
+            best = min(best, time.perf_counter() - start)
+        return best
+
+
 def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
     """The growth table's rows, and per size the robots' inputs and plans (for the exported C)."""
     rows, robots = [], {}
@@ -117,7 +143,8 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
         distributed = CaptureSolver("distributed", "hpipm-codegen", score=False)
         c_loop, d_loop = central.loop(problems[0]), distributed.loop(problems[0])
         applied = {"c": None, "d": None}
-        times = {k: [] for k in ("central", "robot", "team", "broadcast")}
+        alone = {"central": HpipmAlone(problems[0].structure), "robot": HpipmAlone(d_loop.team.robot)}
+        times = {k: [] for k in ("central", "robot", "team", "broadcast", "central_hpipm", "robot_hpipm")}
         inputs, plans, failed, unseen = [], [], 0, 0
         for problem in problems:
             warm = warm_plan(applied["c"], problem)
@@ -125,6 +152,7 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
             c_loop.load(problem, warm)
             status = c_loop.step()
             times["central"].append(time.perf_counter() - start)
+            times["central_hpipm"].append(alone["central"].time(c_loop.theta, c_loop.reference.reshape(-1)))
             plan = problem.plan_with(c_loop.plan)
             applied["c"] = (problem.signature, plan if status.usable else (warm if warm is not None
                                                                            else problem.held_plan()))
@@ -143,6 +171,7 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
                 robot_status = loop.step()
                 step_times.append(time.perf_counter() - t0)
                 unseen = max(unseen, seen)
+                times["robot_hpipm"].append(alone["robot"].time(theta, reference))
                 inputs.append(np.concatenate([theta, reference]))
                 plans.append(loop.plan.reshape(-1).copy())
                 if robot_status.usable:
@@ -155,7 +184,8 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
             applied["d"] = (problem.signature, problem.plan_with(new.reshape(-1)))
         first = len(d_loop.robots)            # the first state, which builds, excluded
         row = {"size": size, "states": len(problems), "central_ms": _median(times["central"][1:]),
-               "robot_ms": _median(times["robot"][first:]),
+               "central_hpipm_ms": _median(times["central_hpipm"][1:]),
+               "robot_ms": _median(times["robot"][first:]), "robot_hpipm_ms": _median(times["robot_hpipm"][first:]),
                "broadcast_ms": _median(times["broadcast"][1:]), "team_ms": _median(times["team"][1:]),
                "failed_robot_qps": failed, "unseen_neighbours": unseen,
                "neighbour_slots": d_loop.team.robot.fixed}
@@ -232,6 +262,9 @@ def _closed_loop(solver: CaptureSolver, problems: list) -> tuple[list, list]:
 
 
 def exponent(sizes: list[int], values: list[float]) -> float:
+    """The least-squares slope of log(values) on log(sizes); NaN with fewer than two sizes."""
+    if len(set(sizes)) < 2:
+        return math.nan
     return float(np.polyfit(np.log(sizes), np.log(values), 1)[0])
 
 
@@ -248,15 +281,20 @@ def readme(results: dict) -> str:
              f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker (within its "
              "perception radius), posed as the `enclose` problem. "
              "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "
-             "and its step on its loop (`TeamLoop.robots[i]`); *team*: the "
+             "and its step on its loop (`TeamLoop.robots[i]`); *its HPIPM alone*: the step's own QP linearised apart and "
+             f"solved by CasADi's `hpipm` plugin, the fastest of {REPEATS} solves (what the step's QP costs at best "
+             "through CasADi, from Python); *team*: the "
              "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
              "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
              "`step()`.", "",
-             "| N_d | centralised (ms) | a robot (ms) | broadcast (ms) | team (ms) | "
-             "centralised / team | neighbour slots | unseen neighbours | failed robot QPs |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+             "| N_d | centralised (ms) | its HPIPM alone (ms) | ratio | a robot (ms) | its HPIPM alone (ms) | ratio | "
+             "broadcast (ms) | team (ms) | centralised / team | neighbour slots | unseen neighbours | "
+             "failed robot QPs |",
+             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
-        lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['robot_ms']:.3f} | "
+        lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['central_hpipm_ms']:.3f} | "
+                     f"{r['central_ms'] / r['central_hpipm_ms']:.2f} | {r['robot_ms']:.3f} | {r['robot_hpipm_ms']:.3f} | "
+                     f"{r['robot_ms'] / r['robot_hpipm_ms']:.2f} | "
                      f"{r['broadcast_ms']:.3f} | {r['team_ms']:.3f} | {r['central_ms'] / r['team_ms']:.1f} | "
                      f"{r['neighbour_slots']} | {r['unseen_neighbours']} | {r['failed_robot_qps']} |")
     lines += ["", "Exponents b of time ∝ N_d^b over N_d = " + ", ".join(map(str, sizes)) + ": centralised "
