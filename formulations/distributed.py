@@ -31,7 +31,6 @@ reference for the round, and the step reports that QP's status.
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -40,22 +39,15 @@ from typing import Callable
 import numpy as np
 
 from formulations.base import Formulation
-from formulations.capture_model import pack, parameter_size, parameter_vector, reference_size, step_size, unpack
-from formulations.qp import TRUST_REGION
 from formulations.rti import RTIFormulation, linearised_stages
+from formulations.team import Team, robot_structure
 from formulations.team_push import team_push
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status
 from mpc_hunt.capture.structure import Structure
 
-NEIGHBOURS = 8      # slots: 7 team-mates d_min apart fit within d_min + 2ρ of a robot at the paper's numbers
 SCHEMES = ("jacobi", "gauss-seidel")
 MAX_ROUNDS = 100
-
-
-def robot_structure(team: Structure) -> Structure:
-    """The structure of one robot's QP in a team of structure ``team``."""
-    return Structure(1, min(team.defenders - 1, NEIGHBOURS), team.obstacles, team.horizon, team.objective, robot=True)
 
 
 @dataclass
@@ -77,90 +69,6 @@ class RobotStep(RTIFormulation):
 
     def step_inputs(self, problem: RobotProblem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
         return problem.theta, problem.reference
-
-
-@dataclass(frozen=True)
-class Broadcast:
-    """A round's broadcast under the team's ``plans`` (N, n, 2; the held defenders where they stand): the
-    attacker's path ``path`` (N, 2), each defender's push on it (N, n, 2) and that push's Jacobian (N, n, 4),
-    and their sums over the team."""
-
-    plans: np.ndarray
-    path: np.ndarray
-    pushes: np.ndarray
-    jacobians: np.ndarray
-    push: np.ndarray
-    jacobian: np.ndarray
-
-
-class Team:
-    """A team's capture problem as its robots see it: the numbers they share, and each one's inputs."""
-
-    def __init__(self, problem: CaptureProblem, smoothing: float):
-        self.structure = problem.structure
-        self.robot = robot_structure(self.structure)
-        self.push = team_push(self.structure)
-        parts = unpack(np.arange(parameter_size(self.robot) + 1), self.robot)     # where each part sits in θ
-        self._at = {name: (int(v[0]), int(v[-1]) + 1) for name, v in parts.items() if len(v)}
-        self.load(problem, smoothing)
-
-    def load(self, problem: CaptureProblem, smoothing: float) -> None:
-        """The team's numbers at ``problem`` (same structure), and the part of every robot's θ they fix."""
-        s, robot = self.structure, self.robot
-        nc, N = s.planned, s.horizon
-        self.theta = np.append(parameter_vector(problem), smoothing)
-        p = unpack(self.theta, s)
-        self.held = p["held"].reshape(-1, 2)
-        self.controlled = p["controlled"].reshape(-1, 2)
-        self.step_limits = p["step_limits"]
-        self.reach = p["min_separation"][0] + 2 * math.sqrt(2) * TRUST_REGION * self.step_limits
-        steps = p["reference"].reshape(N, reference_size(nc))
-        self.places = steps[:, :2 * nc].reshape(N, nc, 2)
-        reference = np.zeros((N, step_size(robot)))
-        reference[:, 2:5] = steps[:, 2 * nc:]                            # the attacker's reference, the weight
-        values = {**p, "controlled": np.zeros(2), "held": (), "step_limits": np.zeros(1),
-                  "length": self.step_limits.mean(), "pushed": np.zeros(2), "reference": reference}
-        self.template = np.append(pack(values, robot), smoothing)
-
-    def broadcast(self, plans: np.ndarray) -> Broadcast:
-        """The round's :class:`Broadcast` under the planned defenders' ``plans`` (N, n_c, 2)."""
-        N, n = self.structure.horizon, self.structure.defenders
-        path, pushes, jacobians = self.push(self.theta, plans.reshape(-1))
-        pushes = np.asarray(pushes).T.reshape(N, n, 2)
-        jacobians = np.asarray(jacobians).T.reshape(N, n, 4)
-        team = np.concatenate([plans, np.broadcast_to(self.held, (N, *self.held.shape))], axis=1)
-        return Broadcast(team, np.asarray(path).T, pushes, jacobians, pushes.sum(axis=1), jacobians.sum(axis=1))
-
-    def robot_inputs(self, i: int, broadcast: Broadcast) -> tuple[np.ndarray, np.ndarray, int]:
-        """Robot ``i``'s θ and reference from the round's ``broadcast``, and how many team-mates within reach at
-        some step have no slot."""
-        N, K = self.robot.horizon, self.robot.fixed
-        theta = self.template.copy()
-        at = self._at
-        theta[at["controlled"][0]:at["controlled"][1]] = self.controlled[i]
-        theta[at["step_limits"][0]] = self.step_limits[i]
-        pushed = broadcast.push - broadcast.pushes[:, i]                 # the others' push, steps 0..N−1
-        theta[at["pushed"][0]:at["pushed"][1]] = pushed[0]
-        steps = theta[at["reference"][0]:at["reference"][1]].reshape(N, -1)
-        steps[:, :2] = self.places[:, i]
-        mine = broadcast.plans[:, i]
-        offset = reference_size(1)
-        if K:
-            gap = broadcast.plans - mine[:, None]
-            distance = np.einsum("kjc,kjc->kj", gap, gap)
-            distance[:, i] = np.inf
-            nearest = np.argsort(distance, axis=1, kind="stable")[:, :K]
-            slots = steps[:, offset:offset + 2 * K].reshape(N, K, 2)
-            np.add(mine[:, None], np.take_along_axis(broadcast.plans, nearest[:, :, None], axis=1), out=slots)
-            slots *= 0.5
-            unseen = int(max(0, (distance <= self.reach[i] ** 2).sum(axis=1).max() - K))
-        else:
-            unseen = 0
-        offset += 2 * K                                                  # step k's team terms, k = 1..N−1
-        steps[:-1, offset:offset + 2] = pushed[1:]
-        steps[:-1, offset + 2:offset + 6] = broadcast.jacobian[1:] - broadcast.jacobians[1:, i]
-        steps[:-1, offset + 6:offset + 8] = broadcast.path[1:]
-        return theta, mine.reshape(-1), unseen
 
 
 @dataclass

@@ -11,9 +11,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import formulations.distributed as distributed
+import formulations.team as team_module
 from formulations.capture_model import parameter_vector, reference_size, stage_parameters, step_size, unpack
-from formulations.distributed import NEIGHBOURS, DistributedFormulation
+from formulations.distributed import DistributedFormulation
+from formulations.team import NEIGHBOURS
 from formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt import (Attacker, CaptureProblem, CaptureSolver, Defender, HuntParameters, Obstacle, Scenario, Status,
                       shift_plan)
@@ -237,7 +238,7 @@ def test_without_the_separation_the_same_places_bring_the_robots_closer():
 def _rows_to_the_reference(monkeypatch):
     """The rows each robot would keep to its team-mates' reference positions, d_min from them (not d_min / 2 from
     the midpoints): its θ's slots moved from the midpoint to the team-mate's reference, its d_min doubled."""
-    midpoint_inputs = distributed.Team.robot_inputs
+    midpoint_inputs = team_module.Team.robot_inputs
 
     def robot_inputs(team, i, broadcast):
         theta, reference, unseen = midpoint_inputs(team, i, broadcast)
@@ -249,7 +250,7 @@ def _rows_to_the_reference(monkeypatch):
         parts["min_separation"][:] *= 2
         return theta, reference, unseen
 
-    monkeypatch.setattr(distributed.Team, "robot_inputs", robot_inputs)
+    monkeypatch.setattr(team_module.Team, "robot_inputs", robot_inputs)
 
 
 def test_in_one_jacobi_round_two_robots_heading_for_each_others_place_keep_d_min(monkeypatch):
