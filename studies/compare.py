@@ -59,7 +59,8 @@ def check() -> list[str]:
     """What differs between the committed run and the code: inputs, then each N = 1 solve's non-timing outcome."""
     committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
     problems = [p.id for p in builtin_problem_set("default").problems]
-    wanted = {"problems": problems, "pairs": [f"{f}:{b}" for f, b in registry.pairs(objective="paper")], "horizons": HORIZONS,
+    pairs = [f"{f}:{b}" for f, b in registry.pairs(objective="paper")]
+    wanted = {"problems": problems, "pairs": pairs, "horizons": HORIZONS,
               "modes": list(MODES), "accuracy": ACCURACY, "seed": SEED, "reference_starts": STARTS}
     errors = [f"settings.{k}: committed {committed['settings'].get(k)!r}, the code runs {v!r}"
               for k, v in wanted.items() if committed["settings"].get(k) != v]

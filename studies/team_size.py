@@ -274,15 +274,15 @@ def readme(results: dict) -> str:
     lines = ["# How the capture step grows with the team", "",
              f"Regenerate with `{COMMAND}`. Measured in one run on {m['cpu']} ({m['cores']} cores, shared: load "
              f"average {results['load_before'][0]:.1f} before, {results['load_after'][0]:.1f} after), {m['system']}, "
-             f"Python {m['python']}, CasADi {m['packages']['casadi']}. The steps took turns on each state; absolute times drift "
-             "on a shared machine, the ratios are from the same run.", "",
+             f"Python {m['python']}, CasADi {m['packages']['casadi']}. The steps took turns on each state; absolute "
+             "times drift on a shared machine, the ratios are from the same run.", "",
              f"States: the paper's second scenario with N_d defenders started evenly {START_RADIUS} m from the "
              f"attacker, hunted by the recommended controller (`enclose`, `rti`/`hpipm`, N = {HORIZON}); "
-             f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker (within its "
-             "perception radius), posed as the `enclose` problem. "
+             f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker "
+             "(within its perception radius), posed as the `enclose` problem. "
              "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "
-             "and its step on its loop (`TeamLoop.robots[i]`); *its HPIPM alone*: the step's own QP linearised apart and "
-             f"solved by CasADi's `hpipm` plugin, the fastest of {REPEATS} solves (what the step's QP costs at best "
+             "and its step on its loop (`TeamLoop.robots[i]`); *its HPIPM alone*: the step's own QP linearised apart "
+             f"and solved by CasADi's `hpipm` plugin, the fastest of {REPEATS} solves (what the step's QP costs at best "
              "through CasADi, from Python); *team*: the "
              "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
              "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
@@ -293,7 +293,8 @@ def readme(results: dict) -> str:
              "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
         lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['central_hpipm_ms']:.3f} | "
-                     f"{r['central_ms'] / r['central_hpipm_ms']:.2f} | {r['robot_ms']:.3f} | {r['robot_hpipm_ms']:.3f} | "
+                     f"{r['central_ms'] / r['central_hpipm_ms']:.2f} | {r['robot_ms']:.3f} | "
+                     f"{r['robot_hpipm_ms']:.3f} | "
                      f"{r['robot_ms'] / r['robot_hpipm_ms']:.2f} | "
                      f"{r['broadcast_ms']:.3f} | {r['team_ms']:.3f} | {r['central_ms'] / r['team_ms']:.1f} | "
                      f"{r['neighbour_slots']} | {r['unseen_neighbours']} | {r['failed_robot_qps']} |")
@@ -312,7 +313,8 @@ def readme(results: dict) -> str:
                   "| N_d | a robot's step in C (ms) | plans within (m) | exit |", "| ---: | ---: | ---: | ---: |"]
         lines += [f"| {r['size']} | {r['robot_c_ms']:.3f} | {r['max_plan_difference_m']:.1e} | {r['exit']} |"
                   for r in c]
-        lines += ["", f"Exponent of a robot's C step: {exponent([r['size'] for r in c], [r['robot_c_ms'] for r in c]):.2f}.",
+        slope = exponent([r["size"] for r in c], [r["robot_c_ms"] for r in c])
+        lines += ["", f"Exponent of a robot's C step: {slope:.2f}.",
                   ""]
     lines += ["## What each round buys", "",
               "From the controller's warm start, each step's plan after k rounds, against the centralised "

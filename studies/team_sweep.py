@@ -135,7 +135,8 @@ def headline(attackers: list[dict], teams: list[dict]) -> list[str]:
         lines.append("")
     lines += ["Safety over every hunt of both sweeps (obstacle collisions, defender contacts, arena exits; the "
               "least obstacle clearance and defender separation):", "",
-              "| sweep | strategy | collisions and contacts | arena exits | least clearance (m) | least separation (m) |",
+              "| sweep | strategy | collisions and contacts | arena exits | least clearance (m) | "
+              "least separation (m) |",
               "| --- | --- | ---: | ---: | ---: | ---: |"]
     for sweep, summaries in (("attackers", attackers), ("teams", teams)):
         for strategy in STRATEGIES:

@@ -98,8 +98,9 @@ def check_pairs(asked: list[str] | None, objective: str = "paper") -> list[tuple
     for text in asked:
         formulation, _, backend = text.partition(":")
         if objective not in registry.formulation_class(formulation).objectives:
+            posed = " or ".join(registry.formulation_class(formulation).objectives)
             raise BenchmarkError(f"--pair {text}: formulation {formulation} does not pose the {objective} objective "
-                               f"(pick --objective {' or '.join(registry.formulation_class(formulation).objectives)})")
+                                 f"(pick --objective {posed})")
         if backend:
             chosen = [(formulation, registry.check_pair(formulation, backend))]
         else:
