@@ -45,7 +45,7 @@ from studies.study_check import check_result
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
-HUNTS, TEAM_HUNTS, SEED = 100, 20, 4
+HUNTS, TEAM_HUNTS, SEED = 60, 20, 4
 MAX_HUNTS = 1000
 CENTRAL, DISTRIBUTED = "enclose:rti:hpipm:10", "enclose:distributed:hpipm:10"
 STRATEGIES = (CENTRAL, DISTRIBUTED)
