@@ -316,6 +316,7 @@ def readme(results: dict) -> str:
         slope = exponent([r["size"] for r in c], [r["robot_c_ms"] for r in c])
         lines += ["", f"Exponent of a robot's C step: {slope:.2f}.",
                   ""]
+    lines += targets(results)
     lines += ["## What each round buys", "",
               "From the controller's warm start, each step's plan after k rounds, against the centralised "
               "`stage-sqp` plan (the team's `rti` QP iterated to convergence, in its own closed loop: the team "
@@ -328,6 +329,36 @@ def readme(results: dict) -> str:
     lines += [f"| {r['size']} | {r['scheme']} | {r['rounds']} | {r['median_gap']:.2e} | {r['max_gap']:.2e} | "
               f"{r['max_distance_m']:.1e} | {r['failed']} |" for r in results["rounds"]]
     return "\n".join(lines) + "\n"
+
+
+# The capture stage's targets for teams (N = 10): a robot's step through the loop API, a robot's step in C, the
+# growth of a robot's step with the team, the team's step at N_d = 12 with the robots in parallel, and the
+# centralised compiled step against HPIPM alone on its own QP.
+ROBOT_MS, ROBOT_C_MS, ROBOT_EXPONENT, TEAM_MS, TEAM_SIZE, CENTRAL_OVER_HPIPM = 0.25, 0.1, 0.3, 2.0, 12, 1.3
+
+
+def targets(results: dict) -> list[str]:
+    """The README's targets section: each target, the measured value, met or missed by how much."""
+    rows, c = results["growth"], results["exported"]
+    sizes = [r["size"] for r in rows]
+
+    def line(what: str, value: float, limit: float, unit: str = " ms") -> str:
+        verdict = "met" if value <= limit else f"missed by {value / limit:.1f}×"
+        return f"| {what} | ≤ {limit:g}{unit} | {value:.3f}{unit} | {verdict} |"
+
+    out = ["## Targets", "", "| target | bound | measured | |", "| --- | ---: | ---: | --- |",
+           line("a robot's step through the loop API, the slowest team size", max(r["robot_ms"] for r in rows),
+                ROBOT_MS),
+           line("exponent of a robot's step in N_d", exponent(sizes, [r["robot_ms"] for r in rows]),
+                ROBOT_EXPONENT, "")]
+    if c is not None:
+        out.append(line("a robot's step in C, the slowest team size", max(r["robot_c_ms"] for r in c), ROBOT_C_MS))
+    team = [r for r in rows if r["size"] == TEAM_SIZE]
+    if team:
+        out.append(line(f"the team's step at N_d = {TEAM_SIZE}, the robots in parallel", team[0]["team_ms"], TEAM_MS))
+    out.append(line("the centralised compiled step over HPIPM alone on its QP, the largest ratio",
+                    max(r["central_ms"] / r["central_hpipm_ms"] for r in rows), CENTRAL_OVER_HPIPM, "×"))
+    return out + [""]
 
 
 def save_states(path: Path, states: dict[int, list[HuntState]]) -> None:
