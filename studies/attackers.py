@@ -17,13 +17,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import sqlite3
 import sys
 from pathlib import Path
 
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
+from mpc_hunt.arguments import count, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
@@ -32,13 +32,14 @@ from mpc_hunt.plots.capture_region import plot_capture_regions
 from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.reachability import reachable
-from mpc_hunt.sweep.runner import Hunt, Strategy, run_hunt, run_local
-from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.runner import Hunt, Strategy
+from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result
+from studies.sweep_study import keys, missing, quickest_captures, run_file, still_captured
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
@@ -58,13 +59,12 @@ def hunt_indices(hunts: int, seed: int) -> list[int]:
     return [i for i in range(hunts) if reachable(sweep_scenario(seed, i, ScenarioRanges()))]
 
 
-def todo(indices: list[int], seed: int, done: set) -> list[Hunt]:
-    """Every (strategy, attacker, belief, hunt) of the study not yet in ``done``."""
+def todo(indices: list[int], seed: int) -> list[Hunt]:
+    """Every (strategy, attacker, belief, hunt) of the study."""
     ranges = ranges_to_dict(ScenarioRanges())
     combos = [(s, a, EXACT) for s in STRATEGIES for a in BEHAVIOURS] + \
              [(s, a, b) for s in BELIEF_STRATEGIES for a in BEHAVIOURS for b in BELIEFS]
-    return [Hunt(s, seed, i, ranges, attacker=a, belief=b) for i in indices for s, a, b in combos
-            if (s, a, b, seed, i) not in done]
+    return [Hunt(s, seed, i, ranges, attacker=a, belief=b) for i in indices for s, a, b in combos]
 
 
 def arguments(hunts: int, seed: int) -> dict:
@@ -72,27 +72,9 @@ def arguments(hunts: int, seed: int) -> dict:
             "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed, "ranges": ranges_to_dict(ScenarioRanges())}
 
 
-def run(db: Path, hunts: int, seed: int) -> None:
-    store = SweepStore(db, arguments(hunts, seed), resume=db.exists())
-    try:
-        work = todo(hunt_indices(hunts, seed), seed, store.done())
-        print(f"{len(work)} hunts to run", file=sys.stderr)
-        for finished, row in enumerate(run_local(work), 1):
-            store.add(row)
-            if finished % 20 == 0:
-                print(f"{finished} / {len(work)}", file=sys.stderr)
-    finally:
-        store.close()
-    with sqlite3.connect(db) as conn:      # one self-contained file to commit, not a write-ahead log
-        conn.execute("pragma journal_mode=delete")
-
-
-def _rows(db: Path) -> list[dict]:
-    store = SweepStore(db)
-    try:
-        return store.rows()
-    finally:
-        store.close()
+def run(db: Path, hunts: int, seed: int) -> str | None:
+    """The study's hunts into ``db``; None when all finished, else why it stopped."""
+    return run_file(db, arguments(hunts, seed), todo(hunt_indices(hunts, seed), seed))
 
 
 def headline(summaries: list[dict]) -> list[str]:
@@ -160,7 +142,7 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
 
 
 def write(db: Path, folder: Path, machine: dict, hunts: int, seed: int) -> None:
-    rows = _rows(db)
+    rows = stored_rows(db)
     summaries = summarise(rows)
     write_plots(rows, folder)
     lost_figure(rows, folder)
@@ -174,66 +156,38 @@ def check(folder: Path) -> list[str]:
     hunts, seed = committed["arguments"]["hunts"], committed["arguments"]["seed"]
     errors = [] if committed["arguments"] == arguments(hunts, seed) else \
         ["summary.json: its strategies, attackers, beliefs or ranges are not the study's"]
-    rows = _rows(folder / "sweep.db")
+    rows = stored_rows(folder / "sweep.db")
     if json.loads(json.dumps(summarise(rows))) != committed["strategies"]:
         errors.append("summary.json: not the summary of sweep.db")
-    missing = todo(hunt_indices(hunts, seed), seed, {(r["strategy"], r["attacker"], r["belief"], r["seed"],
-                                                      r["index"]) for r in rows})
-    if missing:
-        errors.append(f"sweep.db: {len(missing)} hunts of the study are missing (resume it)")
+    left = missing(todo(hunt_indices(hunts, seed), seed), keys(rows))
+    if left:
+        errors.append(f"sweep.db: {len(left)} hunts of the study are missing (resume it)")
     if errors:
         return errors
-    for row in quickest_captures(rows):
-        new = run_hunt(Hunt(row["strategy"], seed, row["index"], committed["arguments"]["ranges"],
-                            attacker=row["attacker"], belief=row["belief"]))
-        if new["outcome"] != "captured":
-            errors.append(f"{row['strategy']} against {row['attacker']}, hunt {row['index']}: captured at "
-                          f"{row['capture_time_s']:.1f} s in sweep.db, now {new['outcome']} ({new['cause']})")
-    return errors
-
-
-def quickest_captures(rows: list[dict]) -> list[dict]:
-    """Per attacker, the contain controller's quickest capture with the exact belief: the hunts --check reruns.
-    The quickest is the farthest from the time limit, so a last-bit difference moves its time, not its outcome
-    (an exact rerun of every figure would need the ensemble the sweep study keeps)."""
-    out = []
-    for attacker in BEHAVIOURS:
-        won = [r for r in rows if (r["strategy"], r["attacker"], r["belief"], r["outcome"]) ==
-               (FOCUS, attacker, EXACT, "captured")]
-        if won:
-            out.append(min(won, key=lambda r: (r["capture_time_s"], r["index"])))
-    return out
-
-
-def hunts_count(text: str) -> int:
-    value = int(text) if text.isdigit() else 0
-    if not 1 <= value <= MAX_HUNTS:
-        raise argparse.ArgumentTypeError(f"expected a whole number from 1 to {MAX_HUNTS}, got {text!r}")
-    return value
+    return still_captured(quickest_captures(rows, FOCUS, EXACT), seed, committed["arguments"]["ranges"],
+                          "sweep.db")
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hunts", type=hunts_count, default=HUNTS, help=f"draws to pick from (default {HUNTS})")
-    parser.add_argument("--seed", type=int, default=SEED, help=f"the sweep's seed (default {SEED})")
+    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"draws to pick from (default {HUNTS})")
+    parser.add_argument("--seed", type=seed_number, default=SEED, help=f"the sweep's seed (default {SEED})")
     parser.add_argument("--output", type=Path, default=OUT, help="the folder to write (default studies/attackers)")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("attackers study"):
             return check_result(check(args.output), "studies/attackers", COMMAND)
-    if not 0 <= args.seed < 2**63:
-        parser.error(f"--seed: expected a whole number from 0 to 2**63 - 1, got {args.seed}")
     args.output.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
     try:
-        run(args.output / "sweep.db", args.hunts, args.seed)
-    except KeyboardInterrupt:
-        print(f"interrupted: finished hunts are in {args.output / 'sweep.db'}; rerun to continue", file=sys.stderr)
-        return 130
+        stopped = run(args.output / "sweep.db", args.hunts, args.seed)
     except MpcHuntError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    if stopped:
+        print(f"{stopped}: finished hunts are in {args.output / 'sweep.db'}; rerun to continue", file=sys.stderr)
+        return 130 if stopped == "interrupted" else 2
     machine["load_average_end"] = load_average()
     write(args.output / "sweep.db", args.output, machine, args.hunts, args.seed)
     print(f"wrote {args.output / 'README.md'}")

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sqlite3
 import sys
 from pathlib import Path
 
@@ -39,7 +38,7 @@ from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.plots.typical_hunts import plot_typical_hunts
 from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local, tasks
-from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.store import SweepStore, self_contained, stored_rows
 from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.sweep.summary import best_strategy, summarise, table
 from mpc_hunt.sweep.typical import typical_hunts
@@ -148,18 +147,9 @@ def recommended_label() -> str:
     return f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:{RECOMMENDED['horizon']}"
 
 
-def _rows() -> list[dict]:
-    store = SweepStore(DB)
-    try:
-        return store.rows()
-    finally:
-        store.close()
-
-
 def write(machine: dict) -> None:
-    with sqlite3.connect(DB) as db:     # one self-contained file to commit, not a write-ahead log
-        db.execute("pragma journal_mode=delete")
-    rows = _rows()
+    self_contained(DB)
+    rows = stored_rows(DB)
     ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8")) if ENSEMBLE.exists() else \
         {"sample": SAMPLE, "members": MEMBERS, "scale_m": SCALE, "hunts": {}}
     missing = [s for s in arguments()["strategies"] if s not in ensemble["hunts"]]

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import sqlite3
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -32,16 +31,18 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
+from mpc_hunt.arguments import count, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
-from mpc_hunt.sweep.runner import Hunt, Strategy, run_hunt, run_local
-from mpc_hunt.sweep.store import SweepStore
+from mpc_hunt.sweep.runner import Hunt, Strategy
+from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result
+from studies.sweep_study import keys, missing, quickest_captures, run_file, still_captured
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
@@ -69,34 +70,13 @@ def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list
     }
 
 
-def _key(hunt: Hunt) -> tuple:
-    return hunt.strategy, hunt.attacker, hunt.belief, hunt.seed, hunt.index
-
-
-def run(folder: Path, hunts: int, team_hunts: int, seed: int) -> None:
+def run(folder: Path, hunts: int, team_hunts: int, seed: int) -> str | None:
+    """Both sweeps into their files; None when all finished, else why it stopped."""
     for name, (arguments, hunts_of) in sweeps(hunts, team_hunts, seed).items():
-        db = folder / name
-        store = SweepStore(db, arguments, resume=db.exists())
-        try:
-            done = store.done()
-            work = [h for h in hunts_of if _key(h) not in done]
-            print(f"{name}: {len(work)} hunts to run", file=sys.stderr)
-            for finished, row in enumerate(run_local(work), 1):
-                store.add(row)
-                if finished % 20 == 0:
-                    print(f"{name}: {finished} / {len(work)}", file=sys.stderr, flush=True)
-        finally:
-            store.close()
-        with sqlite3.connect(db) as conn:      # one self-contained file to commit, not a write-ahead log
-            conn.execute("pragma journal_mode=delete")
-
-
-def _rows(db: Path) -> list[dict]:
-    store = SweepStore(db)
-    try:
-        return store.rows()
-    finally:
-        store.close()
+        stopped = run_file(folder / name, arguments, hunts_of)
+        if stopped:
+            return stopped
+    return None
 
 
 def _cell(s: dict, kind: str) -> str:
@@ -175,7 +155,7 @@ def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: d
 
 def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -> None:
     plan = sweeps(hunts, team_hunts, seed)
-    summaries = {name: summarise(_rows(folder / name)) for name in plan}
+    summaries = {name: summarise(stored_rows(folder / name)) for name in plan}
     arguments = {name: args for name, (args, _) in plan.items()}
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments,
                                                      "summaries": summaries}, indent=1) + "\n", encoding="utf-8")
@@ -192,69 +172,44 @@ def check(folder: Path) -> list[str]:
         if committed["arguments"][name] != json.loads(json.dumps(arguments)):
             errors.append(f"summary.json: the strategies, attackers or ranges of {name} are not the study's")
             continue
-        rows = _rows(folder / name)
+        rows = stored_rows(folder / name)
         if json.loads(json.dumps(summarise(rows))) != committed["summaries"][name]:
             errors.append(f"summary.json: not the summary of {name}")
-        done = {(r["strategy"], r["attacker"], r["belief"], r["seed"], r["index"]) for r in rows}
-        missing = [h for h in hunts_of if _key(h) not in done]
-        if missing:
-            errors.append(f"{name}: {len(missing)} hunts of the study are missing (resume it)")
+        left = missing(hunts_of, keys(rows))
+        if left:
+            errors.append(f"{name}: {len(left)} hunts of the study are missing (resume it)")
     if (folder / "README.md").read_text(encoding="utf-8") != report(
             committed["summaries"]["attackers.db"], committed["summaries"]["teams.db"], committed["machine"],
             committed["arguments"]):
         errors.append("README.md: not what summary.json renders")
     if errors:
         return errors
-    for row in quickest_captures(_rows(folder / "attackers.db")):
-        new = run_hunt(Hunt(row["strategy"], a["seed"], row["index"], a["ranges"], attacker=row["attacker"]))
-        if new["outcome"] != "captured":
-            errors.append(f"{row['strategy']} against {row['attacker']}, hunt {row['index']}: captured at "
-                          f"{row['capture_time_s']:.1f} s in attackers.db, now {new['outcome']} ({new['cause']})")
-    return errors
-
-
-def quickest_captures(rows: list[dict]) -> list[dict]:
-    """Per attacker, the distributed stage's quickest capture: the hunts --check reruns (the quickest is the
-    farthest from the time limit, so a last-bit difference moves its time, not its outcome)."""
-    out = []
-    for attacker in BEHAVIOURS:
-        won = [r for r in rows if (r["strategy"], r["attacker"], r["outcome"]) == (DISTRIBUTED, attacker, "captured")]
-        if won:
-            out.append(min(won, key=lambda r: (r["capture_time_s"], r["index"])))
-    return out
-
-
-def hunts_count(text: str) -> int:
-    value = int(text) if text.isdigit() else 0
-    if not 1 <= value <= MAX_HUNTS:
-        raise argparse.ArgumentTypeError(f"expected a whole number from 1 to {MAX_HUNTS}, got {text!r}")
-    return value
+    return still_captured(quickest_captures(stored_rows(folder / "attackers.db"), DISTRIBUTED), a["seed"],
+                          a["ranges"], "attackers.db")
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hunts", type=hunts_count, default=HUNTS, help=f"hunts per attacker (default {HUNTS})")
-    parser.add_argument("--team-hunts", type=hunts_count, default=TEAM_HUNTS,
+    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"hunts per attacker (default {HUNTS})")
+    parser.add_argument("--team-hunts", type=count(MAX_HUNTS), default=TEAM_HUNTS,
                         help=f"hunts with {TEAMS[0]}–{TEAMS[1]} defenders (default {TEAM_HUNTS})")
-    parser.add_argument("--seed", type=int, default=SEED, help=f"the sweep's seed (default {SEED})")
+    parser.add_argument("--seed", type=seed_number, default=SEED, help=f"the sweep's seed (default {SEED})")
     parser.add_argument("--output", type=Path, default=OUT, help="the folder to write (default studies/team_sweep)")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("team sweep study"):
             return check_result(check(args.output), "studies/team_sweep", COMMAND)
-    if not 0 <= args.seed < 2**63:
-        parser.error(f"--seed: expected a whole number from 0 to 2**63 - 1, got {args.seed}")
     args.output.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
     try:
-        run(args.output, args.hunts, args.team_hunts, args.seed)
-    except KeyboardInterrupt:
-        print(f"interrupted: finished hunts are in {args.output}; rerun to continue", file=sys.stderr)
-        return 130
+        stopped = run(args.output, args.hunts, args.team_hunts, args.seed)
     except MpcHuntError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    if stopped:
+        print(f"{stopped}: finished hunts are in {args.output}; rerun to continue", file=sys.stderr)
+        return 130 if stopped == "interrupted" else 2
     machine["load_average_end"] = load_average()
     write(args.output, machine, args.hunts, args.team_hunts, args.seed)
     print(f"wrote {args.output / 'README.md'}")

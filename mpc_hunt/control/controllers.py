@@ -16,6 +16,11 @@ CONTROLLERS = {
 SOLVING = ("paper", "enclose", "contain", "adapt")     # the controllers that solve a capture problem (take solver settings)
 
 
+def controller_objective(name: str) -> str:
+    """The capture objective the solving controller ``name`` (one of :data:`SOLVING`) poses."""
+    return load_class(CONTROLLERS, "controller", name).OBJECTIVE
+
+
 def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):
     """A fresh controller for ``scenario`` by name: ``paper``, the strategy with the paper's capture
     objective; ``enclose``, the same strategy with the enclose objective; ``apf``, the potential-field

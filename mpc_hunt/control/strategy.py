@@ -88,10 +88,12 @@ class HuntingStrategy:
     """
 
     enclose_weights = EncloseWeights()     # the enclose objective's weights
+    OBJECTIVE = "paper"                    # the capture objective the controller poses unless told otherwise
 
     def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",
                  backend: str | None = None, horizon: int = 1, time_limit: float | None = None,
-                 objective: str = "paper", score: bool = False, **solver_options):
+                 objective: str | None = None, score: bool = False, **solver_options):
+        objective = objective or self.OBJECTIVE
         if objective not in OBJECTIVES:
             raise MpcHuntError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
         self.scenario = scenario
@@ -99,6 +101,10 @@ class HuntingStrategy:
         self.horizon = horizon
         self.objective = objective
         self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
+        if objective not in self.solver.formulation.objectives:      # every solve would fail: refuse at once
+            raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(self.solver.formulation.objectives)}"
+                               f" objective, not this controller's {objective!r} (use a controller with that "
+                               f"objective, or another formulation)")
         self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
 
@@ -150,8 +156,7 @@ class HuntingStrategy:
 class EnclosingStrategy(HuntingStrategy):
     """The strategy with the enclose objective (CLI ``--controller enclose``)."""
 
-    def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, objective="enclose", **options)
+    OBJECTIVE = "enclose"
 
 
 class ContainingStrategy(HuntingStrategy):
@@ -159,9 +164,10 @@ class ContainingStrategy(HuntingStrategy):
     :class:`~mpc_hunt.control.containment.Containment` (CLI ``--controller contain``)."""
 
     enclose_weights = CONTAIN_WEIGHTS
+    OBJECTIVE = "enclose"
 
     def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, objective="enclose", **options)
+        super().__init__(scenario, **options)
         self.enclosure = Containment(scenario, self.horizon)
 
     def describe(self) -> dict:

@@ -81,6 +81,11 @@ class Strategy:
             return cls(controller)
         formulation = parts[1] if len(parts) > 1 and parts[1] else "nlp"
         backend = registry.check_pair(formulation, parts[2] if len(parts) > 2 and parts[2] else None)
+        objective = controllers.controller_objective(controller)
+        posed = registry.formulation_class(formulation).objectives
+        if objective not in posed:
+            raise MpcHuntError(f"--strategy {text!r}: formulation {formulation} poses the {' or '.join(posed)} "
+                               f"objective, not the {objective} objective of controller {controller!r}")
         try:
             horizon = int(parts[3]) if len(parts) > 3 else 1
         except ValueError:

@@ -186,3 +186,21 @@ class SweepStore:
 
     def close(self) -> None:
         self.db.close()
+
+
+def stored_rows(path: str | Path) -> list[dict]:
+    """Every hunt of the results file at ``path`` (:meth:`SweepStore.rows`), the file closed again."""
+    store = SweepStore(path)
+    try:
+        return store.rows()
+    finally:
+        store.close()
+
+
+def self_contained(path: str | Path) -> None:
+    """The results file at ``path`` as one self-contained file (to commit), not a write-ahead log beside it."""
+    db = sqlite3.connect(path)
+    try:
+        db.execute("pragma journal_mode=delete")
+    finally:
+        db.close()

@@ -19,6 +19,8 @@ from formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt import (Attacker, CaptureProblem, CaptureSolver, Defender, HuntParameters, Obstacle, Scenario, Status,
                       shift_plan)
 from mpc_hunt.bench.compare import check_pairs
+from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.sweep.runner import Strategy
 from mpc_hunt.capture.problem import Reference
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.field import repulsion
@@ -338,6 +340,14 @@ def test_the_paper_objective_is_refused_everywhere():
     assert not [p for p in check_pairs(None, "paper") if p[0] == "distributed"]
     assert ("distributed", "hpipm") in check_pairs(None, "enclose")
     assert check_pairs(["distributed:hpipm"], "enclose") == [("distributed", "hpipm")]
+    # a controller posing the paper's objective, and a sweep's strategy for it, are refused before any hunt
+    with pytest.raises(MpcHuntError, match="distributed poses the enclose objective, not this controller's 'paper'"):
+        make_controller("paper", _scenario(4), formulation="distributed")
+    with pytest.raises(MpcHuntError, match="not the paper objective of controller 'paper'"):
+        Strategy.parse("paper:distributed:hpipm:5")
+    for controller in ("enclose", "contain", "adapt"):
+        assert Strategy.parse(f"{controller}:distributed:hpipm:5").formulation == "distributed"
+        assert make_controller(controller, _scenario(4), formulation="distributed").solver.formulation.per_robot
 
 
 @pytest.mark.parametrize("options, name", [({"rounds": 0}, "rounds"), ({"rounds": 1.5}, "rounds"),
