@@ -80,12 +80,14 @@ class Rounds:
     message: str = ""
     iterations: int = 0
     qps: int = 0
+    failed: int = 0                                       # robot QPs that failed (their robots kept their reference)
     robot_times: list = field(default_factory=list)      # s, each robot QP's inputs and solve, in order
     unseen_neighbours: int = 0
 
     def extras(self, rounds: int) -> dict:
         times = np.array(self.robot_times)
-        return {"qps": self.qps, "rounds": rounds, "robot_time_max": float(times.max()) if times.size else 0.0,
+        return {"qps": self.qps, "rounds": rounds, "failed_robot_qps": self.failed,
+                "robot_time_max": float(times.max()) if times.size else 0.0,
                 "unseen_neighbours": self.unseen_neighbours}
 
 
@@ -149,7 +151,9 @@ class DistributedFormulation(Formulation):
                 out.unseen_neighbours = max(out.unseen_neighbours, unseen)
                 if status.usable:
                     new[:, i] = np.reshape(plan, (-1, 2))
-                elif out.status.usable:
+                    continue
+                out.failed += 1
+                if out.status.usable:
                     out.status, out.message = status, f"robot {i + 1}: {message or status.value}"
             out.plans = new
         return out

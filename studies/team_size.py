@@ -13,9 +13,9 @@ by side on one machine, the steps taking turns on each state:
 * **distributed** (one Jacobi round): ``CaptureSolver("distributed",
   "hpipm-codegen").loop(problem)`` (a :class:`~mpc_hunt.solving.team_loop.TeamLoop`):
   the state loaded, the round's broadcast, and each robot's step (its inputs
-  from the broadcast, its QP on its own loop) timed apart, as each robot would
-  run it on its own board; *team*: load + broadcast + the slowest robot (the
-  robots in parallel);
+  from the broadcast, its QP on its own loop) timed apart by the loop
+  (``TeamLoop.robot_times``), as each robot would run it on its own board;
+  *team*: load + broadcast + the slowest robot (the robots in parallel);
 * **exported C**: one robot's step exported (``CaptureSolver.export``, built
   with its Makefile at ``-O2`` against CasADi's HPIPM and BLASFEO), run on every
   robot's inputs of every state: the median time of one robot's step in C;
@@ -160,28 +160,21 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
             start = time.perf_counter()
             d_loop.load(problem, warm)
             loaded = time.perf_counter()
-            broadcast = d_loop.team.broadcast(d_loop.plan)
-            shared = time.perf_counter()
-            step_times, new = [], d_loop.plan.copy()
-            for i, loop in enumerate(d_loop.robots):
-                t0 = time.perf_counter()
-                theta, reference, seen = d_loop.team.robot_inputs(i, broadcast)
-                loop.theta[:] = theta
-                loop.reference.reshape(-1)[:] = reference
-                robot_status = loop.step()
-                step_times.append(time.perf_counter() - t0)
-                unseen = max(unseen, seen)
-                times["robot_hpipm"].append(alone["robot"].time(theta, reference))
-                inputs.append(np.concatenate([theta, reference]))
+            d_loop.step()
+            stepped = time.perf_counter()
+            # The step ran each robot's inputs and QP one after another, timing each (``robot_times``); the rest of
+            # the step is the broadcast. On the robots: the load, the broadcast and the slowest robot.
+            robot_times = d_loop.robot_times
+            times["robot"] += robot_times
+            times["broadcast"].append(stepped - loaded - sum(robot_times))
+            times["team"].append(stepped - start - sum(robot_times) + max(robot_times))
+            failed += d_loop.extras["failed_robot_qps"]
+            unseen = max(unseen, d_loop.unseen_neighbours)
+            for loop in d_loop.robots:
+                inputs.append(np.concatenate([loop.theta, loop.reference.reshape(-1)]))
                 plans.append(loop.plan.reshape(-1).copy())
-                if robot_status.usable:
-                    new[:, i] = loop.plan[:, 0]
-                else:
-                    failed += 1
-            times["robot"] += step_times
-            times["broadcast"].append(shared - loaded)
-            times["team"].append(shared - start + max(step_times))
-            applied["d"] = (problem.signature, problem.plan_with(new.reshape(-1)))
+                times["robot_hpipm"].append(alone["robot"].time(loop.theta, loop.reference.reshape(-1)))
+            applied["d"] = (problem.signature, problem.plan_with(d_loop.plan.reshape(-1)))
         first = len(d_loop.robots)            # the first state, which builds, excluded
         row = {"size": size, "states": len(problems), "central_ms": _median(times["central"][1:]),
                "central_hpipm_ms": _median(times["central_hpipm"][1:]),

@@ -106,8 +106,8 @@ def test_the_loop_gives_the_formulations_own_plans_to_the_bit(backend, options):
             assert a.status is b.status is Status.OPTIMAL, (a.message, b.message)
             np.testing.assert_array_equal(a.plan, b.plan)
             assert a.iterations == b.iterations
-            assert {k: a.extras[k] for k in ("qps", "rounds", "unseen_neighbours")} == \
-                   {k: b.extras[k] for k in ("qps", "rounds", "unseen_neighbours")}
+            assert {k: a.extras[k] for k in ("qps", "rounds", "failed_robot_qps", "unseen_neighbours")} == \
+                   {k: b.extras[k] for k in ("qps", "rounds", "failed_robot_qps", "unseen_neighbours")}
             assert a.extras["qps"] == problem.structure.planned * options.get("rounds", 1)
             assert np.abs(a.plan - problem.held_plan()).max() > 5e-3                       # the robots moved
             pushes = DistributedFormulation().team(problem).broadcast(a.x.reshape(HORIZON, -1, 2)).pushes
