@@ -13,7 +13,7 @@ attacker's top speed:
   order the defenders stand; an intercept point while the attacker is not
   enclosed, the attacker itself once it is);
 - over the horizon the places move with the attacker's *observed* velocity
-  (the mean over the last ``VELOCITY_WINDOW`` observed steps, capped at v_a),
+  (:class:`~mpc_hunt.control.observed.ObservedVelocity`, capped at v_a),
   so the ring co-moves with whatever the attacker does instead of being frozen;
 - a defender's place at step k is no farther than k steps of its top speed,
   going round the tightest ring any defender aims at where the straight way
@@ -30,18 +30,15 @@ obstacles' safety distance (Eq. 15), separation, the arena.
 
 from __future__ import annotations
 
-from collections import deque
-
 import numpy as np
 
 from mpc_hunt.capture.problem import EncloseWeights, Reference
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
+from mpc_hunt.control.observed import ObservedVelocity
 from mpc_hunt.control.voronoi import VoronoiController, route
-from mpc_hunt.world.geometry import saturate
 from mpc_hunt.world.scenario import Scenario
 
-VELOCITY_WINDOW = 5      # observed steps averaged into the attacker's velocity
 # No term on the attacker's predicted position: the prediction is the defenders' model, which this controller
 # does not trust to herd with; the arena's edge term stays (it only ever keeps the attacker in).
 CONTAIN_WEIGHTS = EncloseWeights(attacker=0.0)
@@ -71,25 +68,14 @@ class Containment:
         self.scenario = scenario
         self.horizon = horizon
         self.rule = VoronoiController(scenario)
-        self._seen: deque = deque(maxlen=VELOCITY_WINDOW + 1)
-
-    def velocity(self, obs: Observation) -> np.ndarray:
-        """The attacker's velocity: the mean of its last observed steps, capped at its top speed."""
-        if obs.previous_attacker is not None and not self._seen:
-            self._seen.append(np.array(obs.previous_attacker, dtype=float))
-        self._seen.append(np.array(obs.attacker, dtype=float))
-        if len(self._seen) < 2:
-            return np.zeros(2)
-        T = self.scenario.hunt.time_step
-        mean = (self._seen[-1] - self._seen[0]) / (T * (len(self._seen) - 1))
-        return saturate(mean, self.scenario.attacker.max_speed)
+        self.observed = ObservedVelocity(scenario)
 
     def reference(self, obs: Observation) -> Reference:
         """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""
         s, N = self.scenario, self.horizon
         T = s.hunt.time_step
         P = obs.defenders
-        drift = self.velocity(obs) * T * np.arange(1, N + 1)[:, None]
+        drift = self.observed.update(obs) * T * np.arange(1, N + 1)[:, None]
         movers, centres, angles, radii, enclosed = self.rule.aims(obs)
         places = np.repeat(P[None], N, axis=0).astype(float)
         guard = float(np.min(radii)) if len(radii) else 0.0

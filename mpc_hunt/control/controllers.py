@@ -12,8 +12,9 @@ CONTROLLERS = {
     "voronoi": "mpc_hunt.control.voronoi:VoronoiController",
     "contain": "mpc_hunt.control.strategy:ContainingStrategy",
     "adapt": "mpc_hunt.control.strategy:AdaptiveStrategy",
+    "trap": "mpc_hunt.control.strategy:TrappingStrategy",
 }
-SOLVING = ("paper", "enclose", "contain", "adapt")     # the controllers that solve a capture problem (take solver settings)
+SOLVING = ("paper", "enclose", "contain", "adapt", "trap")     # the controllers that solve a capture problem (take solver settings)
 
 
 def controller_objective(name: str) -> str:

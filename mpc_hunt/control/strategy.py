@@ -30,6 +30,7 @@ from mpc_hunt.world.approach import approach_target, approach_velocity
 from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem, EncloseWeights
 from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment
 from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.control.trap import Trap
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
@@ -172,6 +173,22 @@ class ContainingStrategy(HuntingStrategy):
 
     def describe(self) -> dict:
         return super().describe() | {"controller": "contain"}
+
+
+class TrappingStrategy(HuntingStrategy):
+    """The capture problem with the enclose objective tracking the minimum-time closing of the attacker's
+    dominance region that :class:`~mpc_hunt.control.trap.Trap` builds, with no term on a predicted attacker
+    (CLI ``--controller trap``)."""
+
+    enclose_weights = CONTAIN_WEIGHTS
+    OBJECTIVE = "enclose"
+
+    def __init__(self, scenario: Scenario, **options):
+        super().__init__(scenario, **options)
+        self.enclosure = Trap(scenario, self.horizon)
+
+    def describe(self) -> dict:
+        return super().describe() | {"controller": "trap"}
 
 
 class AdaptiveStrategy(EnclosingStrategy):

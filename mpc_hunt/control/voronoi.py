@@ -35,6 +35,7 @@ from mpc_hunt.control.controller import Command, Observation, attacker_velocity_
 from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target
+from mpc_hunt.world.arena import kept_clear
 from mpc_hunt.world.geometry import direction, dot2, encloses, norm, saturate, unit
 from mpc_hunt.world.hunting_circle import members
 from mpc_hunt.world.scenario import Scenario
@@ -156,15 +157,7 @@ class VoronoiController:
 
     def allowed(self, target: np.ndarray) -> np.ndarray:
         """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe."""
-        s = self.scenario
-        safe = s.hunt.safety_distance
-        if s.arena is not None:
-            x_min, y_min, x_max, y_max = s.arena
-            target = np.clip(target, [x_min + safe, y_min + safe], [x_max - safe, y_max - safe])
-        for c, r in zip(s.obstacle_centres, s.obstacle_radii):
-            if norm(target - c) < r + safe:
-                target = c + (r + safe) * unit(target - c)
-        return target
+        return kept_clear(self.scenario, target)
 
     def _safe(self, p_d: np.ndarray, v: np.ndarray) -> np.ndarray:
         """``v`` without its part into an obstacle's R_safe or out of the arena, where a step would go there."""

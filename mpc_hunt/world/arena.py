@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from mpc_hunt.world.geometry import norm, unit
+
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
@@ -41,3 +43,15 @@ def margin(arena: Arena, points) -> np.ndarray:
 def attacker_escaped(scenario: Scenario, p_a) -> bool:
     """Has the attacker at ``p_a`` left the scenario's arena? Never, when the scenario has no arena."""
     return scenario.arena is not None and beyond_edge(scenario.arena, p_a)
+
+
+def kept_clear(scenario: Scenario, target: np.ndarray) -> np.ndarray:
+    """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe (Eq. 15)."""
+    safe = scenario.hunt.safety_distance
+    if scenario.arena is not None:
+        x_min, y_min, x_max, y_max = scenario.arena
+        target = np.clip(target, [x_min + safe, y_min + safe], [x_max - safe, y_max - safe])
+    for c, r in zip(scenario.obstacle_centres, scenario.obstacle_radii):
+        if norm(target - c) < r + safe:
+            target = c + (r + safe) * unit(target - c)
+    return target

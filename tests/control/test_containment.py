@@ -7,7 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mpc_hunt.control.containment import CONTAIN_WEIGHTS, VELOCITY_WINDOW, Containment, around
+from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment, around
+from mpc_hunt.control.observed import VELOCITY_WINDOW
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.world.belief import Belief, believed
@@ -44,11 +45,11 @@ def test_the_velocity_is_the_mean_of_the_last_observed_steps_capped_at_v_a():
     builder = Containment(_scenario(), N)
     obs = list(_observations((0.02, -0.01)))
     for o in obs:
-        v = builder.velocity(o)
+        v = builder.observed.update(o)
     np.testing.assert_allclose(v, [0.02, -0.01], atol=1e-12)
     fast = Containment(_scenario(), N)
     for o in _observations((0.3, 0.0)):
-        v = fast.velocity(o)
+        v = fast.observed.update(o)
     np.testing.assert_allclose(v, [0.03, 0.0], atol=1e-12)
 
 

@@ -4,7 +4,8 @@
 the default, which every scenario without a ``behaviour`` keeps. The others are
 evaders from the pursuit–evasion literature (docs/model.md, "Attacker
 behaviours"): ``flee``, ``gap``, ``voronoi`` and ``noisy``; ``learned`` is a policy trained against the
-recommended controller (``python studies/train_attacker.py``). Every behaviour
+recommended controller (``python studies/train_attacker.py``); ``minimax`` plans its best response to
+where the defenders can be. Every behaviour
 senses defenders within a radius, moves at most v_a, is repelled by obstacles
 (Eq. 3) and never steps into one (:mod:`mpc_hunt.world.behaviours.base`).
 """
@@ -29,6 +30,7 @@ BEHAVIOURS = {
     "voronoi": "mpc_hunt.world.behaviours.voronoi:VoronoiAttacker",
     "noisy": "mpc_hunt.world.behaviours.noisy:NoisyAttacker",
     "learned": "mpc_hunt.world.behaviours.learned:LearnedAttacker",
+    "minimax": "mpc_hunt.world.behaviours.minimax:MinimaxAttacker",
 }
 DEFAULT_BEHAVIOUR = "apf"
 

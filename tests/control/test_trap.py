@@ -1,0 +1,71 @@
+"""The trap controller's reference (mpc_hunt/control/trap.py): the attacker's dominance region shrunk, edge first."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.trap import Trap
+from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
+
+N = 10
+
+
+def _world(defenders, start, obstacles=()) -> Scenario:
+    return Scenario(name="trap", defenders=tuple(Defender(start=p, max_speed=0.08) for p in defenders),
+                    attacker=Attacker(start=start, nominal_velocity=(0.0, 0.04), max_speed=0.04,
+                                      perception_radius=1.0),
+                    obstacles=obstacles, hunt=HuntParameters(), arena=(0.0, 0.0, 20.0, 20.0))
+
+
+def _headings(s: Scenario) -> np.ndarray:
+    return Trap(s, N).headings(np.array(s.attacker.start), s.defender_starts, s.defender_max_speeds)
+
+
+def test_the_defender_nearest_an_open_edge_closes_it_before_it_closes_in():
+    # The attacker 2.5 m from the left edge, one defender 3 m above it, the rest far right: the way out is left,
+    # and that defender cuts it (down and to the left), not straight at the attacker.
+    s = _world([(2.5, 13.0), (15.0, 5.0), (15.0, 15.0), (18.0, 10.0)], (2.5, 10.0))
+    first = _headings(s)[0]
+    assert first[0] < -0.2 and first[1] < -0.8
+
+
+def test_an_obstacle_closes_the_directions_behind_it_so_the_defenders_cover_the_others():
+    # Two defenders left and right of the attacker, an obstacle just below it: they bend upwards, where it could
+    # still go; with the obstacle gone the picture is symmetric and they come straight in.
+    obstacle = Obstacle(centre=(10.0, 8.2), radius=1.0)
+    bent = _headings(_world([(7.0, 10.0), (13.0, 10.0)], (10.0, 10.0), (obstacle,)))
+    assert np.all(bent[:, 1] > 0.08)
+    straight = _headings(_world([(7.0, 10.0), (13.0, 10.0)], (10.0, 10.0)))
+    assert np.all(np.abs(straight[:, 1]) < 1e-3)
+
+
+def test_shrinking_the_places_run_at_top_speed_down_the_gradient():
+    s = _world([(2.5, 13.0), (15.0, 5.0), (15.0, 15.0), (18.0, 10.0)], (2.5, 10.0))
+    trap = Trap(s, N)
+    reference = trap.reference(Observation(0.0, np.array(s.attacker.start), None, s.defender_starts))
+    assert trap.phase == "shrink"
+    steps = norm(np.diff(np.concatenate([s.defender_starts[None], reference.defenders]), axis=0))
+    np.testing.assert_allclose(steps, 0.08 * 0.1, atol=1e-12)
+
+
+def test_once_enclosed_with_no_way_out_the_ring_closes_with_the_members_centroid_on_the_attacker():
+    ring = [(10.0 + 2.0 * np.cos(a), 10.0 + 2.0 * np.sin(a)) for a in np.radians([90.0, 210.0, 330.0])]
+    s = _world(ring, (10.0, 10.0))
+    trap = Trap(s, N)
+    reference = trap.reference(Observation(0.0, np.array([10.0, 10.0]), None, s.defender_starts))
+    assert trap.phase == "close"
+    np.testing.assert_allclose(reference.defenders.mean(axis=1), np.full((N, 2), 10.0), atol=1e-12)
+    radii = norm(reference.defenders - 10.0)
+    np.testing.assert_allclose(radii[-1], 2.0 - (0.08 - 0.04) * N * 0.1, atol=1e-9)   # speed less v_a, N steps
+
+
+def test_the_trap_controller_plans_every_defender_inside_the_time_step():
+    s = _world([(2.5, 13.0), (15.0, 5.0), (15.0, 15.0), (18.0, 10.0)], (2.5, 10.0))
+    controller = make_controller("trap", s, formulation="rti", backend="hpipm", horizon=N)
+    command = controller.command(Observation(0.0, np.array(s.attacker.start), None, s.defender_starts))
+    assert command.solution.success and command.capture_stage.all()
+    assert np.all(norm(command.velocities) <= 0.08 + 1e-9)
+    assert controller.describe()["controller"] == "trap"
