@@ -15,21 +15,31 @@ arena's edge). The reference has two phases:
 
   the region's area plus a penalty on every ray along which it comes within
   ``EDGE_MARGIN`` of the arena's edge before any obstacle (s: the defenders'
-  limit along the ray, a soft minimum over them, so every mover has a share;
-  b: the nearest obstacle; e: the edge). This is the area-minimising pursuit of
+  limit along the ray, a soft minimum (Σ s_i^−p)^(−1/p) over them, so every mover has a share;
+  b: the nearest obstacle; e: the edge), whose gradient reaches the farthest mover too. This is the area-minimising pursuit of
   a reachable set (Huang et al. 2011; Pierson et al., RA-L 2017) with the
   edge's openings closed first: the defender that owns an open arc cuts it, the
   others close the rest, and a team too small to enclose alone leans on the
   obstacles that close the other directions (the paper's obstacles as members).
   The places over the horizon are the straight run at top speed: a
   minimum-time closing, not a tracking of places;
+- **herd** (fewer robots than the three that enclose, Eqs. 4–5, so an obstacle
+  must close the circle, and the attacker farther than R_hunt from the nearest
+  obstacle's surface): the movers take places behind the attacker as seen from
+  that obstacle, ``HERD_SPREAD`` either side, and close in at top speed (going
+  round, no nearer than ``HERD_ORBIT``, until they stand on their side), so that an attacker
+  which keeps away from defenders is pushed against the obstacle; an attacker
+  that does not react is closed on there all the same;
 - **close** (the attacker strictly inside the hull of the movers and the
   stationary members, and no direction open to the edge): places on an even
   spread round the attacker (:func:`~mpc_hunt.control.voronoi.ring_bearings`,
   a stationary member first), their common centre shifted so that the
-  members' centroid is the attacker (Eq. 4), the radius shrinking from where
-  each mover stands at its speed less v_a (what the attacker can push back)
-  to R_hunt / 2, every place moving with the attacker's observed velocity.
+  members' centroid is the attacker (Eq. 4), one radius for all, shrinking
+  from the nearest mover's distance at the slowest mover's top speed to
+  R_hunt / 2 (the others run to the ring at theirs), every place moving with
+  the attacker's observed velocity. With fewer than three robots, the close
+  phase starts once the attacker is within R_hunt of the obstacle's surface,
+  which holds the first place.
 
 Places stay in the arena and out of every obstacle's R_safe; the capture
 problem (:class:`~mpc_hunt.capture.problem.CaptureProblem`, the ``enclose``
@@ -49,14 +59,23 @@ from mpc_hunt.control.observed import ObservedVelocity
 from mpc_hunt.control.voronoi import ring_bearings
 from mpc_hunt.world.arena import kept_clear
 from mpc_hunt.world.geometry import direction, encloses, norm
-from mpc_hunt.world.hunting_circle import members
+from mpc_hunt.world.hunting_circle import MIN_MEMBERS, members
 from mpc_hunt.world.reachable_set import defender_reach, edge_distance, obstacle_block, ray_directions
 from mpc_hunt.world.scenario import Scenario
 
 W_EDGE = 20.0         # m: an open ray's penalty per metre beyond the edge less the margin (a ray this long's weight)
 EDGE_MARGIN = 1.0     # m: how far inside the edge the region's boundary must stay to count as closed
-SOFTNESS = 0.5        # m: the soft minimum's width over the defenders' limits
+SHARPNESS = 4.0       # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
+TINY = 1e-9           # m: a limit's floor in that minimum (a defender already within reach)
 STEP = 1e-4           # m: the finite difference of the gradient
+HERD_SPREAD = np.radians(50.0)    # rad: either side of the attacker's far side from the anchor, where a mover herds
+HERD_TOLERANCE = np.radians(30.0)  # rad: a mover this close to its herding bearing closes in; farther, goes round
+HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it closes in at top speed down to this)
+
+
+def wrap(angle):
+    """``angle`` in [−π, π)."""
+    return (np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi
 
 
 class Trap:
@@ -74,8 +93,7 @@ class Trap:
         """J of the module's docstring for the movers at ``movers`` (k, 2)."""
         s = self.scenario
         limits = defender_reach(p_a, self.rays, movers, s.attacker.max_speed / speeds, 0.5 * s.hunt.hunt_radius)
-        low = limits.min(axis=1)
-        soft = low - SOFTNESS * np.log(np.sum(np.exp(-(limits - low[:, None]) / SOFTNESS), axis=1))
+        soft = np.sum(np.maximum(limits, TINY) ** -SHARPNESS, axis=1) ** (-1.0 / SHARPNESS)
         area = 0.5 * np.sum(np.minimum(soft, np.minimum(blocked, edge)) ** 2)
         open_ = blocked > edge
         penalty = W_EDGE * np.sum(np.where(open_, np.maximum(0.0, soft - (edge - EDGE_MARGIN)), 0.0))
@@ -122,7 +140,11 @@ class Trap:
         stationary = np.vstack([P[~obs.active], m.anchors[len(P):]])
         places = np.repeat(P[None], N, axis=0).astype(float)
         steps = (np.arange(1, N + 1) * T)[:, None]
-        if len(movers) and self.closed(p_a, P[movers], speeds, stationary):
+        anchor = m.anchors[len(P)] if len(P) < MIN_MEMBERS and len(m.anchors) > len(P) else None
+        if len(movers) and anchor is not None and norm(anchor - p_a) > s.hunt.hunt_radius:
+            self.phase = "herd"
+            places[:, movers] = self._herd(p_a, P[movers], speeds, anchor, steps) + drift[:, None]
+        elif len(movers) and (anchor is not None or self.closed(p_a, P[movers], speeds, stationary)):
             self.phase = "close"
             places[:, movers] = self._ring(p_a, P[movers], speeds, stationary, steps) + drift[:, None]
         elif len(movers):
@@ -136,14 +158,34 @@ class Trap:
         weight[-1] = TERMINAL_WEIGHT
         return Reference(places, p_a + drift, weight)
 
+    def _herd(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, anchor: np.ndarray,
+              steps: np.ndarray) -> np.ndarray:
+        """The herd phase's places (N, k, 2): behind the attacker as seen from ``anchor``, ``HERD_SPREAD`` either
+        side, closing to R_hunt / 2 at top speed; a mover not yet at its bearing goes round at its distance."""
+        inner = 0.5 * self.scenario.hunt.hunt_radius
+        away = np.arctan2(*(p_a - anchor)[::-1])
+        bearings = np.arctan2(movers[:, 1] - p_a[1], movers[:, 0] - p_a[0])
+        side = np.where(wrap(bearings - away) >= 0, 1.0, -1.0)
+        if len(movers) == 2 and side[0] == side[1]:
+            side[np.argmin(wrap(bearings - away) * side[0])] *= -1.0      # one each side
+        goals = away + side * HERD_SPREAD if len(movers) > 1 else np.array([away])
+        distance = norm(movers - p_a)
+        turn = wrap(goals - bearings)
+        swept = np.minimum(np.abs(turn)[None], speeds[None] * steps / np.maximum(distance, inner)[None])
+        going = np.abs(turn)[None] > HERD_TOLERANCE
+        angles = bearings[None] + np.sign(turn)[None] * swept
+        closing = distance[None] - speeds[None] * steps
+        radii = np.where(going, np.maximum(np.minimum(distance[None], HERD_ORBIT), closing), np.maximum(inner, closing))
+        return p_a + radii[:, :, None] * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+
     def _ring(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray,
               steps: np.ndarray) -> np.ndarray:
         """The close phase's places (N, k, 2) round the attacker where it stands (the module's docstring)."""
         s = self.scenario
         inner = 0.5 * s.hunt.hunt_radius
         angles = ring_bearings(p_a, movers, stationary)
-        start = norm(movers - p_a)
-        radii = np.maximum(inner, start[None] - (speeds - s.attacker.max_speed)[None] * steps)    # (N, k)
+        start = float(np.min(norm(movers - p_a)))
+        radii = np.maximum(inner, start - float(np.min(speeds)) * steps)                         # (N, 1)
         places = p_a + radii[:, :, None] * direction(angles)[None]
         near = stationary[norm(stationary - p_a) <= s.hunt.hunt_radius]
         count = len(movers) + len(near)

@@ -59,7 +59,7 @@ def test_once_enclosed_with_no_way_out_the_ring_closes_with_the_members_centroid
     assert trap.phase == "close"
     np.testing.assert_allclose(reference.defenders.mean(axis=1), np.full((N, 2), 10.0), atol=1e-12)
     radii = norm(reference.defenders - 10.0)
-    np.testing.assert_allclose(radii[-1], 2.0 - (0.08 - 0.04) * N * 0.1, atol=1e-9)   # speed less v_a, N steps
+    np.testing.assert_allclose(radii[-1], 2.0 - 0.08 * N * 0.1, atol=1e-9)     # the nearest mover's distance, at top speed
 
 
 def test_the_trap_controller_plans_every_defender_inside_the_time_step():
