@@ -25,7 +25,10 @@ def controller_objective(name: str) -> str:
 def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):
     """A fresh controller for ``scenario`` by name: ``paper``, the strategy with the paper's capture
     objective; ``enclose``, the same strategy with the enclose objective; ``apf``, the potential-field
-    encirclement, and ``voronoi``, the Voronoi encirclement, with no optimisation.
+    encirclement, and ``voronoi``, the Voronoi encirclement, with no optimisation; ``contain``, the capture
+    problem tracking the Voronoi places with the attacker's observed velocity; ``trap``, the capture problem
+    tracking a minimum-time shrink of the attacker's reachable set; ``adapt``, ``enclose`` re-estimating the
+    attacker online.
 
     The controller is built on the defenders' ``belief`` of the attacker (:func:`mpc_hunt.world.belief.believed`;
     ``rng`` draws its heading error), never on the world's behaviour."""

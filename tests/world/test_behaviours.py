@@ -138,3 +138,21 @@ def test_the_paper_scenarios_keep_the_papers_attacker():
     from mpc_hunt.world.scenario_io import builtin_names, builtin_scenario
     assert {builtin_scenario(n).attacker.behaviour for n in builtin_names()} == {"apf"}
     assert dataclasses.replace(builtin_scenario("paper-open").attacker, behaviour="flee").behaviour == "flee"
+
+
+@settings(max_examples=300, deadline=None)
+@given(clearance=st.floats(1e-3, 0.9), bearing=st.floats(0.0, 2 * math.pi), wish=st.floats(0.0, 2 * math.pi),
+       speed=st.floats(0.001, 0.08), radius=st.floats(0.3, 1.2))
+def test_no_steered_evader_moves_towards_an_obstacle_within_0_9_m_of_its_surface(clearance, bearing, wish, speed,
+                                                                                   radius):
+    # The obstacles' field (Eq. 3, k_o = η = 1, 1 m protective distance) outweighs any wish of at most the sweeps'
+    # fastest attacker (0.99 × 0.08 m/s) within 0.9 m of a surface, so flee, gap, voronoi, learned and minimax
+    # (every behaviour built on `steered`) never come within R_hunt = 0.5 m of an obstacle: one can never be a member
+    # of their hunting circle (docs/model.md, E13).
+    from mpc_hunt.world.behaviours.base import steered
+    s = dataclasses.replace(_world("gap", obstacles=(Obstacle(centre=(0.0, 0.0), radius=radius),)),
+                            attacker=dataclasses.replace(_world("gap").attacker, max_speed=speed))
+    outward = np.array([math.cos(bearing), math.sin(bearing)])
+    p = (radius + clearance) * outward
+    v = steered(s, p, speed * np.array([math.cos(wish), math.sin(wish)]))
+    assert float(v @ outward) >= -1e-12
