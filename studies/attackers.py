@@ -3,7 +3,8 @@
 Runs the sweep machinery (``mpc_hunt.sweep.runner``) on the reachable hunts among the first ``--hunts`` of the
 sweep ``--seed`` (unreachable hunts are lost by any controller, whatever the attacker: docs/robustness.md):
 every strategy of ``STRATEGIES`` against every behaviour of ``mpc_hunt.world.behaviours.BEHAVIOURS`` with the
-exact belief, and the contain controller and the Voronoi baseline with each belief error of ``BELIEFS``.
+exact belief, and the contain controller and the Voronoi baseline with each belief error of ``BELIEFS``
+(the trap controller reads nothing of the belief but the attacker's top speed, which no error changes).
 Rows go into ``studies/attackers/sweep.db`` (resumed if it exists, so an interrupted run continues); then it
 writes ``studies/attackers/`` (README.md, summary.json with the machine, the figures).
 
@@ -47,11 +48,15 @@ HUNTS, SEED = 20, 1
 MAX_HUNTS = 1000
 RECOMMENDED_LABEL = f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:" \
                     f"{RECOMMENDED['horizon']}"
-STRATEGIES = tuple(dict.fromkeys((RECOMMENDED_LABEL, "contain:rti:hpipm:10", "voronoi", "apf", "paper:rti:hpipm:5")))
+FOCUS = "trap:rti:hpipm:10"          # the controller built on the attacker's reachable set (docs/model.md, E16)
+STRATEGIES = tuple(dict.fromkeys((RECOMMENDED_LABEL, FOCUS, "contain:rti:hpipm:10", "voronoi", "apf",
+                                  "paper:rti:hpipm:5")))
 EXACT = "exact"
-FOCUS = "contain:rti:hpipm:10"       # the controller built not to assume the attacker's law (docs/model.md, E15)
 BELIEFS = ("perception_radius=1.3x", "eta=3x", "intent_heading=60")   # errors run by the BELIEF_STRATEGIES
-BELIEF_STRATEGIES = (FOCUS, "voronoi")
+# The controllers that read the believed attacker beyond its top speed: contain (its floor R_agg + R_hunt / 2 while
+# the attacker is not enclosed) and the Voronoi baseline (the same floor and its intercepts). Trap reads only the top
+# speed, which no belief error changes, so its commands are the same under every error.
+BELIEF_STRATEGIES = ("contain:rti:hpipm:10", "voronoi")
 
 
 def hunt_indices(hunts: int, seed: int) -> list[int]:
@@ -132,7 +137,8 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         f"(default ranges, docs/robustness.md; {len(indices)} hunts), each run by every strategy against every "
         "attacker behaviour (docs/model.md, E13) with the exact belief, and by the contain controller (E15) and the "
         "Voronoi baseline with each belief error (E14: the world's value over the believed one; the heading error "
-        "drawn per hunt). Every controller is built on the belief, never on the world's behaviour. One row per "
+        "drawn per hunt; the trap controller, E16, reads nothing of the belief but the attacker's top speed, which "
+        "no error changes). Every controller is built on the belief, never on the world's behaviour. One row per "
         "hunt is in `sweep.db` (`mpc-hunt sweep-report studies/attackers/sweep.db` recomputes the table).", "",
         *headline(summaries),
         "![success by attacker](success_by_attacker.png)", "",
