@@ -151,9 +151,7 @@ class Trap:
             self.phase = "shrink"
             ways = self.headings(p_a, P[movers], speeds)
             places[:, movers] = P[movers][None] + (speeds[None, :, None] * steps[:, :, None]) * ways[None]
-        for k in range(N):
-            for i in movers:
-                places[k, i] = kept_clear(s, places[k, i])
+        places[:, movers] = kept_clear(s, places[:, movers])
         weight = np.ones(N)
         weight[-1] = TERMINAL_WEIGHT
         return Reference(places, p_a + drift, weight)

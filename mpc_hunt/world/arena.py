@@ -45,13 +45,16 @@ def attacker_escaped(scenario: Scenario, p_a) -> bool:
     return scenario.arena is not None and beyond_edge(scenario.arena, p_a)
 
 
-def kept_clear(scenario: Scenario, target: np.ndarray) -> np.ndarray:
-    """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe (Eq. 15)."""
+def kept_clear(scenario: Scenario, targets: np.ndarray) -> np.ndarray:
+    """``targets`` (…, 2) moved into the arena, R_safe from its edges, and out of every obstacle's R_safe
+    (Eq. 15), the obstacles in turn."""
     safe = scenario.hunt.safety_distance
+    targets = np.array(targets, dtype=float)
     if scenario.arena is not None:
         x_min, y_min, x_max, y_max = scenario.arena
-        target = np.clip(target, [x_min + safe, y_min + safe], [x_max - safe, y_max - safe])
+        targets = np.clip(targets, [x_min + safe, y_min + safe], [x_max - safe, y_max - safe])
     for c, r in zip(scenario.obstacle_centres, scenario.obstacle_radii):
-        if norm(target - c) < r + safe:
-            target = c + (r + safe) * unit(target - c)
-    return target
+        inside = norm(targets - c) < r + safe
+        if np.any(inside):
+            targets = np.where(np.expand_dims(inside, -1), c + (r + safe) * unit(targets - c), targets)
+    return targets
