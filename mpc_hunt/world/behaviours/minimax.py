@@ -20,7 +20,7 @@ obstacles' field and kept out of every obstacle like every behaviour's
 
 The search is exhaustive over the rays (a zero-sum game of one move against
 reachable sets, solved exactly on that grid), so it needs no solver; a plan
-costs 1.4–2.0 ms against five defenders and two obstacles on the 2-core
+costs 1.3–2.0 ms against five defenders and two obstacles on the 2-core
 development machine under load (docs/model.md, E13, gives the command).
 """
 
