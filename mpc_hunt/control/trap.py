@@ -99,7 +99,7 @@ class Trap:
         penalty = W_EDGE * np.sum(np.where(open_, np.maximum(0.0, soft - (edge - EDGE_MARGIN)), 0.0))
         return float((area + penalty) * 2 * np.pi / len(self.rays))
 
-    def limits(self, p_a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def bounds(self, p_a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(the nearest obstacle's surface, the arena's edge) along each ray from ``p_a``."""
         s = self.scenario
         return obstacle_block(p_a, self.rays, s.obstacle_centres, s.obstacle_radii), edge_distance(p_a, self.rays,
@@ -107,7 +107,7 @@ class Trap:
 
     def headings(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray) -> np.ndarray:
         """Each mover's unit direction down the gradient of J (towards the attacker where J is flat for it)."""
-        blocked, edge = self.limits(p_a)
+        blocked, edge = self.bounds(p_a)
         base = self.cost(p_a, movers, speeds, blocked, edge)
         out = np.empty_like(movers)
         for i in range(len(movers)):
@@ -127,7 +127,7 @@ class Trap:
         if not encloses(p_a, np.vstack([movers, stationary])):
             return False
         limits = defender_reach(p_a, self.rays, movers, s.attacker.max_speed / speeds, 0.5 * s.hunt.hunt_radius)
-        blocked, edge = self.limits(p_a)
+        blocked, edge = self.bounds(p_a)
         return not np.any((limits.min(axis=1) > edge - EDGE_MARGIN) & (blocked > edge))
 
     def reference(self, obs: Observation) -> Reference:
