@@ -25,3 +25,16 @@ def test_the_environment_examples_run(capsys):
         namespace: dict = {}
         exec(compile(block, str(README), "exec"), namespace)
         assert namespace["observation" if "observation" in namespace else "observations"] is not None
+
+
+def test_the_readme_the_docs_and_the_cli_name_the_same_recommended_controller():
+    import re
+
+    from mpc_hunt.cli.commands import build_parser
+    from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
+
+    readme = README.read_text(encoding="utf-8")
+    assert re.search(r"recommended\s+controller\s+\(`(\w+)`", readme).group(1) == RECOMMENDED_CONTROLLER
+    envs = (README.parent / "docs" / "envs.md").read_text(encoding="utf-8")
+    assert re.search(r"the recommended one, `(\w+)`", envs).group(1) == RECOMMENDED_CONTROLLER
+    assert build_parser().parse_args(["simulate"]).controller == RECOMMENDED_CONTROLLER
