@@ -4,6 +4,7 @@ progress (the argument types: mpc_hunt.arguments; Ctrl-C: mpc_hunt.interrupt).""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import tempfile
@@ -20,6 +21,30 @@ MAX_RUN_LENGTH = 1_000             # problems --run-length
 MAX_RANDOM = 1_000                 # problems --random: states per family, each up to 200 draws with a solve
 MAX_HUNTS = 1_000_000              # sweep --hunts per strategy
 MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core (each holds a solver's memory)
+
+
+_messages: list = []                # the real stderr while quiet_solvers drops the rest
+
+
+@contextlib.contextmanager
+def quiet_solvers(verbose: bool):
+    """While a command runs, what the solver packages write to stderr (CasADi's and IPOPT's warnings, Python's
+    warnings; local sweep workers inherit it) is dropped, unless ``verbose``. The command's own messages (progress,
+    "interrupted") go to :func:`messages`, the real stderr."""
+    _messages.append(sys.stderr)
+    try:
+        if verbose:
+            yield
+        else:
+            with open(os.devnull, "w", encoding="utf-8") as sink, contextlib.redirect_stderr(sink):
+                yield
+    finally:
+        _messages.pop()
+
+
+def messages():
+    """The stream for the command's own messages on stderr (not the solvers', :func:`quiet_solvers`)."""
+    return _messages[-1] if _messages else sys.stderr
 
 
 def max_workers() -> int:
@@ -61,7 +86,7 @@ class Progress:
             return None
         from tqdm import tqdm
         self.bar = tqdm(total=round(self.total, 1), desc=self.what, unit=f" {self.unit}", delay=2.0,
-                        file=sys.stderr, leave=False,
+                        file=messages(), leave=False,
                         bar_format=f"{{desc}}: {{percentage:3.0f}}%|{{bar}}| {{n:.0f}}/{{total:.0f}} {self.unit} "
                                    "[{elapsed}<{remaining}]")
         return self._update
