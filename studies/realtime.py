@@ -16,7 +16,6 @@ description) and the real-time table of ``docs/benchmarks.md``. A few minutes.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -29,7 +28,7 @@ from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.solving import registry
 from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
@@ -143,7 +142,7 @@ def check(rerun: bool) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--horizons", type=count(MAX_HORIZON), nargs="+", default=HORIZONS)
     parser.add_argument("--check", action="store_true", help="check the committed inputs against the code")
     parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")

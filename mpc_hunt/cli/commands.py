@@ -24,7 +24,7 @@ from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.world.scenario import MAX_DEFENDERS
-from mpc_hunt.arguments import count, non_negative, positive_float, seed
+from mpc_hunt.arguments import CommandParser, count, non_negative, positive_float, seed
 from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
                                  check_writable, messages, quiet_solvers)
 from mpc_hunt.errors import MpcHuntError
@@ -39,13 +39,6 @@ from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_
 EXIT_ERROR = 2
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif",)
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line."""
-
-    def error(self, message: str):  # noqa: D102 - argparse's hook
-        self.exit(EXIT_ERROR, f"{self.prog}: error: {message} (see --help)\n")
 
 
 def _backend_help() -> str:
@@ -73,9 +66,9 @@ def _solver_choice(args) -> dict:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
+    parser = CommandParser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
     parser.add_argument("--version", action="version", version=f"mpc-hunt {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
 
     sim = sub.add_parser("simulate", help="run one closed-loop hunt",
                          description="Run one closed-loop hunt and report capture, path lengths and clearances. "
