@@ -37,7 +37,7 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 from studies.sweep_study import NOTHING_RAN, keys, missing, quickest_captures, run_file, still_captured
 
 OUT = Path(__file__).resolve().parent / "attackers"
@@ -207,4 +207,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -34,7 +34,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.plots.compare_report import write_report
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "compare"
 HORIZONS, SEED, STARTS, ACCURACY = [1, 5, 10], 0, 4, "default"
@@ -135,4 +135,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

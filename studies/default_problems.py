@@ -48,7 +48,7 @@ from mpc_hunt.bench.random_states import random_entries
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.scenario_io import scenario_to_dict
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 TARGET = Path(__file__).resolve().parents[1] / "mpc_hunt" / "bench" / "problems" / "default.json"
 EVERY, RUN_LENGTH, RANDOM_PER_CASE, SEED = 560, 4, 2, 0
@@ -175,4 +175,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -40,7 +40,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
 from mpc_hunt.plots.hunt import plot_hunt
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "reproduction"
 SCENARIOS = ("paper-open", "paper-obstacles")
@@ -380,7 +380,7 @@ def main(argv: list[str] | None = None) -> int:
 
 if __name__ == "__main__":
     try:
-        sys.exit(main())
+        sys.exit(run_study(main))
     except (KeyboardInterrupt, BrokenProcessPool):
         print("interrupted: nothing written", file=sys.stderr)
         sys.exit(130)

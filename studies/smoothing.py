@@ -20,12 +20,16 @@ import platform
 import sys
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
 import numpy as np
 
 from mpc_hunt.arguments import CommandParser, output_folder
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, simulate
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.attacker import perceives
+from studies.study_check import run_study
 
 SCENARIOS = ("paper-open", "paper-obstacles")
 WIDTHS = (0.0, 0.001, 0.003, 0.01)
@@ -116,4 +120,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

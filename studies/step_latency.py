@@ -63,7 +63,7 @@ from studies.step_exported import exported_c, exported_lines
 from studies.step_floor import floor_lines, qp_floor
 from studies.step_loop import loop_latency, loop_lines, loop_targets
 from studies.step_profile import rti_profile
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 try:
     from studies.do_mpc_peer import DoMPCPeer
@@ -466,4 +466,4 @@ def write_report(args, problem_set: ProblemSet, result: dict) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

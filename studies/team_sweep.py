@@ -40,7 +40,7 @@ from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 from studies.sweep_study import NOTHING_RAN, keys, missing, quickest_captures, run_file, still_captured
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
@@ -219,4 +219,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -48,7 +48,7 @@ from mpc_hunt.sweep.runner import run_local
 from mpc_hunt.world.behaviours.learned import FEATURES, PARAMETERS, LearnedAttacker, shipped_weights
 from mpc_hunt.world.scenario import Scenario
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "train_attacker"
 PROGRESS = "generations.jsonl"  # in --output while training runs: the settings, then a line per finished generation
@@ -274,4 +274,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -170,3 +170,15 @@ def test_a_resumed_training_needs_the_same_settings(monkeypatch, tmp_path, capsy
     capsys.readouterr()
     err = usage_error(capsys, "train_attacker", ["--population", "5", "--output", str(tmp_path / "out"), "--resume"])
     assert "other settings" in err
+
+
+@pytest.mark.parametrize("failure,code,message", [
+    (lambda: (_ for _ in ()).throw(__import__("mpc_hunt.errors").errors.MpcHuntError("bad\ninput")), 2,
+     "error: bad input"),
+    (lambda: open("/nonexistent/results.json", "w"), 2, "error: /nonexistent/results.json: No such file"),
+    (lambda: (_ for _ in ()).throw(KeyboardInterrupt), 130, "interrupted"),
+])
+def test_a_study_that_fails_at_run_time_says_so_in_one_line(failure, code, message, capsys):
+    assert study("study_check").run_study(failure) == code
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
