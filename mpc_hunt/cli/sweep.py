@@ -21,7 +21,8 @@ def add_parsers(sub) -> None:
                     "for each strategy against each attacker with each belief, on local worker processes or a Dask "
                     "cluster, streaming one row per hunt into an SQLite file; then print the summary per strategy, "
                     "attacker and belief. A strategy is controller[:formulation[:backend[:horizon]]], e.g. "
-                    "paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf. "
+                    "paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf; a field left out is what simulate --controller "
+                    "takes for it (enclose is enclose:rti:hpipm:10). "
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
