@@ -76,7 +76,7 @@ def positive_float(text: str) -> float:
     return value
 
 
-def _writable(folder: Path) -> str | None:
+def cannot_write(folder: Path) -> str | None:
     """Why this process cannot create a file in ``folder`` (read-only, /proc, ...), or None."""
     try:
         with tempfile.TemporaryFile(dir=folder):
@@ -96,7 +96,7 @@ def output_folder(text: str) -> Path:
         raise argparse.ArgumentTypeError(f"{text}: is a file, not a folder")
     if not path.exists() and not path.parent.is_dir():
         raise argparse.ArgumentTypeError(f"{text}: folder {path.parent} does not exist (create it first)")
-    why = _writable(path if path.exists() else path.parent)
+    why = cannot_write(path if path.exists() else path.parent)
     if why:
         raise argparse.ArgumentTypeError(f"{text}: {why}")
     return path
@@ -112,7 +112,7 @@ def output_file(text: str) -> Path:
         raise argparse.ArgumentTypeError(f"{text}: is a folder, not a file")
     if not path.parent.is_dir():
         raise argparse.ArgumentTypeError(f"{text}: folder {path.parent} does not exist (create it first)")
-    why = _writable(path.parent)
+    why = cannot_write(path.parent)
     if why:
         raise argparse.ArgumentTypeError(f"{text}: {why}")
     return path

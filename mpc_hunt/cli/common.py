@@ -7,10 +7,9 @@ import argparse
 import contextlib
 import os
 import sys
-import tempfile
 from pathlib import Path
 
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import cannot_write, count
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.belief import Belief, parse_belief
 
@@ -68,11 +67,9 @@ def belief(text: str) -> Belief:
 
 def check_writable(folder: Path, option: str, path: Path) -> None:
     """Refuse, before any work, a folder this process cannot create a file in (read-only, /proc, ...)."""
-    try:
-        with tempfile.TemporaryFile(dir=folder):
-            pass
-    except OSError as exc:
-        raise MpcHuntError(f"{option} {path}: cannot write in {folder} ({exc.strerror or exc})") from None
+    why = cannot_write(folder)
+    if why:
+        raise MpcHuntError(f"{option} {path}: {why}")
 
 
 class Progress:

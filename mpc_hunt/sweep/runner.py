@@ -82,6 +82,8 @@ class Strategy:
         if controller not in controllers.CONTROLLERS:
             raise MpcHuntError(f"--strategy {shown(text)}: unknown controller {controller!r} "
                                f"(available: {', '.join(controllers.CONTROLLERS)})")
+        if controller not in controllers.SOLVING and len(parts) > 1:
+            raise MpcHuntError(f"--strategy {shown(text)}: controller {controller!r} takes no solver settings")
         given = [part or None for part in parts[1:]]
         try:      # the settings of simulate --controller with the same fields (control.recommended)
             horizon = parse_horizon(given[2]) if len(given) > 2 and given[2] is not None else None
