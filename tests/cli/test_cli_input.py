@@ -103,8 +103,10 @@ def test_a_sweep_strategy_horizon_has_the_command_lines_bounds(capsys):
         assert str(exc.value).split("horizon: ", 1)[1] in simulate and len(str(exc.value)) < 300
 
 
-def test_the_sweeps_total_is_bounded_before_any_file(capsys, tmp_path):
+def test_the_sweeps_total_is_bounded_before_any_file(capsys, tmp_path, monkeypatch):
     output = tmp_path / "big.db"
+    for where in ("mpc_hunt.sweep.store.SweepStore", "mpc_hunt.sweep.stored_run.run_into"):   # no file, no hunt
+        monkeypatch.setattr(where, lambda *a, **k: pytest.fail("the sweep started"))
     argv = ["sweep", "--hunts", "1000000", "--strategy", "apf", "--strategy", "voronoi", "--attacker", "apf",
             "--attacker", "flee", "--attacker", "gap", "--belief", "exact", "--belief", "eta=2x",
             "--output", str(output)]

@@ -117,6 +117,8 @@ def test_a_sweep_study_that_ran_nothing_does_not_succeed(tmp_path, capsys, monke
     assert capsys.readouterr().err.endswith(f"error: {sweep_study.NOTHING_RAN}\n")
 
 
+hunts = None        # the last training's FakeHunts
+
 # Training, with the hunts replaced by a quick fitness of the weights: what is kept through Ctrl-C, and resumed.
 class FakeHunts:
     """``run_local`` for train_attacker: a candidate's fitness is a fixed function of its weights; Ctrl-C at the
@@ -136,8 +138,10 @@ class FakeHunts:
 
 
 def _train(module, monkeypatch, folder: Path, stop: int | None, *extra: str) -> int:
+    global hunts
+    hunts = FakeHunts(stop)
     monkeypatch.setattr(module, "training_hunt", lambda generation, index: None)
-    monkeypatch.setattr(module, "run_local", FakeHunts(stop))
+    monkeypatch.setattr(module, "run_local", hunts)
     monkeypatch.setattr(module, "describe_machine", lambda: {"cpu": "test"})
     monkeypatch.setattr(module, "machine_lines", lambda machine: [])
     return module.main(["--generations", "4", "--population", "4", "--episodes", "2", "--output", str(folder),
@@ -158,6 +162,7 @@ def test_training_keeps_its_finished_generations_through_ctrl_c_and_resumes(monk
         _train(module, monkeypatch, stopped, None)
     assert exc.value.code == 2 and "--resume" in capsys.readouterr().err
     assert _train(module, monkeypatch, stopped, None, "--resume") == 0
+    assert hunts.generation == 2                                 # the two kept generations are not run again
     resumed = json.loads((tmp_path / "stopped.json").read_text())["weights"]
     assert resumed == json.loads((tmp_path / "whole.json").read_text())["weights"]     # as if never stopped
     curve = json.loads((stopped / "results.json").read_text())["curve"]
