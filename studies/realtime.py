@@ -27,8 +27,8 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.solving import registry
-from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.arguments import CommandParser, count
+from mpc_hunt.arguments import CommandParser
+from mpc_hunt.control.recommended import horizon_argument
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
@@ -143,7 +143,7 @@ def check(rerun: bool) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--horizons", type=count(MAX_HORIZON), nargs="+", default=HORIZONS)
+    parser.add_argument("--horizons", type=horizon_argument, nargs="+", default=HORIZONS)
     parser.add_argument("--check", action="store_true", help="check the committed inputs against the code")
     parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")
     args = parser.parse_args(argv)

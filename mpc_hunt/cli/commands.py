@@ -361,7 +361,8 @@ def _solve(args) -> int:
     from mpc_hunt.world.hunt_state import save_state
     from mpc_hunt.solving.solver import CaptureSolver
 
-    formulation, backend, horizon = _solver_choice(args).values()
+    stage = _solver_choice(args)
+    formulation, backend, horizon = stage["formulation"], stage["backend"], stage["horizon"]
     if args.save_state:
         check_output(args.save_state, (".json",), "--save-state")
     solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)
