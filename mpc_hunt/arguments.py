@@ -1,4 +1,5 @@
-"""Argument types for command lines (``mpc-hunt``'s and the studies'): bounded whole numbers, positive numbers.
+"""Command lines (``mpc-hunt``'s and the studies'): the parser whose usage errors are one line, and argument types:
+bounded whole numbers, positive numbers, output folders and files checked before any work.
 
 Every count has an upper bound (docs/robustness.md, "Limits"), so that no value forks processes without end, asks
 for more memory than a machine has, or overflows a results file.
@@ -7,15 +8,43 @@ for more memory than a machine has, or overflows a results file.
 from __future__ import annotations
 
 import argparse
+import re
+import tempfile
+from pathlib import Path
 
+EXIT_USAGE = 2                     # a usage error's exit status (argparse's, mpc-hunt's)
 MAX_SEED = 2**63 - 1               # SQLite's largest integer (a sweep stores its seed); NumPy takes any
 
 
+class CommandParser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr, ``PROG: error: MESSAGE (see --help)``, with exit status
+    EXIT_USAGE: ``mpc-hunt`` and every study (``studies/*.py``) parse with it. :meth:`error` also refuses what
+    only shows after parsing (counts that cannot run together), before any work."""
+
+    def error(self, message: str):  # noqa: D102 - argparse's hook
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {' '.join(message.split())} (see --help)\n")
+
+
+_WHOLE = re.compile(r"\s*([+-]?)0*([0-9]+)\s*")
+SHOWN = 40                         # characters of a bad value a message repeats
+
+
+def shown(text: str) -> str:
+    """``text`` quoted for a message, cut to its first SHOWN characters."""
+    return repr(text) if len(text) <= SHOWN else f"{text[:SHOWN]!r}... ({len(text)} characters)"
+
+
 def _whole(text: str, least: int, most: int, rule: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    match = _WHOLE.fullmatch(text)
+    if match is None:
+        raise argparse.ArgumentTypeError(f"expected a whole number from {least} to {most}, got {shown(text)}")
+    sign, digits = match.groups()
+    if len(digits) > len(str(max(abs(least), abs(most)))):    # far out of range: no int() of thousands of digits
+        if sign == "-":
+            raise argparse.ArgumentTypeError(f"{rule}, got a number of {len(digits)} digits")
+        raise argparse.ArgumentTypeError(f"at most {most} (docs/robustness.md, Limits), got a number of "
+                                         f"{len(digits)} digits")
+    value = int(sign + digits)
     if value < least:
         raise argparse.ArgumentTypeError(f"{rule}, got {value}")
     if value > most:
@@ -45,3 +74,45 @@ def positive_float(text: str) -> float:
     if not value > 0 or value == float("inf"):
         raise argparse.ArgumentTypeError(f"must be a positive finite number, got {text}")
     return value
+
+
+def cannot_write(folder: Path) -> str | None:
+    """Why this process cannot create a file in ``folder`` (read-only, /proc, ...), or None."""
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        return f"cannot write in {folder} ({exc.strerror or exc})"
+    return None
+
+
+def output_folder(text: str) -> Path:
+    """An argument type: a folder to write into, checked before any work: an existing folder this process can write
+    in, or a new one whose parent is such a folder (never a file, never a missing parent)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("empty: give a folder")
+    path = Path(text)
+    if path.exists() and not path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: is a file, not a folder")
+    if not path.exists() and not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: folder {path.parent} does not exist (create it first)")
+    why = cannot_write(path if path.exists() else path.parent)
+    if why:
+        raise argparse.ArgumentTypeError(f"{text}: {why}")
+    return path
+
+
+def output_file(text: str) -> Path:
+    """An argument type: a file to write, checked before any work: not a folder, in an existing folder this process
+    can write in."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("empty: give a file")
+    path = Path(text)
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: is a folder, not a file")
+    if not path.parent.is_dir():
+        raise argparse.ArgumentTypeError(f"{text}: folder {path.parent} does not exist (create it first)")
+    why = cannot_write(path.parent)
+    if why:
+        raise argparse.ArgumentTypeError(f"{text}: {why}")
+    return path

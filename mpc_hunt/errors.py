@@ -9,6 +9,11 @@ class ScenarioError(MpcHuntError, ValueError):
     """A scenario (or scenario file) is malformed; the message names the field."""
 
 
+class DataFileError(MpcHuntError, ValueError):
+    """A data file the toolkit reads (the learned attacker's weights, a problem set) is damaged; the message names
+    the file."""
+
+
 class SolverError(MpcHuntError):
     """A solve failed and the caller asked for an exception instead of a status."""
 

@@ -16,7 +16,6 @@ writes ``studies/attackers/`` (README.md, summary.json with the machine, the fig
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -24,7 +23,7 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
-from mpc_hunt.arguments import count, seed as seed_number
+from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
@@ -39,8 +38,8 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.study_check import check_result
-from studies.sweep_study import keys, missing, quickest_captures, run_file, still_captured
+from studies.study_check import check_result, run_study
+from studies.sweep_study import NOTHING_RAN, keys, missing, quickest_captures, run_file, still_captured
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
@@ -77,9 +76,11 @@ def arguments(hunts: int, seed: int) -> dict:
             "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed, "ranges": ranges_to_dict(ScenarioRanges())}
 
 
-def run(db: Path, hunts: int, seed: int) -> str | None:
-    """The study's hunts into ``db``; None when all finished, else why it stopped."""
-    return run_file(db, arguments(hunts, seed), todo(hunt_indices(hunts, seed), seed))
+def run(db: Path, hunts: int, seed: int, indices: list[int] | None = None) -> str | None:
+    """The study's hunts (on the reachable draws ``indices``, found if not given) into ``db``; None when all
+    finished, else why it stopped."""
+    indices = hunt_indices(hunts, seed) if indices is None else indices
+    return run_file(db, arguments(hunts, seed), todo(indices, seed))
 
 
 def headline(summaries: list[dict]) -> list[str]:
@@ -175,21 +176,32 @@ def check(folder: Path) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"draws to pick from (default {HUNTS})")
     parser.add_argument("--seed", type=seed_number, default=SEED, help=f"the sweep's seed (default {SEED})")
-    parser.add_argument("--output", type=Path, default=OUT, help="the folder to write (default studies/attackers)")
+    parser.add_argument("--output", type=output_folder, default=OUT, help="the folder to write (default studies/attackers)")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("attackers study"):
             return check_result(check(args.output), "studies/attackers", COMMAND)
+    try:
+        indices = hunt_indices(args.hunts, args.seed)        # cheap: draws only, before any file is written
+    except MpcHuntError as exc:
+        parser.error(str(exc))
+    if not indices:
+        parser.error(f"--hunts {args.hunts}: none of the first {args.hunts} draws of --seed {args.seed} is "
+                     "reachable by the defenders, so no hunt would run; give more hunts (the study keeps the "
+                     "reachable ones)")
     args.output.mkdir(parents=True, exist_ok=True)
     machine = describe_machine()
     try:
-        stopped = run(args.output / "sweep.db", args.hunts, args.seed)
+        stopped = run(args.output / "sweep.db", args.hunts, args.seed, indices)
     except MpcHuntError as exc:
         print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if stopped == NOTHING_RAN:
+        print(f"attackers.py: error: {stopped}", file=sys.stderr)
         return 2
     if stopped:
         print(f"{stopped}: finished hunts are in {args.output / 'sweep.db'}; rerun to continue", file=sys.stderr)
@@ -201,4 +213,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -14,7 +14,6 @@ two cores.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -25,6 +24,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 import numpy as np
 from tqdm import tqdm
 
+from mpc_hunt.arguments import CommandParser
 from mpc_hunt.solving import registry
 from mpc_hunt.bench.compare import MODES, planned_solves, run_compare
 from mpc_hunt.bench.compare_rows import best_known, gap
@@ -34,7 +34,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.plots.compare_report import write_report
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "compare"
 HORIZONS, SEED, STARTS, ACCURACY = [1, 5, 10], 0, 4, "default"
@@ -118,7 +118,7 @@ def write_docs() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="check the committed run instead of running")
     args = parser.parse_args(argv)
     with stop_at_once("compare study"):          # Ctrl-C: at once, nothing written
@@ -135,4 +135,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -26,7 +26,6 @@ come from the generator alone), and each default state is reproduced within
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -35,6 +34,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt.arguments import CommandParser
 from mpc_hunt import builtin_names, builtin_scenario
 from mpc_hunt.bench.activity import ActivityProbe
 from mpc_hunt.world.attacker import perceives
@@ -48,7 +48,7 @@ from mpc_hunt.bench.random_states import random_entries
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.scenario_io import scenario_to_dict
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 TARGET = Path(__file__).resolve().parents[1] / "mpc_hunt" / "bench" / "problems" / "default.json"
 EVERY, RUN_LENGTH, RANDOM_PER_CASE, SEED = 560, 4, 2, 0
@@ -157,7 +157,7 @@ def check() -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--check", action="store_true", help="check the shipped file instead of writing it")
     mode.add_argument("--spread", action="store_true", help="print how far a nanometre moves each default state")
@@ -175,4 +175,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -16,7 +16,6 @@ description) and the real-time table of ``docs/benchmarks.md``. A few minutes.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 import time
@@ -28,13 +27,13 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.solving import registry
-from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import CommandParser
+from mpc_hunt.control.recommended import horizon_argument
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "realtime"
 SCENARIOS = ("paper-open", "paper-obstacles")
@@ -143,8 +142,8 @@ def check(rerun: bool) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--horizons", type=count(MAX_HORIZON), nargs="+", default=HORIZONS)
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--horizons", type=horizon_argument, nargs="+", default=HORIZONS)
     parser.add_argument("--check", action="store_true", help="check the committed inputs against the code")
     parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")
     args = parser.parse_args(argv)
@@ -162,4 +161,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

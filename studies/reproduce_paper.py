@@ -17,7 +17,6 @@ range) beside the published ones, with the paper's claims decided from them.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import signal
@@ -34,13 +33,14 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt.arguments import CommandParser, output_folder
 from mpc_hunt import builtin_scenario, simulate
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, perturbed, widened
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
 from mpc_hunt.plots.hunt import plot_hunt
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "reproduction"
 SCENARIOS = ("paper-open", "paper-obstacles")
@@ -353,8 +353,8 @@ def check(out: Path, workers: int) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT,
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=output_folder, default=DEFAULT_OUT,
                         help="output folder (default: studies/reproduction/ beside this script)")
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--check", action="store_true",
@@ -380,7 +380,7 @@ def main(argv: list[str] | None = None) -> int:
 
 if __name__ == "__main__":
     try:
-        sys.exit(main())
+        sys.exit(run_study(main))
     except (KeyboardInterrupt, BrokenProcessPool):
         print("interrupted: nothing written", file=sys.stderr)
         sys.exit(130)

@@ -15,16 +15,21 @@ median and worst relative gap, where both succeeded).
 
 from __future__ import annotations
 
-import argparse
 import json
 import platform
+import sys
 from pathlib import Path
+
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
 
 import numpy as np
 
+from mpc_hunt.arguments import CommandParser, output_folder
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, simulate
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.attacker import perceives
+from studies.study_check import run_study
 
 SCENARIOS = ("paper-open", "paper-obstacles")
 WIDTHS = (0.0, 0.001, 0.003, 0.01)
@@ -94,10 +99,10 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "smoothing")
-    args = parser.parse_args()
+def main(argv: list[str] | None = None) -> int:
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=output_folder, default=Path(__file__).parent / "smoothing")
+    args = parser.parse_args(argv)
     with stop_at_once("smoothing study"):        # Ctrl-C: at once, nothing written
         rows = run()
     args.out.mkdir(parents=True, exist_ok=True)
@@ -111,7 +116,8 @@ def main() -> None:
             table(rows), ""]
     (args.out / "README.md").write_text("\n".join(text))
     print(f"wrote {args.out / 'README.md'}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(run_study(main))

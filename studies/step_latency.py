@@ -51,7 +51,7 @@ import numpy as np
 from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
 
 from mpc_hunt.solving import registry
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.strategy import applied_plan, warm_plan
@@ -63,7 +63,7 @@ from studies.step_exported import exported_c, exported_lines
 from studies.step_floor import floor_lines, qp_floor
 from studies.step_loop import loop_latency, loop_lines, loop_targets
 from studies.step_profile import rti_profile
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 try:
     from studies.do_mpc_peer import DoMPCPeer
@@ -363,9 +363,9 @@ def pair(text: str) -> tuple[str, str]:
     return formulation, backend
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "step_latency")
+def main(argv: list[str] | None = None) -> int:
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=output_folder, default=Path(__file__).parent / "step_latency")
     parser.add_argument("--states", type=count(MAX_STATES), default=60,
                         help=f"consecutive closed-loop states, 2 to {MAX_STATES}")
     parser.add_argument("--pairs", nargs="+", type=pair, metavar="FORMULATION/BACKEND")
@@ -378,7 +378,7 @@ def main() -> int:
     parser.add_argument("--check", action="store_true",
                         help=f"check the committed results against the code (reruns the pairs under "
                              f"{CHECK_BELOW_MS} ms a step; about a minute)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     if args.check:
         return check_result(check(args.out), "studies/step_latency", "python studies/step_latency.py --reuse-states")
     if args.blasfeo is not None and not (args.blasfeo / "libblasfeo.so.0").exists():
@@ -466,4 +466,4 @@ def write_report(args, problem_set: ProblemSet, result: dict) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

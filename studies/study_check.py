@@ -1,8 +1,32 @@
-"""How a study's --check ends: the differences on stderr and status 1, or one line saying it is up to date."""
+"""How a study ends: its --check with the differences on stderr and status 1, or one line saying it is up to date;
+any run with one line on stderr for an error, never a traceback (:func:`run_study`)."""
 
 from __future__ import annotations
 
 import sys
+from pathlib import Path
+from typing import Callable
+
+from mpc_hunt.errors import MpcHuntError
+
+EXIT_ERROR, EXIT_INTERRUPTED = 2, 130
+
+
+def run_study(main: Callable[[], int]) -> int:
+    """A study's ``main()`` run as a command: an error of the toolkit's or of a file is one line on stderr naming
+    the study, status 2; Ctrl-C outside the study's own handling is one line, status 130."""
+    name = Path(sys.argv[0]).name
+    try:
+        return main()
+    except MpcHuntError as exc:
+        print(f"{name}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+    except OSError as exc:
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"{name}: error: {where}{exc.strerror or exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(f"{name}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    return EXIT_ERROR
 
 
 def check_result(errors: list[str], name: str, command: str, shown: int = 20) -> int:

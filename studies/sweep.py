@@ -19,7 +19,6 @@ where it stopped.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -29,6 +28,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt.arguments import CommandParser
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, widened
@@ -44,7 +44,7 @@ from mpc_hunt.sweep.summary import best_strategy, summarise, table
 from mpc_hunt.sweep.typical import typical_hunts
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "sweep"
 DB = OUT / "sweep.db"
@@ -305,7 +305,7 @@ def forget(strategies: list[str]) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
     parser.add_argument("--rerun", action="append", default=[], metavar="STRATEGY",
                         help="run this strategy's hunts and ensemble again (its controller changed); repeatable. An "
@@ -336,4 +336,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -12,12 +12,14 @@ from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 PROGRESS_EVERY = 20     # hunts between two progress lines
+NOTHING_RAN = "no hunt ran: nothing to report"      # why a study whose results file stays empty stops
 
 
 def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
     """The hunts of ``hunts`` not yet in ``db`` (a sweep results file of ``arguments``, resumed if it exists) run
     into it; then the file made self-contained. None when all finished, else why it stopped
-    (:func:`mpc_hunt.sweep.stored_run.run_into`)."""
+    (:func:`mpc_hunt.sweep.stored_run.run_into`; NOTHING_RAN when the file holds no hunt, so that a study that ran
+    nothing never reports success)."""
     store = SweepStore(db, arguments, resume=db.exists())
     try:
         work = missing(hunts, store.done())
@@ -28,6 +30,8 @@ def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
                 print(f"{db.name}: {finished} / {len(work)}", file=sys.stderr, flush=True)
 
         stopped = run_into(store, work, update=progress)
+        if not stopped and not store.done():
+            stopped = NOTHING_RAN
     finally:
         store.close()
     self_contained(db)

@@ -34,7 +34,6 @@ controller does. Exponents: the least-squares slope of log(time) on log(N_d).
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import shutil
@@ -53,7 +52,7 @@ import numpy as np
 
 from formulations.rti import linearised_stages
 from mpc_hunt import CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.control.strategy import applied_plan, warm_plan
@@ -386,13 +385,16 @@ def check(out: Path) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "team_size")
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=output_folder, default=Path(__file__).resolve().parent / "team_size")
     parser.add_argument("--sizes", type=count(MAX_SIZE), nargs="+", default=list(SIZES))
-    parser.add_argument("--states", type=count(MAX_STATES), default=STATES)
+    parser.add_argument("--states", type=count(MAX_STATES), default=STATES,
+                        help=f"consecutive states per team size, 2 to {MAX_STATES} (the first sets up and is not timed)")
     parser.add_argument("--reuse-states", action="store_true", help="the states in OUT/states.json")
     parser.add_argument("--check", action="store_true")
     args = parser.parse_args(argv)
+    if args.states < 2:
+        parser.error(f"--states: at least 2 (the first sets up and is not timed), got {args.states}")
     with stop_at_once("team_size"):             # Ctrl-C: nothing written, the committed files kept
         try:
             if args.check:

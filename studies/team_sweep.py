@@ -22,7 +22,6 @@ Then writes ``studies/team_sweep/`` (README.md, summary.json with the machine).
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from dataclasses import replace
@@ -31,7 +30,7 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
-from mpc_hunt.arguments import count, seed as seed_number
+from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once
@@ -41,8 +40,8 @@ from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.study_check import check_result
-from studies.sweep_study import keys, missing, quickest_captures, run_file, still_captured
+from studies.study_check import check_result, run_study
+from studies.sweep_study import NOTHING_RAN, keys, missing, quickest_captures, run_file, still_captured
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
@@ -189,12 +188,12 @@ def check(folder: Path) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"hunts per attacker (default {HUNTS})")
     parser.add_argument("--team-hunts", type=count(MAX_HUNTS), default=TEAM_HUNTS,
                         help=f"hunts with {TEAMS[0]}–{TEAMS[1]} defenders (default {TEAM_HUNTS})")
     parser.add_argument("--seed", type=seed_number, default=SEED, help=f"the sweep's seed (default {SEED})")
-    parser.add_argument("--output", type=Path, default=OUT, help="the folder to write (default studies/team_sweep)")
+    parser.add_argument("--output", type=output_folder, default=OUT, help="the folder to write (default studies/team_sweep)")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
     args = parser.parse_args(argv)
     if args.check:
@@ -207,6 +206,9 @@ def main(argv: list[str] | None = None) -> int:
     except MpcHuntError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    if stopped == NOTHING_RAN:
+        print(f"team_sweep.py: error: {stopped}", file=sys.stderr)
+        return 2
     if stopped:
         print(f"{stopped}: finished hunts are in {args.output}; rerun to continue", file=sys.stderr)
         return 130 if stopped == "interrupted" else 2
@@ -217,4 +219,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -17,13 +17,15 @@ strategy against it on hunts it never trained on.
 
     python studies/train_attacker.py             # train (27 minutes on 2 cores here), write the weights and the
                                                  # curve (studies/train_attacker/, mpc_hunt/world/behaviours/)
+    python studies/train_attacker.py --resume    # continue a training stopped by Ctrl-C (its finished
+                                                 # generations are kept in studies/train_attacker/generations.jsonl)
     python studies/train_attacker.py --check     # the shipped weights are the committed run's final mean
 """
 
 from __future__ import annotations
 
-import argparse
 import json
+import os
 import sys
 import time
 from dataclasses import dataclass
@@ -34,7 +36,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import CommandParser, count, output_file, output_folder
 from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
@@ -46,9 +48,10 @@ from mpc_hunt.sweep.runner import run_local
 from mpc_hunt.world.behaviours.learned import FEATURES, PARAMETERS, LearnedAttacker, shipped_weights
 from mpc_hunt.world.scenario import Scenario
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "train_attacker"
+PROGRESS = "generations.jsonl"  # in --output while training runs: the settings, then a line per finished generation
 WEIGHTS = Path(__file__).resolve().parents[1] / "mpc_hunt" / "world" / "behaviours" / PARAMETERS
 COMMAND = "python studies/train_attacker.py"
 TRAIN_SEED = 24_601          # the training hunts' own seed: no sweep or study draws from it
@@ -108,12 +111,23 @@ def generation_tasks(generation: int, mean: np.ndarray, spread: np.ndarray, popu
     return candidates, tasks
 
 
-def train(generations: int, population: int, episodes: int, workers: int) -> dict:
-    """The cross-entropy method of the module's docstring; progress on stderr, the curve returned."""
+def train(generations: int, population: int, episodes: int, workers: int, progress: Path | None = None,
+          settings: dict | None = None, resume: bool = False) -> dict:
+    """The cross-entropy method of the module's docstring; progress on stderr, the curve returned. Each finished
+    generation is appended to ``progress`` (:data:`PROGRESS`) as it ends, so Ctrl-C loses only the generation
+    running; ``resume`` continues from the generations there (the same numbers as a run never stopped: each
+    generation draws from its own seeds)."""
+    finished = read_progress(progress, settings) if resume and progress is not None else []
+    if progress is not None and not finished:
+        start_progress(progress, settings)
     mean, spread = np.zeros((2, FEATURES)), np.ones((2, FEATURES))
+    if finished:
+        mean, spread = np.array(finished[-1]["mean"]), np.array(finished[-1]["spread"])
+        print(f"resuming after generation {len(finished)} of {generations}", file=sys.stderr, flush=True)
     elite = max(2, int(round(ELITE * population)))
-    curve, start = [], time.perf_counter()
-    for g in range(generations):
+    curve = [f["curve"] for f in finished]
+    start = time.perf_counter() - (curve[-1]["wall_time_s"] if curve else 0.0)
+    for g in range(len(finished), generations):
         candidates, tasks = generation_tasks(g, mean, spread, population, episodes)
         fitness = np.zeros((population, episodes))
         for row in run_local(tasks, workers, work=episode):
@@ -125,9 +139,58 @@ def train(generations: int, population: int, episodes: int, workers: int) -> dic
                       "spread": float(spread.mean()), "wall_time_s": time.perf_counter() - start})
         mean = candidates[best].mean(axis=0)
         spread = np.maximum(candidates[best].std(axis=0), SIGMA_FLOOR)
+        if progress is not None:
+            append_progress(progress, {"curve": curve[-1], "mean": mean.tolist(), "spread": spread.tolist()})
         print(f"generation {g + 1}/{generations}: μ's fitness {score[0]:.3f}, elite {score[best].mean():.3f}, "
               f"σ {spread.mean():.3f} ({time.perf_counter() - start:.0f} s)", file=sys.stderr, flush=True)
     return {"curve": curve, "weights": mean.tolist()}
+
+
+def _resumable(settings: dict) -> dict:
+    """The settings a resumed training must share with the stopped one (all but the number of generations)."""
+    return {k: v for k, v in settings.items() if k != "generations"}
+
+
+def start_progress(path: Path, settings: dict | None) -> None:
+    """A new progress file: its first line the training's settings."""
+    path.write_text(json.dumps({"settings": settings}) + "\n", encoding="utf-8")
+
+
+def append_progress(path: Path, generation: dict) -> None:
+    """One finished generation (its curve row, the μ and σ it ends with) on its own line, on disk at once."""
+    with path.open("a", encoding="utf-8") as f:
+        f.write(json.dumps(generation) + "\n")
+        f.flush()
+        os.fsync(f.fileno())
+
+
+def read_progress(path: Path, settings: dict | None) -> list[dict]:
+    """The finished generations in a progress file (none if there is no file), each checked; a last line cut
+    short (the process killed while writing it) is dropped. An MpcHuntError if the file is damaged or, given
+    ``settings``, its training had others."""
+    if not path.exists():
+        return []
+    lines = path.read_text(encoding="utf-8").splitlines()
+    entries = []
+    for number, line in enumerate(lines, 1):
+        try:
+            entries.append(json.loads(line))
+        except json.JSONDecodeError:
+            if number == len(lines) and number > 1:
+                break
+            raise MpcHuntError(f"{path}: line {number} is not JSON; delete the file to train from the start") \
+                from None
+    if not entries or not isinstance(entries[0], dict) or "settings" not in entries[0]:
+        raise MpcHuntError(f"{path}: not a training's progress file; delete it to train from the start")
+    if settings is not None and _resumable(entries[0]["settings"] or {}) != _resumable(settings):
+        raise MpcHuntError(f"{path}: a training with other settings; give the same --population and --episodes, "
+                           "or delete the file to train from the start")
+    finished = entries[1:]
+    for i, f in enumerate(finished):
+        if not (isinstance(f, dict) and isinstance(f.get("curve"), dict) and f["curve"].get("generation") == i
+                and np.shape(f.get("mean")) == (2, FEATURES) and np.shape(f.get("spread")) == (2, FEATURES)):
+            raise MpcHuntError(f"{path}: generation {i + 1} is malformed; delete the file to train from the start")
+    return finished
 
 
 def write(result: dict, settings: dict, machine: dict, out: Path, weights: Path) -> None:
@@ -164,14 +227,16 @@ def check(out: Path) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--generations", type=count(100), default=GENERATIONS, help="1 to 100")
     parser.add_argument("--population", type=count(64), default=POPULATION, help="candidates a generation, 4 to 64")
     parser.add_argument("--episodes", type=count(20), default=EPISODES, help="hunts per candidate, 1 to 20")
     parser.add_argument("--workers", type=count(64), default=2, help="local worker processes")
-    parser.add_argument("--output", type=Path, default=OUT, help="the study's folder (default studies/train_attacker)")
-    parser.add_argument("--weights", type=Path, default=WEIGHTS, help="where to write the trained weights")
+    parser.add_argument("--output", type=output_folder, default=OUT, help="the study's folder (default studies/train_attacker)")
+    parser.add_argument("--weights", type=output_file, default=WEIGHTS, help="where to write the trained weights")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    parser.add_argument("--resume", action="store_true",
+                        help=f"continue the training stopped in --output (its finished generations, {PROGRESS})")
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(args.output), "studies/train_attacker", COMMAND)
@@ -182,19 +247,31 @@ def main(argv: list[str] | None = None) -> int:
                 "against": f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:"
                            f"{RECOMMENDED['horizon']}",
                 "ranges": "the sweep's defaults"}
+    progress = args.output / PROGRESS
     try:
-        result = train(args.generations, args.population, args.episodes, args.workers)
+        finished = read_progress(progress, settings if args.resume else None)
+    except MpcHuntError as exc:
+        parser.error(str(exc))
+    if finished and not args.resume:
+        parser.error(f"--output {args.output}: holds {len(finished)} finished generations of a stopped training; "
+                     f"continue it with --resume, or delete {progress} to start again")
+    args.output.mkdir(parents=True, exist_ok=True)
+    try:
+        result = train(args.generations, args.population, args.episodes, args.workers, progress, settings,
+                       resume=args.resume)
     except KeyboardInterrupt:
-        print("interrupted: nothing written (the weights and the curve are written when training ends)",
-              file=sys.stderr)
+        kept = len(read_progress(progress, None)) if progress.exists() else 0
+        print(f"interrupted: {kept} finished generations kept in {progress}; continue with --resume "
+              "(the weights and the curve are written when training ends)", file=sys.stderr)
         return 130
     except MpcHuntError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"train_attacker.py: error: {exc}", file=sys.stderr)
         return 2
     write(result, settings, describe_machine(), args.output, args.weights)
+    progress.unlink()
     print(f"wrote {args.weights} and {args.output / 'README.md'}")
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

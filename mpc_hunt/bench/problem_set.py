@@ -181,9 +181,10 @@ def problem_set_from_dict(data: object, source: str = "<data>") -> ProblemSet:
 
 
 def load_problem_set(path: str | Path) -> ProblemSet:
-    """Read a problem set file (JSON, see the module's docstring)."""
+    """Read a problem set file (JSON, see the module's docstring), checked when loaded: a damaged file is a
+    one-line ScenarioError naming it."""
     path = Path(path)
-    return problem_set_from_dict(read_json(path), str(path))
+    return problem_set_from_dict(read_json(path, f"a problem set, {{\"format\": \"{FORMAT}\", ...}}"), str(path))
 
 
 def save_problem_set(problem_set: ProblemSet, path: str | Path) -> None:
@@ -212,8 +213,8 @@ def builtin_problem_set(name: str = "default") -> ProblemSet:
     available = builtin_problem_sets()
     if name not in available:
         raise UnknownNameError(f"unknown problem set {name!r} (available: {', '.join(available)})")
-    return problem_set_from_dict(json.loads(files.joinpath(f"{name}.json").read_text(encoding="utf-8")),
-                                 f"problem set {name!r}")
+    with resources.as_file(files.joinpath(f"{name}.json")) as path:     # checked as any problem set file
+        return load_problem_set(path)
 
 
 def resolve_problem_set(name_or_file: str | Path) -> ProblemSet:

@@ -24,11 +24,13 @@ from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.world.scenario import MAX_DEFENDERS
-from mpc_hunt.arguments import count, non_negative, positive_float, seed
-from mpc_hunt.cli.common import MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief, check_writable
+from mpc_hunt.arguments import CommandParser, count, non_negative, positive_float, seed
+from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
+                                 check_writable, messages, quiet_solvers)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once
-from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.recommended import (PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER, capture_settings,
+                                          horizon_argument, solver_settings)
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
 from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_names, builtin_scenario,
@@ -37,13 +39,6 @@ from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_
 EXIT_ERROR = 2
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif",)
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse, but a usage error is one line."""
-
-    def error(self, message: str):  # noqa: D102 - argparse's hook
-        self.exit(EXIT_ERROR, f"{self.prog}: error: {message} (see --help)\n")
 
 
 def _backend_help() -> str:
@@ -57,25 +52,23 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
     p.add_argument("--formulation", choices=sorted(registry.FORMULATIONS),
                    help=f"capture-stage formulation (default: {default['formulation']}, {which})")
     p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
-    p.add_argument("--horizon", type=count(MAX_HORIZON), metavar="N",
+    p.add_argument("--horizon", type=horizon_argument, metavar="N",
                    help="receding horizon in steps (default: 1" + ("" if default["horizon"] == 1 else
                         f"; {default['horizon']} with the default formulation") + ")")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
     p.set_defaults(solver_default=default)
 
 
-def _solver_choice(args) -> tuple[str, str | None, int]:
-    """(formulation, backend, horizon): the command's default capture stage where the flags name none."""
-    default = args.solver_default
-    formulation = args.formulation or default["formulation"]
-    backend = args.backend or (default["backend"] if args.formulation is None else None)
-    return formulation, backend, args.horizon or (default["horizon"] if formulation == default["formulation"] else 1)
+def _solver_choice(args) -> dict:
+    """The capture stage (formulation, backend, horizon) the flags name, the command's default where they name none
+    (:func:`mpc_hunt.control.recommended.capture_settings`)."""
+    return capture_settings(args.formulation, args.backend, args.horizon, args.solver_default)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
+    parser = CommandParser(prog="mpc-hunt", description="Multi-robot cooperative hunting as optimisation and MPC.")
     parser.add_argument("--version", action="version", version=f"mpc-hunt {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=CommandParser)
 
     sim = sub.add_parser("simulate", help="run one closed-loop hunt",
                          description="Run one closed-loop hunt and report capture, path lengths and clearances. "
@@ -165,6 +158,10 @@ def build_parser() -> argparse.ArgumentParser:
     _compare_parser(sub)
     _problems_parser(sub)
     cli_sweep.add_parsers(sub)
+    for command in sub.choices.values():
+        command.add_argument("--verbose", action="store_true",
+                             help="also show what the solver packages write to stderr (CasADi's and IPOPT's "
+                                  "warnings, Python's warnings); without it only this command's own messages")
     return parser
 
 
@@ -197,7 +194,7 @@ def _compare_parser(sub) -> None:
     cmp.add_argument("--pair", action="append", metavar="FORMULATION[:BACKEND]",
                      help="a pair to run (a formulation alone: all its installed backends); repeat for several "
                           "(default: every registered pair whose solver is installed)")
-    cmp.add_argument("--horizon", type=count(MAX_HORIZON), nargs="+", default=[1], metavar="N",
+    cmp.add_argument("--horizon", type=horizon_argument, nargs="+", default=[1], metavar="N",
                      help="one or more horizons (default: 1)")
     cmp.add_argument("--mode", nargs="+", choices=MODES, default=list(MODES), help="default: both")
     cmp.add_argument("--accuracy", choices=ACCURACIES, default="default", help="default: default")
@@ -251,10 +248,9 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
     check_writable(path.parent, option, path)
 
 
-def _controller(args, scenario, belief_rng):
-    """The controller the flags name, built on the belief of --belief (``belief_rng`` draws its errors)."""
-    prediction = not args.no_prediction
-    believed = {"belief": args.belief, "rng": belief_rng}
+def _controller_settings(args) -> dict:
+    """The solver settings of --controller (:func:`mpc_hunt.control.recommended.solver_settings`: the same as the
+    sweep's strategy of that name), checked before any work."""
     if args.controller not in controllers.SOLVING:
         given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
                                           ("--horizon", args.horizon), ("--time-limit", args.time_limit),
@@ -263,11 +259,16 @@ def _controller(args, scenario, belief_rng):
         if given:
             raise MpcHuntError(f"{', '.join(given)}: only with --controller {', '.join(controllers.SOLVING)} "
                                f"(controller {args.controller!r} solves no capture problem)")
-        return controllers.make_controller(args.controller, scenario, prediction=prediction, **believed)
-    formulation, backend, horizon = _solver_choice(args)
-    return controllers.make_controller(args.controller, scenario, prediction=prediction, formulation=formulation,
-                                       backend=backend, horizon=horizon, time_limit=args.time_limit, score=args.score,
-                                       **believed)
+        return {}
+    return solver_settings(args.controller, args.formulation, args.backend, args.horizon, args.solver_default) | \
+        {"time_limit": args.time_limit, "score": args.score}
+
+
+def _controller(args, scenario, belief_rng, settings: dict):
+    """The controller the flags name with ``settings`` (:func:`_controller_settings`), built on the belief of
+    --belief (``belief_rng`` draws its errors)."""
+    return controllers.make_controller(args.controller, scenario, prediction=not args.no_prediction,
+                                       belief=args.belief, rng=belief_rng, **settings)
 
 
 def _world(args, scenario):
@@ -289,12 +290,11 @@ def _world(args, scenario):
 def _simulate(args) -> int:
     from mpc_hunt.sim.simulator import simulate
 
-    if args.controller in controllers.SOLVING:
-        registry.check_pair(*_solver_choice(args)[:2])
+    settings = _controller_settings(args)
     check_output(args.plot, FIGURE_SUFFIXES, "--plot")
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
     scenario, world, belief_rng = _world(args, resolve_scenario(args.scenario))
-    controller = _controller(args, scenario, belief_rng)
+    controller = _controller(args, scenario, belief_rng, settings)
     with stop_at_once("simulate"), Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
         result = simulate(scenario, controller, progress=update, rng=world)
     report = result.to_dict()
@@ -361,7 +361,8 @@ def _solve(args) -> int:
     from mpc_hunt.world.hunt_state import save_state
     from mpc_hunt.solving.solver import CaptureSolver
 
-    formulation, backend, horizon = _solver_choice(args)
+    stage = _solver_choice(args)
+    formulation, backend, horizon = stage["formulation"], stage["backend"], stage["horizon"]
     if args.save_state:
         check_output(args.save_state, (".json",), "--save-state")
     solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)
@@ -495,7 +496,7 @@ def _compare(args) -> int:
         write_report(run, machine, args.report, "mpc-hunt " + shlex.join(args.argv), extra)
     if run.interrupted:
         print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.records)} finished solves",
-              file=sys.stderr)
+              file=messages())
         return EXIT_ERROR
     return 0
 
@@ -547,7 +548,8 @@ def main(argv: list[str] | None = None) -> int:
     command = {"simulate": _simulate, "solve": _solve, "scenarios": _scenarios, "backends": _backends,
                "compare": _compare, "problems": _problems, "export": _export, **cli_sweep.HANDLERS}[args.command]
     try:
-        return command(args)
+        with quiet_solvers(args.verbose):
+            return command(args)
     except MpcHuntError as exc:
         print(f"mpc-hunt {args.command}: error: {exc}", file=sys.stderr)
     except BrokenPipeError:  # the reader went away (e.g. `| head`): nothing left to report

@@ -4,12 +4,12 @@ progress (the argument types: mpc_hunt.arguments; Ctrl-C: mpc_hunt.interrupt).""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
-import tempfile
 from pathlib import Path
 
-from mpc_hunt.arguments import count
+from mpc_hunt.arguments import cannot_write, count
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.belief import Belief, parse_belief
 
@@ -20,6 +20,30 @@ MAX_RUN_LENGTH = 1_000             # problems --run-length
 MAX_RANDOM = 1_000                 # problems --random: states per family, each up to 200 draws with a solve
 MAX_HUNTS = 1_000_000              # sweep --hunts per strategy
 MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core (each holds a solver's memory)
+
+
+_messages: list = []                # the real stderr while quiet_solvers drops the rest
+
+
+@contextlib.contextmanager
+def quiet_solvers(verbose: bool):
+    """While a command runs, what the solver packages write to stderr (CasADi's and IPOPT's warnings, Python's
+    warnings; local sweep workers inherit it) is dropped, unless ``verbose``. The command's own messages (progress,
+    "interrupted") go to :func:`messages`, the real stderr."""
+    _messages.append(sys.stderr)
+    try:
+        if verbose:
+            yield
+        else:
+            with open(os.devnull, "w", encoding="utf-8") as sink, contextlib.redirect_stderr(sink):
+                yield
+    finally:
+        _messages.pop()
+
+
+def messages():
+    """The stream for the command's own messages on stderr (not the solvers', :func:`quiet_solvers`)."""
+    return _messages[-1] if _messages else sys.stderr
 
 
 def max_workers() -> int:
@@ -43,11 +67,9 @@ def belief(text: str) -> Belief:
 
 def check_writable(folder: Path, option: str, path: Path) -> None:
     """Refuse, before any work, a folder this process cannot create a file in (read-only, /proc, ...)."""
-    try:
-        with tempfile.TemporaryFile(dir=folder):
-            pass
-    except OSError as exc:
-        raise MpcHuntError(f"{option} {path}: cannot write in {folder} ({exc.strerror or exc})") from None
+    why = cannot_write(folder)
+    if why:
+        raise MpcHuntError(f"{option} {path}: {why}")
 
 
 class Progress:
@@ -61,7 +83,7 @@ class Progress:
             return None
         from tqdm import tqdm
         self.bar = tqdm(total=round(self.total, 1), desc=self.what, unit=f" {self.unit}", delay=2.0,
-                        file=sys.stderr, leave=False,
+                        file=messages(), leave=False,
                         bar_format=f"{{desc}}: {{percentage:3.0f}}%|{{bar}}| {{n:.0f}}/{{total:.0f}} {self.unit} "
                                    "[{elapsed}<{remaining}]")
         return self._update

@@ -3,18 +3,17 @@
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 from mpc_hunt.arguments import count, seed
-from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count
+from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count, messages
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.behaviours import BEHAVIOURS, DEFAULT_BEHAVIOUR
 from mpc_hunt.world.belief import Belief
 
 
 def add_parsers(sub) -> None:
-    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, MAX_TASKS
 
     sw = sub.add_parser(
         "sweep", help="run many random hunts for one or more strategies",
@@ -22,7 +21,8 @@ def add_parsers(sub) -> None:
                     "for each strategy against each attacker with each belief, on local worker processes or a Dask "
                     "cluster, streaming one row per hunt into an SQLite file; then print the summary per strategy, "
                     "attacker and belief. A strategy is controller[:formulation[:backend[:horizon]]], e.g. "
-                    "paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf. "
+                    "paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf; a field left out is what simulate --controller "
+                    "takes for it (enclose is enclose:rti:hpipm:10). "
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
@@ -34,7 +34,8 @@ def add_parsers(sub) -> None:
                     help="the defenders' model of the attacker, as errors against the world: "
                          "perception_radius=1.3x,eta=3x,intent_heading=60 (degrees), or exact; repeatable "
                          "(default: exact). Stored and run as its label (values to 6 significant digits)")
-    sw.add_argument("--hunts", type=count(MAX_HUNTS), default=100, help="hunts per strategy, attacker and belief (default: 100)")
+    sw.add_argument("--hunts", type=count(MAX_HUNTS), default=100,
+                    help=f"hunts per strategy, attacker and belief (default: 100; at most {MAX_TASKS} hunts in all)")
     sw.add_argument("--seed", type=seed, default=0,
                     help="the sweep's seed (≥ 0); hunt i uses scenario (seed, i)")
     sw.add_argument("--ranges", type=Path, metavar="FILE", help="TOML file of scenario ranges ([ranges] table)")
@@ -75,7 +76,7 @@ def _ranges(args):
 
 
 def sweep(args) -> int:
-    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Strategy, connect_dask, tasks
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Strategy, connect_dask, tasks, total_tasks
     from mpc_hunt.sweep.store import SweepStore
     from mpc_hunt.sweep.stored_run import run_into
     from mpc_hunt.sweep.random_scenario import ranges_to_dict
@@ -83,6 +84,7 @@ def sweep(args) -> int:
     strategies = [Strategy.parse(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
     attackers = list(dict.fromkeys(args.attacker or [DEFAULT_BEHAVIOUR]))
     beliefs = list(dict.fromkeys(b.label() for b in (args.belief or [Belief()])))   # eta=3 and eta=3x are one
+    total_tasks(strategies, args.hunts, attackers, beliefs)      # bounded, before any file is written
     ranges = _ranges(args)
     if args.output.is_dir() or not args.output.parent.is_dir():
         raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
@@ -98,7 +100,7 @@ def sweep(args) -> int:
     store.close()
     if stopped:
         print(f"mpc-hunt sweep: {stopped}; finished hunts are in {args.output} (continue with --resume)",
-              file=sys.stderr)
+              file=messages())
         return 2
     return code
 

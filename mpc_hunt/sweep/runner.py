@@ -1,7 +1,10 @@
 """Monte Carlo sweeps: many random hunts for one or more strategies, on local processes or a Dask cluster.
 
 A strategy is written ``controller[:formulation[:backend[:horizon]]]``, e.g.
-``paper:nlp:ipopt:1`` (the paper's), ``paper:qp:daqp:5`` or ``apf``. Every
+``paper:nlp:ipopt:1`` (the paper's), ``paper:qp:daqp:5`` or ``apf``; a field
+left out is what ``mpc-hunt simulate --controller`` takes for it
+(:func:`mpc_hunt.control.recommended.solver_settings`: ``enclose`` is
+``enclose:rti:hpipm:10``). Every
 strategy runs against every attacker behaviour
 (:data:`mpc_hunt.world.behaviours.BEHAVIOURS`) with every belief of the
 defenders (:mod:`mpc_hunt.world.belief`, written as its label). Hunt i of a
@@ -22,6 +25,7 @@ scheduler reruns them; a hunt whose workers died too often (Dask's
 from __future__ import annotations
 
 import ctypes
+import itertools
 import os
 import signal
 import sys
@@ -30,13 +34,13 @@ from collections import deque
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from typing import Any, Callable, Generator, Iterator, Sequence
+from typing import Any, Callable, Generator, Iterable, Iterator, Sequence
 
 import numpy as np
 
-from mpc_hunt.solving import registry
-from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.control import controllers
+from mpc_hunt.arguments import shown
+from mpc_hunt.control.recommended import parse_horizon, solver_settings
 from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.errors import MpcHuntError, SweepStopped
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
@@ -52,8 +56,11 @@ from mpc_hunt.world.belief import Belief, parse_belief
 # to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
 DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
 MAX_WORKER_DEATHS = 3
+MAX_TASKS = 10_000_000   # hunts in one sweep, every strategy, attacker and belief (a row each in its SQLite file)
+DASK_IN_FLIGHT = 1_000   # hunts handed to a Dask cluster at once (more are handed as they finish)
 PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
 EXACT = Belief().label()
+_END = object()          # the end of a task iterator
 WORLD, BELIEF = 0, 1     # hunt_rngs' streams: the attacker's behaviour, the belief's errors
 
 
@@ -70,29 +77,20 @@ class Strategy:
     def parse(cls, text: str) -> "Strategy":
         parts = text.split(":")
         if len(parts) > 4 or not parts[0]:
-            raise MpcHuntError(f"--strategy {text!r}: expected controller[:formulation[:backend[:horizon]]]")
+            raise MpcHuntError(f"--strategy {shown(text)}: expected controller[:formulation[:backend[:horizon]]]")
         controller = parts[0]
         if controller not in controllers.CONTROLLERS:
-            raise MpcHuntError(f"--strategy {text!r}: unknown controller {controller!r} "
+            raise MpcHuntError(f"--strategy {shown(text)}: unknown controller {controller!r} "
                                f"(available: {', '.join(controllers.CONTROLLERS)})")
-        if controller not in controllers.SOLVING:
-            if len(parts) > 1:
-                raise MpcHuntError(f"--strategy {text!r}: controller {controller!r} takes no solver settings")
-            return cls(controller)
-        formulation = parts[1] if len(parts) > 1 and parts[1] else "nlp"
-        backend = registry.check_pair(formulation, parts[2] if len(parts) > 2 and parts[2] else None)
-        objective = controllers.controller_objective(controller)
-        posed = registry.formulation_class(formulation).objectives
-        if objective not in posed:
-            raise MpcHuntError(f"--strategy {text!r}: formulation {formulation} poses the {' or '.join(posed)} "
-                               f"objective, not the {objective} objective of controller {controller!r}")
-        try:
-            horizon = int(parts[3]) if len(parts) > 3 else 1
-        except ValueError:
-            horizon = 0
-        if not 1 <= horizon <= MAX_HORIZON:
-            raise MpcHuntError(f"--strategy {text!r}: the horizon must be a whole number from 1 to {MAX_HORIZON}")
-        return cls(controller, formulation, backend, horizon)
+        if controller not in controllers.SOLVING and len(parts) > 1:
+            raise MpcHuntError(f"--strategy {shown(text)}: controller {controller!r} takes no solver settings")
+        given = [part or None for part in parts[1:]]
+        try:      # the settings of simulate --controller with the same fields (control.recommended)
+            horizon = parse_horizon(given[2]) if len(given) > 2 and given[2] is not None else None
+            settings = solver_settings(controller, *given[:2], horizon)
+        except MpcHuntError as exc:
+            raise MpcHuntError(f"--strategy {shown(text)}: {exc}") from None
+        return cls(controller, **settings)
 
     @property
     def label(self) -> str:
@@ -195,36 +193,83 @@ def one_line(exc: BaseException) -> str:
     return " ".join(f"{type(exc).__name__}: {exc}".split())[:500]
 
 
+@dataclass(frozen=True)
+class Tasks:
+    """A sweep's hunts not yet in ``done``: every (strategy, attacker, belief, hunt) in hunt-major order, made one
+    at a time as they are iterated (never the whole list in memory); ``len`` is how many are left."""
+
+    strategies: tuple[str, ...]
+    hunts: int
+    seed: int
+    ranges: dict
+    done: frozenset
+    attackers: tuple[str, ...]
+    beliefs: tuple[str, ...]
+
+    def __iter__(self) -> Iterator[Hunt]:
+        for i in range(self.hunts):
+            for s in self.strategies:
+                for a in self.attackers:
+                    for b in self.beliefs:
+                        if (s, a, b, self.seed, i) not in self.done:
+                            yield Hunt(s, self.seed, i, self.ranges, attacker=a, belief=b)
+
+    def __len__(self) -> int:
+        finished = sum(1 for s, a, b, seed, i in self.done if seed == self.seed and 0 <= i < self.hunts and
+                       s in self.strategies and a in self.attackers and b in self.beliefs)
+        return total_tasks(self.strategies, self.hunts, self.attackers, self.beliefs) - finished
+
+
+def total_tasks(strategies: Sequence[str], hunts: int, attackers: Sequence[str], beliefs: Sequence[str]) -> int:
+    """The hunts of a sweep, finished or not: strategies × attackers × beliefs × hunts; more than MAX_TASKS is
+    refused (:class:`MpcHuntError`)."""
+    total = len(strategies) * len(attackers) * len(beliefs) * hunts
+    if total > MAX_TASKS:
+        raise MpcHuntError(f"{len(strategies)} strategies x {len(attackers)} attackers x {len(beliefs)} beliefs x "
+                           f"--hunts {hunts} = {total} hunts: at most {MAX_TASKS} in one sweep (docs/robustness.md, "
+                           "Limits); give fewer hunts, or split the sweep")
+    return total
+
+
 def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, done: set,
-          attackers: Sequence[str] = (DEFAULT_BEHAVIOUR,), beliefs: Sequence[str] = (EXACT,)) -> list[Hunt]:
+          attackers: Sequence[str] = (DEFAULT_BEHAVIOUR,), beliefs: Sequence[str] = (EXACT,)) -> Tasks:
     """Every (strategy, attacker, belief, hunt) not yet in ``done`` (keys (strategy, attacker, belief, seed,
-    index)), hunt-major order; ``beliefs`` are labels (:meth:`Belief.label`)."""
-    plain = ranges_to_dict(ranges)
-    return [Hunt(s, seed, i, plain, attacker=a, belief=b) for i in range(hunts) for s in strategies
-            for a in attackers for b in beliefs if (s, a, b, seed, i) not in done]
+    index)), hunt-major order, made as iterated; ``beliefs`` are labels (:meth:`Belief.label`). A sweep of more
+    than MAX_TASKS hunts in all is refused before any."""
+    total_tasks(strategies, hunts, attackers, beliefs)
+    return Tasks(tuple(strategies), hunts, seed, ranges_to_dict(ranges), frozenset(done), tuple(attackers),
+                 tuple(beliefs))
 
 
-def run_local(todo: list, workers: int | None = None, work: Callable[[Any], dict] | None = None) -> Iterator[dict]:
+def run_local(todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None
+              ) -> Iterator[dict]:
     """Rows as hunts finish, on local worker processes; stops cleanly when the caller stops iterating. ``work``
-    (default :func:`run_hunt`; a module-level function, so that it pickles) turns a task into its row."""
+    (default :func:`run_hunt`; a module-level function, so that it pickles) turns a task into its row. ``todo``
+    is read as workers are free (at most two tasks a worker wait at once)."""
     workers = workers or os.cpu_count() or 1
-    waiting = deque(todo)
+    pending, retry = iter(todo), deque()
     for _ in range(MAX_WORKER_DEATHS + 1):
-        if not (yield from _run_pool(waiting, workers, work or run_hunt)):
+        if not (yield from _run_pool(pending, retry, workers, work or run_hunt)):
             return
     raise SweepStopped(f"local worker processes died {MAX_WORKER_DEATHS + 1} times (killed? out of memory?)")
 
 
-def _run_pool(waiting: deque, workers: int, work: Callable[[Any], dict]) -> Generator[dict, None, bool]:
-    """Run the hunts ``waiting`` on one pool, yielding rows; True if a worker died (unfinished hunts wait again)."""
+def _run_pool(pending: Iterator, retry: deque, workers: int, work: Callable[[Any], dict]
+              ) -> Generator[dict, None, bool]:
+    """Run the hunts of ``retry`` then ``pending`` on one pool, yielding rows; True if a worker died (its unfinished
+    hunts go back to ``retry``)."""
     pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(os.getpid(),))
     running: dict[Future, Any] = {}
     broken = False
     try:
-        while (waiting or running) and not broken:
-            while waiting and len(running) < 2 * workers:
-                task = waiting.popleft()
+        while not broken:
+            while len(running) < 2 * workers:
+                task = retry.popleft() if retry else next(pending, _END)
+                if task is _END:
+                    break
                 running[pool.submit(_interruptible, work, task)] = task
+            if not running:
+                break
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             broken = any(isinstance(f.exception(), BrokenProcessPool) for f in finished)
             if broken:      # every running hunt is lost with the pool; some may have finished first
@@ -232,7 +277,7 @@ def _run_pool(waiting: deque, workers: int, work: Callable[[Any], dict]) -> Gene
             for future in finished:
                 task = running.pop(future)
                 if isinstance(future.exception(), BrokenProcessPool):
-                    waiting.appendleft(task)
+                    retry.appendleft(task)
                 else:
                     yield future.result()
         return broken
@@ -282,24 +327,36 @@ def connect_dask(address: str):
                            "address, e.g. tcp://127.0.0.1:8786") from None
 
 
-def run_dask(todo: list[Hunt], client) -> Iterator[dict]:
-    """Rows as hunts finish, on the Dask cluster of ``client`` (:func:`connect_dask`), which it closes."""
+def run_dask(todo: Iterable[Hunt], client) -> Iterator[dict]:
+    """Rows as hunts finish, on the Dask cluster of ``client`` (:func:`connect_dask`), which it closes. At most
+    DASK_IN_FLIGHT hunts are handed over at once; ``todo`` is read as they finish."""
     from distributed import KilledWorker, as_completed
 
     address = client.scheduler.address
+    pending = iter(todo)
+    task_of: dict = {}
+    finishing = as_completed()
+
+    def hand_over(n: int) -> None:
+        for task in itertools.islice(pending, n):
+            future = client.submit(run_hunt, task, pure=False)
+            task_of[future.key] = (future, task)
+            finishing.add(future)
+
     with client:
-        futures = client.map(run_hunt, todo, pure=False)
-        task_of = dict(zip((f.key for f in futures), todo))
         try:
-            for future in as_completed(futures):
+            hand_over(DASK_IN_FLIGHT)
+            for future in finishing:
                 try:
                     row = future.result()
                 except KilledWorker as exc:     # the workers running it died too often: suspect the hunt
-                    row = _drawn(task_of[future.key])[1] | _error(exc, None)
+                    row = _drawn(task_of[future.key][1])[1] | _error(exc, None)
                 except MpcHuntError:    # the scenario could not be drawn: the ranges are at fault
                     raise
                 except Exception as exc:  # noqa: BLE001 - anything else is the cluster failing, not a hunt
                     raise SweepStopped(f"--dask-scheduler {address}: {one_line(exc)}") from None
+                del task_of[future.key]
+                hand_over(1)
                 yield row
         finally:
-            client.cancel(futures)
+            client.cancel([future for future, _ in task_of.values()])

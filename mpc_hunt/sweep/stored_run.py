@@ -3,14 +3,14 @@ the workers or the cluster are lost (``mpc-hunt sweep`` and the sweep study run 
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, Iterable
 
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Hunt, run_dask, run_local
 from mpc_hunt.sweep.store import SweepStore
 
 
-def run_into(store: SweepStore, todo: list[Hunt], workers: int | None = None, client=None,
+def run_into(store: SweepStore, todo: Iterable[Hunt], workers: int | None = None, client=None,
              update: Callable[[int], None] | None = None) -> str | None:
     """Run ``todo`` on ``workers`` local processes, or on the Dask cluster of ``client``, into ``store``;
     ``update(finished)`` after each hunt. None when every hunt finished, else why it stopped (``interrupted``,

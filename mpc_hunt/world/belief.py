@@ -73,6 +73,8 @@ def parse_belief(text: str) -> Belief:
         if not sep or name not in known:
             raise ScenarioError(f"belief {text!r}: expected NAME=VALUE with NAME one of {', '.join(sorted(known))} "
                                 "(e.g. perception_radius=1.3x, eta=3x, intent_heading=60)")
+        if name in values:
+            raise ScenarioError(f"belief {text!r}: {name} is given twice (give each name once)")
         value = value.strip()
         if name != "intent_heading":
             value = value.removesuffix("x")

@@ -33,11 +33,12 @@ class HuntState:
         return {"time": self.time, "attacker": self.attacker.tolist(), "defenders": self.defenders.tolist()}
 
 
-def read_json(path: Path) -> object:
-    """A JSON file's data; every way it can fail to be JSON is a one-line ScenarioError naming the file."""
+def read_json(path: Path, expected: str = f"a JSON object {STATE_FORM}") -> object:
+    """A JSON file's data; every way it can fail to be JSON is a one-line ScenarioError naming the file
+    (``expected``: what an empty file should have held, for the message)."""
     text = read_input_file(path)
     if not text.strip():
-        raise ScenarioError(f"{path}: empty (expected a JSON object {STATE_FORM})")
+        raise ScenarioError(f"{path}: empty (expected {expected})")
 
     def unique_keys(pairs: list[tuple[str, object]]) -> dict:
         keys = [k for k, _ in pairs]

@@ -196,13 +196,13 @@ def test_an_exception_inside_a_hunt_is_a_row_with_its_message(monkeypatch):
         raise ZeroDivisionError("no")
 
     monkeypatch.setattr("mpc_hunt.sweep.runner.simulate", broken)
-    row = run_hunt(Hunt("apf", 1, 0, tasks(["apf"], 1, 1, QUICK, set())[0].ranges))
+    row = run_hunt(Hunt("apf", 1, 0, next(iter(tasks(["apf"], 1, 1, QUICK, set()))).ranges))
     assert (row["outcome"], row["cause"], row["message"]) == ("failed", "error", "ZeroDivisionError: no")
     assert set(row) <= set(COLUMNS) and row["scenario_toml"]
 
 
 def test_the_results_file_keeps_every_column_whatever_row_comes_first(tmp_path):
-    task = tasks(["apf"], 2, 1, ScenarioRanges(time_limit=2.0), set())
+    task = list(tasks(["apf"], 2, 1, ScenarioRanges(time_limit=2.0), set()))
     good = run_hunt(task[1])
     assert list(good) == list(COLUMNS)                        # the documented schema, in order
     assert list(COLUMNS).index("comfortable") == list(COLUMNS).index("reachable") + 1
@@ -233,7 +233,7 @@ def test_a_hunt_ends_when_the_attacker_leaves_the_arena():
 
 def test_strategy_specs():
     assert Strategy.parse("paper:qp:daqp:5").label == "paper:qp:daqp:5"
-    assert Strategy.parse("paper").label == "paper:nlp:ipopt:1" and Strategy.parse("apf").label == "apf"
+    assert Strategy.parse("paper").label == "paper:rti:hpipm:10" and Strategy.parse("apf").label == "apf"
     for bad in ("paper:qp:ipopt", "apf:qp", "paper:qp:daqp:0", "nobody", "a:b:c:d:e"):
         with pytest.raises(Exception) as exc:
             Strategy.parse(bad)
@@ -472,7 +472,7 @@ def test_each_hunt_gets_its_attacker_belief_and_generators_whatever_the_strategy
 
     monkeypatch.setattr(controllers, "make_controller", spy_make)
     monkeypatch.setattr(runner, "simulate", spy_simulate)
-    ranges = tasks(["apf"], 1, 4, ScenarioRanges(time_limit=1.0), set())[0].ranges
+    ranges = next(iter(tasks(["apf"], 1, 4, ScenarioRanges(time_limit=1.0), set()))).ranges
     for strategy in ("apf", "voronoi"):
         run_hunt(Hunt(strategy, 4, 1, ranges, attacker="noisy", belief="intent_heading=60"))
     world, belief = runner.hunt_rngs(4, 1)

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.errors import ScenarioError
+from mpc_hunt.errors import DataFileError, ScenarioError
 from mpc_hunt.world.behaviours.base import heading, sensed, sensing_radius, undisturbed
 from mpc_hunt.world.behaviours.flee import flee_direction
 from mpc_hunt.world.behaviours.gap import widest_gap
@@ -56,18 +56,70 @@ def features(p_a: np.ndarray, near: np.ndarray, team: int, radius: float, to_int
                            [norm(near - p_a).min() / radius, norm(centre) / radius, len(near) / team, 1.0]])
 
 
+def weights_file():
+    """The shipped weights file, ``learned.json`` beside this module."""
+    return resources.files("mpc_hunt.world.behaviours").joinpath(PARAMETERS)
+
+
 def shipped_weights() -> np.ndarray:
-    """The trained W shipped with the package."""
-    data = json.loads(resources.files("mpc_hunt.world.behaviours").joinpath(PARAMETERS).read_text(encoding="utf-8"))
-    return checked_weights(data["weights"])
+    """The trained W shipped with the package (:func:`load_weights` of :func:`weights_file`)."""
+    return load_weights(weights_file())
+
+
+def load_weights(path) -> np.ndarray:
+    """W from a weights file (``{"weights": [[10 numbers], [10 numbers]], ...}``, as studies/train_attacker.py
+    writes it), checked when loaded: an unreadable, empty, truncated or malformed file, a missing ``weights``, the
+    wrong shape or a non-finite number is a one-line :class:`DataFileError` naming the file."""
+    fix = "write it again with python studies/train_attacker.py, or reinstall mpc-hunt"
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DataFileError(f"{path}: cannot read the learned attacker's weights "
+                            f"({getattr(exc, 'strerror', None) or exc}); {fix}") from None
+    if not text.strip():
+        raise DataFileError(f"{path}: empty, expected the learned attacker's weights; {fix}")
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise DataFileError(f"{path}: not valid JSON ({exc}); {fix}") from None
+    except (ValueError, RecursionError):      # a whole number of too many digits, arrays nested too deeply
+        raise DataFileError(f"{path}: not valid JSON (too many digits, or nested too deeply); {fix}") from None
+    if not isinstance(data, dict) or "weights" not in data:
+        raise DataFileError(f"{path}: expected a JSON object with \"weights\": 2 lists of {FEATURES} numbers; "
+                            f"{fix}")
+    try:
+        return checked_weights(data["weights"])
+    except ScenarioError as exc:
+        raise DataFileError(f"{path}: {exc}; {fix}") from None
 
 
 def checked_weights(weights) -> np.ndarray:
-    """W as a (2, FEATURES) array of finite numbers, or a one-line ScenarioError."""
-    w = np.asarray(weights, dtype=float)
+    """W as a (2, FEATURES) array of finite numbers (an array, or 2 lists of FEATURES numbers), or a one-line
+    ScenarioError."""
+    rule = f"learned attacker: weights must be 2 × {FEATURES} finite numbers"
+    if not isinstance(weights, np.ndarray):
+        if not (isinstance(weights, (list, tuple)) and len(weights) == 2 and
+                all(isinstance(row, (list, tuple)) and len(row) == FEATURES for row in weights)):
+            raise ScenarioError(f"{rule}, got {_outline(weights)}")
+        if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for row in weights for x in row):
+            raise ScenarioError(f"{rule}, got an entry that is not a number")
+    try:
+        w = np.asarray(weights, dtype=float)
+    except (TypeError, ValueError):
+        raise ScenarioError(f"{rule}, got an entry that is not a number") from None
     if w.shape != (2, FEATURES) or not np.all(np.isfinite(w)):
-        raise ScenarioError(f"learned attacker: weights must be 2 × {FEATURES} finite numbers, got shape {w.shape}")
+        raise ScenarioError(f"{rule}, got " + (f"shape {w.shape}" if w.shape != (2, FEATURES) else
+                                               "a NaN or infinite entry"))
     return w
+
+
+def _outline(value) -> str:
+    """The shape of nested lists, for a message: 'a list of 3', 'a list of 2 lists of 9, 10', 'a str'."""
+    if not isinstance(value, (list, tuple)):
+        return f"a {type(value).__name__}"
+    if all(isinstance(row, (list, tuple)) for row in value):
+        return f"a list of {len(value)} lists of " + ", ".join(str(len(row)) for row in value[:4])
+    return f"a list of {len(value)}"
 
 
 class LearnedAttacker:

@@ -1,0 +1,189 @@
+"""The studies are commands like ``mpc-hunt``: --help, a bad argument or output path in one line with exit status 2
+before any work, counts that cannot run refused up front, a study that ran nothing not successful, and training
+keeping its finished generations through Ctrl-C.
+
+Only the argument paths run here (milliseconds each); the studies' runs are their --check's business
+(tests/test_committed_results.py).
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+STUDIES = ["attackers", "sweep", "team_sweep", "team_size", "train_attacker", "compare", "realtime",
+           "reproduce_paper", "smoothing", "step_latency", "default_problems"]
+OUTPUTS = {"attackers": "--output", "team_sweep": "--output", "train_attacker": "--output",
+           "reproduce_paper": "--out", "smoothing": "--out", "step_latency": "--out", "team_size": "--out"}
+
+
+def study(name: str):
+    return importlib.import_module(f"studies.{name}")
+
+
+def usage_error(capsys, name: str, argv: list[str]) -> str:
+    """``main(argv)`` of the study must stop with exit status 2 and one line on stderr, before any work."""
+    with pytest.raises(SystemExit) as exc:
+        study(name).main(argv)
+    err = capsys.readouterr().err
+    assert exc.value.code == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    return err
+
+
+@pytest.mark.parametrize("name", STUDIES)
+def test_help(name, capsys):
+    with pytest.raises(SystemExit) as exc:
+        study(name).main(["--help"])
+    assert exc.value.code == 0 and "usage:" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", STUDIES)
+def test_a_bad_argument_is_one_line_from_the_script(name):
+    run = subprocess.run([sys.executable, str(ROOT / "studies" / f"{name}.py"), "--no-such-option"],
+                         capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert run.returncode == 2 and run.stdout == ""
+    assert run.stderr == f"{name}.py: error: unrecognized arguments: --no-such-option (see --help)\n"
+
+
+def _bad_outputs(tmp_path: Path) -> dict[str, str]:
+    a_file = tmp_path / "a-file"
+    a_file.write_text("x")
+    read_only = tmp_path / "read-only"
+    read_only.mkdir()
+    read_only.chmod(0o500)
+    cases = {"a file": str(a_file), "missing parent": str(tmp_path / "nowhere" / "out"), "empty": ""}
+    if not os.access(read_only, os.W_OK):          # root writes anywhere
+        cases["read-only parent"] = str(read_only / "out")
+    if Path("/proc/self").is_dir():                 # nobody, root included, creates a file there
+        cases["unwritable parent"] = "/proc/mpc-hunt-out"
+    return cases
+
+
+@pytest.mark.parametrize("name", sorted(OUTPUTS))
+def test_a_bad_output_folder_is_refused_before_any_work(name, capsys, tmp_path, monkeypatch):
+    module = study(name)
+    for attribute in ("run", "train", "study", "run_sweep", "hunt_indices", "timed_sizes", "hunt_states"):
+        if hasattr(module, attribute):       # any work at all fails the test
+            monkeypatch.setattr(module, attribute, lambda *a, **k: pytest.fail("work started"))
+    for why, path in _bad_outputs(tmp_path).items():
+        err = usage_error(capsys, name, [OUTPUTS[name], path])
+        assert f"argument {OUTPUTS[name]}" in err, (why, err)
+    assert not (tmp_path / "nowhere").exists()
+
+
+def test_train_attacker_refuses_a_weights_file_it_cannot_write(capsys, tmp_path):
+    for path in (tmp_path, tmp_path / "nowhere" / "w.json", ""):
+        assert "argument --weights" in usage_error(capsys, "train_attacker", ["--weights", str(path)])
+
+
+@pytest.mark.parametrize("name,argv,message", [
+    ("team_size", ["--states", "1"], "--states: at least 2"),
+    ("step_latency", ["--states", "1"], "--states: at least 2"),
+    ("train_attacker", ["--population", "3"], "--population: at least 4"),
+    ("attackers", ["--hunts", "1"], "no hunt would run"),          # the first draw of seed 1 is not reachable
+    ("attackers", ["--hunts", "3", "--seed", "4"], "no hunt would run"),
+])
+def test_counts_that_cannot_run_are_refused_up_front(name, argv, message, capsys, tmp_path, monkeypatch):
+    module = study(name)
+    for attribute in ("run", "train", "timed_sizes", "hunt_states"):
+        if hasattr(module, attribute):
+            monkeypatch.setattr(module, attribute, lambda *a, **k: pytest.fail("work started"))
+    output = OUTPUTS.get(name)
+    err = usage_error(capsys, name, argv + ([output, str(tmp_path / "out")] if output else []))
+    assert message in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_sweep_study_that_ran_nothing_does_not_succeed(tmp_path, capsys, monkeypatch):
+    sweep_study = study("sweep_study")
+    assert sweep_study.run_file(tmp_path / "empty.db", {"strategies": ["apf"]}, []) == sweep_study.NOTHING_RAN
+    attackers = study("attackers")
+    monkeypatch.setattr(attackers, "hunt_indices", lambda hunts, seed: [0])
+    monkeypatch.setattr(attackers, "todo", lambda indices, seed: [])        # as if every draw ran nothing
+    monkeypatch.setattr(attackers, "write", lambda *a, **k: pytest.fail("tables written from no hunt"))
+    assert attackers.main(["--hunts", "1", "--output", str(tmp_path / "out")]) == 2
+    assert capsys.readouterr().err.endswith(f"error: {sweep_study.NOTHING_RAN}\n")
+
+
+hunts = None        # the last training's FakeHunts
+
+# Training, with the hunts replaced by a quick fitness of the weights: what is kept through Ctrl-C, and resumed.
+class FakeHunts:
+    """``run_local`` for train_attacker: a candidate's fitness is a fixed function of its weights; Ctrl-C at the
+    start of generation ``stop`` (counted from 0; None: never)."""
+
+    def __init__(self, stop: int | None):
+        self.stop, self.generation = stop, 0
+
+    def __call__(self, tasks, workers, work):
+        if self.generation == self.stop:
+            self.stop = None
+            raise KeyboardInterrupt
+        self.generation += 1
+        for t in tasks:
+            w = np.array(t.weights)
+            yield {"candidate": t.candidate, "episode": t.index, "fitness": float(np.tanh(w.sum() + 0.1 * t.index))}
+
+
+def _train(module, monkeypatch, folder: Path, stop: int | None, *extra: str) -> int:
+    global hunts
+    hunts = FakeHunts(stop)
+    monkeypatch.setattr(module, "training_hunt", lambda generation, index: None)
+    monkeypatch.setattr(module, "run_local", hunts)
+    monkeypatch.setattr(module, "describe_machine", lambda: {"cpu": "test"})
+    monkeypatch.setattr(module, "machine_lines", lambda machine: [])
+    return module.main(["--generations", "4", "--population", "4", "--episodes", "2", "--output", str(folder),
+                        "--weights", str(folder.parent / f"{folder.name}.json"), *extra])
+
+
+def test_training_keeps_its_finished_generations_through_ctrl_c_and_resumes(monkeypatch, tmp_path, capsys):
+    module = study("train_attacker")
+    whole, stopped = tmp_path / "whole", tmp_path / "stopped"
+    assert _train(module, monkeypatch, whole, None) == 0
+    assert not (whole / module.PROGRESS).exists()               # a finished training leaves no progress file
+    capsys.readouterr()
+    assert _train(module, monkeypatch, stopped, 2) == 130
+    assert "2 finished generations kept" in capsys.readouterr().err
+    kept = module.read_progress(stopped / module.PROGRESS, None)
+    assert [g["curve"]["generation"] for g in kept] == [0, 1] and not (tmp_path / "stopped.json").exists()
+    with pytest.raises(SystemExit) as exc:                       # without --resume, the kept work is not overwritten
+        _train(module, monkeypatch, stopped, None)
+    assert exc.value.code == 2 and "--resume" in capsys.readouterr().err
+    assert _train(module, monkeypatch, stopped, None, "--resume") == 0
+    assert hunts.generation == 2                                 # the two kept generations are not run again
+    resumed = json.loads((tmp_path / "stopped.json").read_text())["weights"]
+    assert resumed == json.loads((tmp_path / "whole.json").read_text())["weights"]     # as if never stopped
+    curve = json.loads((stopped / "results.json").read_text())["curve"]
+    assert [c["generation"] for c in curve] == [0, 1, 2, 3]
+
+
+def test_a_resumed_training_needs_the_same_settings(monkeypatch, tmp_path, capsys):
+    module = study("train_attacker")
+    assert _train(module, monkeypatch, tmp_path / "out", 1) == 130
+    capsys.readouterr()
+    err = usage_error(capsys, "train_attacker", ["--population", "5", "--output", str(tmp_path / "out"), "--resume"])
+    assert "other settings" in err
+
+
+@pytest.mark.parametrize("failure,code,message", [
+    (lambda: (_ for _ in ()).throw(__import__("mpc_hunt.errors").errors.MpcHuntError("bad\ninput")), 2,
+     "error: bad input"),
+    (lambda: open("/nonexistent/results.json", "w"), 2, "error: /nonexistent/results.json: No such file"),
+    (lambda: (_ for _ in ()).throw(KeyboardInterrupt), 130, "interrupted"),
+])
+def test_a_study_that_fails_at_run_time_says_so_in_one_line(failure, code, message, capsys):
+    assert study("study_check").run_study(failure) == code
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
