@@ -40,18 +40,20 @@ def checked_controller(name: str, scenario, *, argument: str = "options", belief
     """:func:`make_controller`'s controller, its settings checked now rather than at its first step, each refusal
     one :class:`~mpc_hunt.errors.OptionError` naming ``argument`` (the caller's name for ``options``).
 
-    Checked: an unknown controller or an option its class does not take; the values its classes check (a horizon
-    from 1 to ``MAX_HORIZON``, a positive time limit, a formulation and backend that pair, the objective); and
-    the options passed through to the solver as they are (a solving controller's other keywords): with any, the
-    problem the controller poses with its team round the attacker's start (:func:`_ring`) is solved once, and a
-    solve that errs (the solver refused an option's name or value) is refused."""
+    Checked: an unknown controller, a ``belief`` that is not one, an option its class does not take; the values
+    its classes check (a horizon from 1 to ``MAX_HORIZON``, a positive time limit, a formulation and backend that
+    pair, the objective); and the options passed through to the solver as they are (a solving controller's other
+    keywords): with any, the problem the controller poses with its team round the attacker's start
+    (:func:`_ring`) is solved once, and a solve that errs (the solver refused an option's name or value) is
+    refused."""
     from mpc_hunt.capture.solution import Status
     from mpc_hunt.control.posing import posed_problem
 
-    try:
-        cls = load_class(CONTROLLERS, "controller", name)
-    except MpcHuntError as exc:
-        raise OptionError(f"controller: {exc}") from None
+    if not isinstance(name, str) or name not in CONTROLLERS:
+        raise OptionError(f"controller: unknown controller {name!r} (available: {', '.join(CONTROLLERS)})")
+    if not isinstance(belief, Belief):
+        raise OptionError(f"belief: a Belief (mpc_hunt.world.belief), got {type(belief).__name__}")
+    cls = load_class(CONTROLLERS, "controller", name)
     parameters = inspect.signature(cls).parameters.values()
     if not any(p.kind is p.VAR_KEYWORD for p in parameters):       # a class that passes no option on
         taken = [p.name for p in parameters if p.kind is p.KEYWORD_ONLY]

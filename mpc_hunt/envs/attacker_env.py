@@ -35,8 +35,6 @@ class AttackerEnv(HuntEnv):
         super().__init__(Hunts(scenario, ranges, defenders), render_mode)
         speed = self.hunts.attacker_speed
         self.action_space = spaces.Box(-speed, speed, shape=(2,), dtype=np.float64)
-        if not isinstance(belief, Belief):
-            raise OptionError(f"belief: a mpc_hunt.world.belief.Belief, got {type(belief).__name__}")
         if controller_options is not None and not isinstance(controller_options, dict):
             raise OptionError(f"controller_options: a dict of the controller's options or None, got "
                               f"{type(controller_options).__name__}")

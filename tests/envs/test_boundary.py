@@ -360,6 +360,7 @@ def test_the_parallel_step_names_missing_and_unknown_agents():
     (lambda: AttackerEnv(controller_options={"formulation": "rti", "backend": "hpipm", "horizn": 10}),
      "^controller_options: hpipm refused its options 'horizn'"),
     (lambda: AttackerEnv(controller="enclos"), "^controller: unknown controller 'enclos'"),
+    (lambda: AttackerEnv(controller="voronoi", belief="honest"), "^belief: a Belief"),
     (lambda: ControllerPolicy(DefenderEnv(SHORT), "voronoi", {"horizon": 3}), "^options: controller 'voronoi'"),
     (lambda: AttackerEnv(render_mode="human"), "^render_mode: "),
 ])
