@@ -308,6 +308,21 @@ def test_a_non_finite_action_is_a_value_error_naming_the_agent_and_nothing_moves
         env.step(actions)
 
 
+@pytest.mark.parametrize("make", [lambda: AttackerEnv(SHORT),                    # enclose keeps its last plan
+                                  lambda: DefenderEnv(SHORT, attacker="noisy")])   # draws at every step
+def test_an_illegal_action_leaves_the_other_sides_memory_as_it_was(make):
+    """The check comes before the scripted side moves: the refused step changes nothing the next steps see."""
+    env, twin = make(), make()
+    env.reset(seed=3)
+    twin.reset(seed=3)
+    action = np.full(env.action_space.shape, 0.01)
+    for k in range(8):
+        if k == 3:
+            with pytest.raises(ActionError):
+                env.step(np.full(env.action_space.shape, np.nan))
+        np.testing.assert_array_equal(env.step(action)[0], twin.step(action)[0])
+
+
 @pytest.mark.parametrize("shape", [(1, 2), (6,), (2,), (3, 2, 1)])
 def test_a_team_action_of_another_shape_is_refused_not_broadcast(shape):
     env = DefenderEnv(SHORT)
