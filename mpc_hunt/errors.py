@@ -26,6 +26,16 @@ class BenchmarkError(MpcHuntError, ValueError):
     """A benchmark's input cannot be scored (an empty or negative sample, no problem selected)."""
 
 
+class OptionError(MpcHuntError, ValueError):
+    """A setting (an environment's argument, a controller's or a solver's option) is unknown or out of range; the
+    message names it."""
+
+
+class ActionError(MpcHuntError, ValueError):
+    """An agent's action cannot be stepped with (not its space's shape, not finite numbers); the message names the
+    agent."""
+
+
 class SweepStopped(MpcHuntError):
     """A sweep could not go on (its workers kept dying, its cluster went away); its finished rows are kept."""
 

@@ -27,6 +27,15 @@ class ProblemError(MpcHuntError, ValueError):
 # Steps (20 s at T = 0.1 s): the formulations' set-up grows with N, and no capture needs a longer look-ahead.
 MAX_HORIZON = 200
 
+
+def checked_horizon(horizon: object) -> int:
+    """``horizon`` as a whole number of steps from 1 to :data:`MAX_HORIZON`, else a :class:`ProblemError` naming
+    it: the one check of a horizon's bounds (a problem's, a controller's; the command lines' types share the bound)."""
+    if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)) or not 1 <= horizon <= MAX_HORIZON:
+        raise ProblemError(f"horizon: must be a whole number from 1 to {MAX_HORIZON}, got {horizon!r}")
+    return int(horizon)
+
+
 # What the capture stage minimises (docs/formulations.md): ``paper``, Eq. 12 as published (force error, ring,
 # smoothness, Eq. 14's penalty); ``enclose``, a reference of places on the hunting circle tracked through the
 # attacker's response (built by the controller, :mod:`mpc_hunt.control.enclosure`).
@@ -110,10 +119,7 @@ class CaptureProblem:
             raise ProblemError("controlled: no defender is in the capture stage")
         controlled.setflags(write=False)
         set_(self, "controlled", controlled)
-        if isinstance(self.horizon, bool) or not isinstance(self.horizon, (int, np.integer)) or \
-                not 1 <= self.horizon <= MAX_HORIZON:
-            raise ProblemError(f"horizon: must be a whole number from 1 to {MAX_HORIZON}, got {self.horizon!r}")
-        set_(self, "horizon", int(self.horizon))
+        set_(self, "horizon", checked_horizon(self.horizon))
         if self.objective not in OBJECTIVES:
             raise ProblemError(f"objective: unknown {self.objective!r} (available: {', '.join(OBJECTIVES)})")
         if self.objective == "enclose":

@@ -27,7 +27,7 @@ import numpy as np
 
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target, approach_velocity
-from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem, EncloseWeights
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem, EncloseWeights, checked_horizon
 from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.trap import Trap
@@ -99,7 +99,7 @@ class HuntingStrategy:
             raise MpcHuntError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
         self.scenario = scenario
         self.prediction = prediction
-        self.horizon = horizon
+        self.horizon = checked_horizon(horizon)
         self.objective = objective
         self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
         if objective not in self.solver.formulation.objectives:      # every solve would fail: refuse at once

@@ -5,12 +5,18 @@ from __future__ import annotations
 import gymnasium as gym
 import numpy as np
 
+from mpc_hunt.envs.actions import checked_action
 from mpc_hunt.envs.episode import Episode
 from mpc_hunt.envs.hunts import Hunts
 from mpc_hunt.envs.observation import observation_space
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.errors import MpcHuntError, OptionError
 
 RENDER_MODES = ["rgb_array"]
+
+
+def check_render_mode(render_mode: object) -> None:
+    if render_mode is not None and render_mode not in RENDER_MODES:
+        raise OptionError(f"render_mode: one of {RENDER_MODES} or None, not {render_mode!r}")
 
 
 class HuntEnv(gym.Env):
@@ -19,19 +25,19 @@ class HuntEnv(gym.Env):
     metadata = {"render_modes": RENDER_MODES, "render_fps": 10}
 
     def __init__(self, hunts: Hunts, render_mode: str | None = None):
-        if render_mode is not None and render_mode not in RENDER_MODES:
-            raise MpcHuntError(f"render_mode: one of {RENDER_MODES} or None, not {render_mode!r}")
+        check_render_mode(render_mode)
         self.hunts, self.render_mode = hunts, render_mode
         self.observation_space = observation_space(hunts.defenders, hunts.max_obstacles,
-                                                   max(hunts.attacker_speed, hunts.defender_speed))
+                                                   max(hunts.attacker_speed, hunts.defender_speed), hunts.time_step)
         self.episode: Episode | None = None
 
     def new_episode(self, seed: int | None, options: dict | None) -> np.random.Generator:
         """Seed (Gymnasium's ``np_random``), draw the hunt, start its episode; the generator for what else the
         reset draws (the other side's randomness)."""
+        given = self.hunts.given(options)                   # before anything changes
         super().reset(seed=seed)
         world, other = self.np_random.spawn(2)
-        self.episode = Episode(self.hunts.draw(world, options), self.hunts.max_obstacles)
+        self.episode = Episode(self.hunts.draw(world, given), self.hunts.max_obstacles)
         return other
 
     @property
@@ -39,12 +45,17 @@ class HuntEnv(gym.Env):
         return None if self.episode is None else self.episode.scenario
 
     def started(self) -> Episode:
+        """The running episode: a step before the first reset, or after the hunt has ended, is refused."""
         if self.episode is None:
             raise MpcHuntError("step: call reset() first")
-        return self.episode
+        return self.episode.running()
+
+    def checked(self, action) -> np.ndarray:
+        """The agent's ``action`` checked against its space (:mod:`mpc_hunt.envs.actions`)."""
+        return checked_action(action, self.action_space, "action")
 
     def info(self) -> dict:
-        return self.started().info()
+        return self.episode.info()
 
     def render(self):
         return self.episode.image() if self.render_mode == "rgb_array" and self.episode is not None else None

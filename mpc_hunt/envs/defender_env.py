@@ -1,7 +1,8 @@
 """The defending team as one Gymnasium agent, against an attacker behaviour of the world (by default its scenario's).
 
 Action: every defender's velocity (m/s), a Box of shape (defenders, 2) within ± the
-fastest defender's speed; the world caps each at its robot's max speed (Eq. 1).
+fastest defender's speed, checked by :mod:`mpc_hunt.envs.actions` (exactly that
+shape); the world caps each at its robot's max speed (Eq. 1).
 Observation: :mod:`mpc_hunt.envs.observation`. Reward: the defenders' (the
 negative of :mod:`mpc_hunt.envs.episode`'s). The attacker moves by ``attacker``
 (a behaviour's name; None keeps each hunt's own, the paper's for a random hunt),
@@ -14,7 +15,7 @@ import numpy as np
 from gymnasium import spaces
 
 from mpc_hunt.envs.base import HuntEnv
-from mpc_hunt.envs.hunts import DEFAULT_DEFENDERS, Hunts
+from mpc_hunt.envs.hunts import Hunts
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.errors import UnknownNameError
 from mpc_hunt.world.behaviours import BEHAVIOURS, make_behaviour, with_behaviour
@@ -25,11 +26,11 @@ class DefenderEnv(HuntEnv):
     """The team learns; the attacker follows ``attacker`` (the module's docstring)."""
 
     def __init__(self, scenario: Scenario | None = None, ranges: ScenarioRanges | None = None,
-                 defenders: int = DEFAULT_DEFENDERS, attacker: str | None = None, render_mode: str | None = None):
+                 defenders: int | None = None, attacker: str | None = None, render_mode: str | None = None):
         super().__init__(Hunts(scenario, ranges, defenders), render_mode)
         speed = self.hunts.defender_speed
         self.action_space = spaces.Box(-speed, speed, shape=(self.hunts.defenders, 2), dtype=np.float64)
-        if attacker is not None and attacker not in BEHAVIOURS:
+        if attacker is not None and (not isinstance(attacker, str) or attacker not in BEHAVIOURS):
             raise UnknownNameError(f"attacker: unknown behaviour {attacker!r} (available: {', '.join(BEHAVIOURS)})")
         self.attacker_name = attacker
         self.behaviour = None
@@ -41,6 +42,6 @@ class DefenderEnv(HuntEnv):
         return self.episode.observation(), self.info()
 
     def step(self, action):
-        e = self.started()
+        e, action = self.started(), self.checked(action)        # both before the attacker's behaviour draws
         outcome = e.step(action, self.behaviour.velocity(e.attacker, e.defenders))
         return e.observation(), -outcome.reward, outcome.terminated, outcome.truncated, self.info()

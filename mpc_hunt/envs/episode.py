@@ -4,11 +4,14 @@ Rewards are the attacker's; the defenders share its negative (a zero-sum game).
 At the end: −1 when the defenders capture it (the success test, Eqs. 4–5, held
 for ``hold_time``), +1 when it leaves the arena or the time limit comes (the hunt
 has failed, as the project's sweeps count it); 0 for a state that is no longer
-finite (an error, not an outcome). Each step adds the potential-based shaping
-Φ(s') − Φ(s) with Φ = the defenders' mean distance to the attacker / the arena's
-diagonal (20 m without an arena): encircling and closing in is progress for the
-defenders long before a capture, and a potential difference changes no optimal
-policy (Ng, Harada and Russell, ICML 1999); over a hunt it sums to at most ±1.
+finite (an error, not an outcome; the environments' checked actions and capped
+velocities leave only a failing controller or behaviour to cause one). A hunt that
+has ended takes no step until a reset, so its end is paid once. Each step adds the
+potential-based shaping Φ(s') − Φ(s) with Φ = the defenders' mean distance to the
+attacker / the arena's diagonal (20 m without an arena): encircling and closing in
+is progress for the defenders long before a capture, and a potential difference
+changes no optimal policy (Ng, Harada and Russell, ICML 1999); over a hunt it sums
+to at most ±1.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import numpy as np
 
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.envs.observation import observe
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.plots.state import state_image
 from mpc_hunt.sim.world_step import moved, standing, steps
 from mpc_hunt.world.behaviours.base import keep_out
@@ -93,8 +97,19 @@ class Episode:
         """Φ of the module's docstring at the current state."""
         return float(np.mean(norm(self.defenders - self.attacker))) / self.scale
 
+    @property
+    def ended(self) -> bool:
+        return self.termination is not None
+
+    def running(self) -> "Episode":
+        """This episode, unless it has ended: a step after the end is refused (its ±1 is paid once) until a reset."""
+        if self.ended:
+            raise MpcHuntError(f"step: the hunt has ended ({self.termination}); call reset() to start another")
+        return self
+
     def step(self, defender_velocities, attacker_velocity: np.ndarray) -> Step:
-        """One step of the world with these velocities (the defenders' capped at their speeds)."""
+        """One step of the world with these velocities (the defenders' capped at their speeds), while it runs."""
+        self.running()
         before = self.potential
         stopped = self.scenario.failed(self.time)
         previous_a, previous_d = self.attacker, self.defenders

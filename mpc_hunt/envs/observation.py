@@ -13,7 +13,9 @@ Fields, in order (:func:`field_names`; m, m/s, s):
 
 Every agent sees all of it: the paper's UAV broadcasts the positions to the defenders (its Fig. 2), and the
 attacker's own sensing radius is a behaviour's choice, not the world's. Bounds: positions and lengths within
-±:data:`mpc_hunt.world.scenario.MAX_MAGNITUDE`, velocities within ± the fastest robot's speed.
+±:data:`mpc_hunt.world.scenario.MAX_MAGNITUDE` (an environment refuses a hunt whose robots or time could leave them:
+:mod:`mpc_hunt.envs.hunts`), velocities within ± :func:`velocity_bound`: the fastest robot's speed plus the
+rounding of the world's step, which a velocity over the last step carries.
 """
 
 from __future__ import annotations
@@ -25,6 +27,19 @@ from mpc_hunt.world.field import nominal_intent
 from mpc_hunt.world.scenario import MAX_MAGNITUDE, Scenario
 
 NO_ARENA = (-MAX_MAGNITUDE, -MAX_MAGNITUDE, MAX_MAGNITUDE, MAX_MAGNITUDE)
+EPS = float(np.finfo(np.float64).eps)
+
+
+def velocity_bound(max_speed: float, time_step: float) -> float:
+    """The largest velocity component a hunt can be observed with, its robots no faster than ``max_speed`` and its
+    step ``time_step`` long: ``max_speed`` (1 + 8ε) + 2ε·MAX_MAGNITUDE / T, with ε the float64 machine epsilon.
+
+    A velocity over the last step is ((p + T·v) − p) / T with v capped at its robot's speed. Capping a vector
+    (a norm, a quotient, a product; an obstacle's part taken off) leaves its length within a few ε of the cap,
+    and adding T·v to a position |p| ≤ MAX_MAGNITUDE rounds the sum by up to ε·|p| / 2, which the division by T
+    magnifies: up to 1.1e-9 m/s at T = 0.1 s (a defender at its 0.08 m/s is observed at 0.08000000000000007,
+    say). The bound holds both, with room to spare."""
+    return max_speed * (1 + 8 * EPS) + 2 * EPS * MAX_MAGNITUDE / time_step
 
 
 def field_names(defenders: int, max_obstacles: int) -> list[str]:
@@ -36,11 +51,12 @@ def field_names(defenders: int, max_obstacles: int) -> list[str]:
     return names + ["arena_x_min", "arena_y_min", "arena_x_max", "arena_y_max"]
 
 
-def observation_space(defenders: int, max_obstacles: int, max_speed: float) -> spaces.Box:
-    """The Box of :func:`field_names`' vector: velocities within ±``max_speed``, the rest within ±1e6."""
+def observation_space(defenders: int, max_obstacles: int, max_speed: float, time_step: float) -> spaces.Box:
+    """The Box of :func:`field_names`' vector: velocities within ± :func:`velocity_bound` of ``max_speed`` and
+    ``time_step`` (the shortest step the environment plays), the rest within ±1e6; times and radii from 0."""
     names = field_names(defenders, max_obstacles)
     speed = np.array([n.endswith(("_vx", "_vy")) or "intent" in n for n in names])
-    high = np.where(speed, max_speed, MAX_MAGNITUDE).astype(np.float64)
+    high = np.where(speed, velocity_bound(max_speed, time_step), MAX_MAGNITUDE).astype(np.float64)
     low = np.where(np.array([n == "time" or n.endswith("radius") for n in names]), 0.0, -high)
     return spaces.Box(low, high, dtype=np.float64)
 

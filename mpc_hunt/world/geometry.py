@@ -21,11 +21,22 @@ def dot2(a, b) -> float:
 
 
 def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
-    """Scale ``v`` (last axis) down so that its norm is at most ``max_norm``."""
+    """Scale ``v`` (last axis) down so that its norm is at most ``max_norm``.
+
+    A finite vector whose squared norm overflows (a component beyond about 1e154) is scaled by its largest
+    component before it is measured, so it saturates to ``max_norm`` in its direction rather than to zero; every
+    other vector is scaled as before, to the bit."""
     v = np.asarray(v, dtype=float)
-    n = norm(v)
+    with np.errstate(over="ignore"):
+        n = norm(v)
     scale = np.where(n > max_norm, np.asarray(max_norm) / np.where(n > 0, n, 1.0), 1.0)
-    return v * np.expand_dims(scale, -1)
+    out = v * np.expand_dims(scale, -1)
+    huge = np.isinf(n) & np.all(np.isfinite(v), axis=-1)
+    if np.any(huge):
+        largest = np.max(np.abs(v), axis=-1, keepdims=True)
+        capped = unit(v / np.where(largest > 0, largest, 1.0)) * np.expand_dims(np.asarray(max_norm, dtype=float), -1)
+        out = np.where(np.expand_dims(huge, -1), capped, out)
+    return out
 
 
 def direction(angle) -> np.ndarray:

@@ -101,10 +101,13 @@ def test_rewards_are_zero_sum_and_the_shaping_is_a_potential_difference():
     assert all(rewards[a] == -rewards["attacker"] for a in rewards if a != "attacker")
 
 
-def test_a_non_finite_action_ends_the_hunt_with_a_status_not_a_traceback():
+def test_a_non_finite_state_ends_the_hunt_with_a_status_not_a_traceback():
+    """A non-finite action is refused (tests/envs/test_boundary.py); a state can still become one (a failing
+    behaviour or controller): the hunt ends with a status."""
     env = DefenderEnv(SHORT)
     env.reset(seed=0)
-    _, reward, terminated, _, info = env.step(np.full((3, 2), np.nan))
+    env.episode.attacker[:] = np.nan
+    _, reward, terminated, _, info = env.step(np.zeros((3, 2)))
     assert terminated and info["termination"] == "non_finite_state" and reward == 0.0
     with pytest.raises(MpcHuntError, match="call reset"):
         HuntParallelEnv(SHORT).step({})

@@ -35,6 +35,17 @@ def test_saturate_caps_norm_and_keeps_direction(v, cap):
         np.testing.assert_allclose(unit(out), unit(v), atol=1e-12)
 
 
+@FAST
+@given(angle=angles, exponent=floats(150.0, 308.0), cap=floats(1e-3, 10.0))
+def test_saturate_caps_a_vector_whose_square_overflows_in_its_direction(angle, exponent, cap):
+    """Beyond about 1e154 a component's square overflows; the vector still saturates to ``cap``, not to 0."""
+    v = polar(10.0 ** exponent, angle)
+    out = saturate(np.array([v, [0.01 * cap, 0.0]]), np.array([cap, cap]))
+    assert float(norm(out[0])) == pytest.approx(cap, rel=1e-12)
+    np.testing.assert_allclose(out[0] / cap, np.array([math.cos(angle), math.sin(angle)]), atol=1e-12)
+    np.testing.assert_array_equal(out[1], [0.01 * cap, 0.0])          # the other rows as before, to the bit
+
+
 def test_unit_leaves_zero_vector_zero():
     np.testing.assert_array_equal(unit(np.zeros(2)), np.zeros(2))
     np.testing.assert_allclose(unit(np.array([3.0, 4.0])), [0.6, 0.8])

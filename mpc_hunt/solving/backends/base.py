@@ -18,7 +18,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from mpc_hunt.errors import SolverError, UnknownNameError
+from mpc_hunt.errors import OptionError, SolverError, UnknownNameError
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 ACCURACIES = ("default", "high", "low")
@@ -44,6 +44,9 @@ class Backend:
     def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
         if accuracy not in ACCURACIES:
             raise UnknownNameError(f"unknown accuracy {accuracy!r} (available: {', '.join(ACCURACIES)})")
+        number = isinstance(time_limit, (int, float, np.integer, np.floating)) and not isinstance(time_limit, bool)
+        if time_limit is not None and not (number and 0 < time_limit < float("inf")):
+            raise OptionError(f"time_limit: a positive, finite number of seconds or None, got {time_limit!r}")
         if time_limit is not None and not self.TIME_LIMIT:
             raise SolverError(f"backend {self.name} takes no time limit (its solver has none); drop the time limit "
                               f"or pick another backend")
