@@ -22,7 +22,7 @@ from __future__ import annotations
 import argparse
 
 from mpc_hunt.arguments import count
-from mpc_hunt.capture.problem import MAX_HORIZON
+from mpc_hunt.capture.problem import MAX_HORIZON, checked_horizon
 from mpc_hunt.control import controllers
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.solving import registry
@@ -54,9 +54,7 @@ def capture_settings(formulation: str | None = None, backend: str | None = None,
     own = formulation == default["formulation"]
     backend = registry.check_pair(formulation, backend or (default["backend"] if own else None))
     steps = horizon if horizon is not None else (default["horizon"] if own else OTHER_HORIZON)
-    if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= MAX_HORIZON:
-        raise MpcHuntError(f"horizon: must be a whole number from 1 to {MAX_HORIZON}, got {steps!r}")
-    return {"formulation": formulation, "backend": backend, "horizon": steps}
+    return {"formulation": formulation, "backend": backend, "horizon": checked_horizon(steps)}
 
 
 def solver_settings(controller: str, formulation: str | None = None, backend: str | None = None,

@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 from gymnasium import spaces
 
-from mpc_hunt.control.controllers import SOLVING, checked_controller, make_controller
-from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.controllers import checked_controller, make_controller
+from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER, solver_settings
 from mpc_hunt.envs.base import HuntEnv
 from mpc_hunt.envs.hunts import Hunts
 from mpc_hunt.errors import OptionError
@@ -39,7 +39,7 @@ class AttackerEnv(HuntEnv):
             raise OptionError(f"controller_options: a dict of the controller's options or None, got "
                               f"{type(controller_options).__name__}")
         self.controller_name, self.belief = controller, belief
-        self.controller_options = dict(RECOMMENDED if controller in SOLVING else {}) if controller_options is None \
+        self.controller_options = solver_settings(controller) if controller_options is None \
             else dict(controller_options)
         checked_controller(controller, self.hunts.probe(), argument="controller_options", belief=belief,
                            **self.controller_options)                   # a bad name or option fails here, once

@@ -14,8 +14,8 @@ from typing import Callable
 import numpy as np
 
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import SOLVING, checked_controller, make_controller
-from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.controllers import checked_controller, make_controller
+from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER, solver_settings
 from mpc_hunt.envs.episode import attacker_move
 from mpc_hunt.envs.observation import observe
 from mpc_hunt.errors import OptionError
@@ -32,7 +32,7 @@ class ControllerPolicy:
         if options is not None and not isinstance(options, dict):
             raise OptionError(f"options: a dict of the controller's options or None, got {type(options).__name__}")
         self.env, self.name, self.belief = env, controller, belief
-        self.options = dict(RECOMMENDED if controller in SOLVING else {}) if options is None else dict(options)
+        self.options = solver_settings(controller) if options is None else dict(options)
         checked_controller(controller, env.hunts.probe(), argument="options", belief=belief, **self.options)
         self.rng = np.random.default_rng(seed)
         self.episode = self.controller = None
