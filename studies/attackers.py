@@ -17,6 +17,7 @@ writes ``studies/attackers/`` (README.md, summary.json with the machine, the fig
 from __future__ import annotations
 
 import json
+import statistics
 import sys
 from pathlib import Path
 
@@ -115,6 +116,33 @@ def headline(summaries: list[dict]) -> list[str]:
     return lines
 
 
+def verdicts(rows: list[dict]) -> list[str]:
+    """What the table says of the study's two questions, from the rows (exact belief): does the trap controller
+    capture at least as many comfortable hunts as the Voronoi baseline against each attacker (and how fast, on the
+    hunts both capture), and is the minimax attacker at least as hard for the baseline as the gap-seeker?"""
+    exact = [r for r in rows if r["belief"] == EXACT and r["comfortable"]]
+
+    def won(strategy: str, attacker: str) -> dict:
+        return {r["index"]: r["capture_time_s"] for r in exact if r["strategy"] == Strategy.parse(strategy).label
+                and r["attacker"] == attacker and r["outcome"] == "captured"}
+
+    lines = ["| attacker | comfortable | `trap` captured | `voronoi` captured | at least as many | median capture time "
+             "on the hunts both capture, `trap` / `voronoi` |", "| --- | ---: | ---: | ---: | --- | --- |"]
+    for attacker in BEHAVIOURS:
+        total = len({r["index"] for r in exact if r["attacker"] == attacker})
+        mine, theirs = won(FOCUS, attacker), won("voronoi", attacker)
+        both = sorted(set(mine) & set(theirs))
+        times = (f"{statistics.median(mine[i] for i in both):.1f} s / {statistics.median(theirs[i] for i in both):.1f} s"
+                 f" ({len(both)} hunts)" if both else "–")
+        lines.append(f"| {attacker} | {total} | {len(mine)} | {len(theirs)} | "
+                     f"{'yes' if len(mine) >= len(theirs) else 'no'} | {times} |")
+    gap, minimax = len(won("voronoi", "gap")), len(won("voronoi", "minimax"))
+    verdict = "at least as hard for the Voronoi baseline as" if minimax <= gap else "easier for the Voronoi baseline than"
+    lines += ["", f"The minimax attacker is {verdict} the gap-seeker: the baseline captures {minimax} comfortable "
+              f"hunts against `minimax`, {gap} against `gap`.", ""]
+    return lines
+
+
 def lost_figure(rows: list[dict], folder: Path) -> list[Path]:
     """A typical lost hunt of the contain controller per attacker (exact belief), rerun and drawn."""
     cases = []
@@ -142,6 +170,7 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         "no error changes). Every controller is built on the belief, never on the world's behaviour. One row per "
         "hunt is in `sweep.db` (`mpc-hunt sweep-report studies/attackers/sweep.db` recomputes the table).", "",
         *headline(summaries),
+        f"`{FOCUS}` beside the Voronoi baseline, comfortable hunts, exact belief:", "", *verdicts(rows),
         "![success by attacker](success_by_attacker.png)", "",
         f"A typical lost hunt of `{FOCUS}` per attacker (`mpc_hunt/sweep/typical.py`), rerun:", "",
         "![typical lost hunts](typical_lost.png)", "", "## Every summary", "", table(summaries), "",
