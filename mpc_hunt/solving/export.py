@@ -1,4 +1,4 @@
-"""A stage-form capture step (``rti``, ``stage-sqp``) as C sources for a robot's board (``mpc-hunt export``).
+"""A stage-form capture step (``rti``, ``stage-sqp``, a ``distributed`` robot's) as C sources for a robot's board (``mpc-hunt export``).
 
 For one problem's structure (controlled and held defenders, obstacles, horizon,
 objective) the folder holds:
@@ -18,6 +18,13 @@ objective) the folder holds:
   board's CPU, with the same version's headers);
 - ``input.txt`` and ``expected.txt``: the problem's θ and reference, and Python's plan.
 
+With the ``daqp-condensed`` backend (:mod:`mpc_hunt.solving.backends.daqp_condensed`, the ``distributed``
+formulation's default) the step is condensed to a dense QP in its controls and solved by DAQP: the folder holds
+CasADi's condensing (``capture_condense.c``, ``.h``), the step around DAQP (``mpc_hunt_step.c``: the C the
+backend's own library is built from), DAQP's C sources (``daqp/``, MIT), ``main.c`` and a Makefile that needs
+no library but libm, so ``make CC=aarch64-linux-gnu-gcc`` (or ``export --target aarch64-linux``, which writes
+that compiler into the Makefile) builds it for another CPU.
+
 HPIPM runs in the solver's ``mode`` (:data:`mpc_hunt.solving.backends.hpipm.MODES`): ``robust``, the
 ``hpipm`` backend's default, or ``balance``, which factorises by Cholesky instead of LQ, the path a BLASFEO
 built for the CPU speeds up (its plans differ from ``robust``'s within HPIPM's
@@ -36,6 +43,7 @@ import numpy as np
 
 from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.structure import Structure
+from mpc_hunt.errors import MpcHuntError
 
 NAME = "capture_step"
 
@@ -91,20 +99,56 @@ int mpc_hunt_step(const double *theta, const double *reference, double *plan, do
 """
 
 MAIN_C = """\
-/* Reads states (MPC_HUNT_THETA then MPC_HUNT_REFERENCE numbers each) from standard input until its end and
-   prints each plan, one number a line. With --time, also each step's wall time in microseconds on stderr. */
+/* Reads states (MPC_HUNT_THETA then MPC_HUNT_REFERENCE numbers each, separated by white space) from standard
+   input until its end and prints each plan, one number a line. With --time, also each step's wall time in
+   microseconds on stderr. Malformed input (a token that is not a finite number, a state cut short) is one line
+   on stderr and exit status 2, before any plan of that state. */
 #define _POSIX_C_SOURCE 199309L
+#include <ctype.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include "mpc_hunt_step.h"
 
+#define TOKEN 64
+
+/* The next token of standard input into token: 1, 0 at the end of the input, -1 when it is too long. */
+static int next_token(char *token) {
+  int c, n = 0;
+  do c = getchar(); while (c != EOF && isspace(c));
+  if (c == EOF) return 0;
+  for (; c != EOF && !isspace(c); c = getchar()) {
+    if (n == TOKEN - 1) return -1;
+    token[n++] = (char) c;
+  }
+  token[n] = 0;
+  return 1;
+}
+
 static int read_numbers(double *x, int n, const char *what, int state) {
-  int i;
+  char token[TOKEN], *end;
+  int i, got;
   for (i = 0; i < n; ++i) {
-    if (scanf("%lf", &x[i]) != 1) {
+    got = next_token(token);
+    if (got == 0) {
       if (i == 0 && !strcmp(what, "theta")) return 0;           /* the end of the input */
-      fprintf(stderr, "input: state %d: %s[%d] missing\\n", state, what, i);
+      fprintf(stderr, "input: state %d: %s[%d] missing (a state is %d numbers)\\n", state, what, i,
+              MPC_HUNT_THETA + MPC_HUNT_REFERENCE);
+      return -1;
+    }
+    if (got < 0) {
+      fprintf(stderr, "input: state %d: %s[%d]: a token longer than %d characters\\n", state, what, i, TOKEN - 1);
+      return -1;
+    }
+    x[i] = strtod(token, &end);
+    if (end == token || *end) {
+      fprintf(stderr, "input: state %d: %s[%d]: '%s' is not a number\\n", state, what, i, token);
+      return -1;
+    }
+    if (!isfinite(x[i])) {
+      fprintf(stderr, "input: state %d: %s[%d]: '%s' is not finite\\n", state, what, i, token);
       return -1;
     }
   }
@@ -122,7 +166,7 @@ int main(int argc, char **argv) {
     clock_gettime(CLOCK_MONOTONIC, &end);
     if (timed) fprintf(stderr, "time_us %.3f\\n", (end.tv_sec - start.tv_sec) * 1e6 + (end.tv_nsec - start.tv_nsec) * 1e-3);
     for (i = 0; i < MPC_HUNT_PLAN; ++i) printf("%.17g\\n", plan[i]);
-    if (status != 0) { fprintf(stderr, "state %d: HPIPM status %d\\n", state, status); failed = 1; }
+    if (status != 0) { fprintf(stderr, "state %d: step status %d\\n", state, status); failed = 1; }
     ++state;
   }
   if (read < 0) return 2;
@@ -153,11 +197,134 @@ clean:
 """
 
 
+DAQP_H = """\
+/* The capture step of mpc-hunt, structure {structure}, condensed and solved by DAQP: one call per control step. */
+#ifndef MPC_HUNT_STEP_H
+#define MPC_HUNT_STEP_H
+#define MPC_HUNT_THETA {n_theta}        /* θ: the parameter vector, then the field's smoothing */
+#define MPC_HUNT_REFERENCE {n_reference}    /* the reference plan, steps 1..N, defenders in order, (x, y) */
+#define MPC_HUNT_PLAN {n_plan}         /* the plan, laid out as the reference */
+/* Returns 0 solved; DAQP's exit flag of a failed QP (-1 infeasible, -2 cycling, -3 unbounded, -4 iteration
+   limit, ...); {non_finite_input} a non-finite input or QP, {non_finite_plan} a non-finite plan, -99 no memory.
+   A failed step leaves the reference in ``plan``. Each step starts from the last one's working set (a failed
+   warm start is retried cold). ``objective`` may be NULL. Not reentrant: one control loop per process (for
+   more, mpc_hunt_daqp_new and mpc_hunt_daqp_solve in mpc_hunt_step.c). */
+int mpc_hunt_step(const double *theta, const double *reference, double *plan, double *objective);
+#endif
+"""
+
+DAQP_STEP = """\
+#include "capture_condense.h"
+#include "mpc_hunt_step.h"
+{step}
+int mpc_hunt_step(const double *theta, const double *reference, double *plan, double *objective) {{
+  static mpc_hunt_daqp *s = 0;
+  int i;
+  if (!s && !(s = mpc_hunt_daqp_new())) {{
+    for (i = 0; i < MPC_HUNT_PLAN; ++i) plan[i] = reference[i];
+    return -99;
+  }}
+  return mpc_hunt_daqp_solve(s, theta, reference, plan, objective);
+}}
+"""
+
+DAQP_MAKEFILE = """\
+# The capture step of mpc-hunt, structure {structure}: condensed, solved by DAQP {version} (its C sources in
+# daqp/, MIT licence), nothing else needed. For another CPU: make CC=<its cross compiler> (clean first).
+{cc}CFLAGS ?= -O2
+DAQP = daqp
+OBJECTS = main.o mpc_hunt_step.o capture_condense.o $(patsubst %.c,%.o,$(wildcard $(DAQP)/src/*.c))
+
+capture_step: $(OBJECTS)
+\t$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ -lm
+
+%.o: %.c capture_condense.h mpc_hunt_step.h
+\t$(CC) $(CFLAGS) -I$(DAQP)/include -c $< -o $@
+
+clean:
+\trm -f capture_step $(OBJECTS)
+"""
+
+# The export's targets: the compiler the folder's Makefile builds with (None: make's own) and how to run it.
+TARGETS = {
+    "host": {"cc": None, "run": "./capture_step < input.txt", "install": ""},
+    "aarch64-linux": {"cc": "aarch64-linux-gnu-gcc", "run": "qemu-aarch64 -L /usr/aarch64-linux-gnu ./capture_step "
+                      "< input.txt", "install": "apt-get install gcc-aarch64-linux-gnu"},
+}
+
+
+def check_target(target: str, condensed: bool) -> None:
+    """Refuse a target that is unknown, needs a backend's solver built for it, or whose compiler is missing."""
+    import shutil
+
+    if target not in TARGETS:
+        raise MpcHuntError(f"--target: one of {', '.join(TARGETS)}, not {target!r}")
+    cc = TARGETS[target]["cc"]
+    if cc is None:
+        return
+    if not condensed:
+        raise MpcHuntError(f"--target {target}: HPIPM and BLASFEO come built for this machine only (CasADi's "
+                           "wheel); export with --backend daqp-condensed, whose solver's sources go with the step")
+    if shutil.which(cc) is None:
+        raise MpcHuntError(f"--target {target}: the cross compiler {cc} is not installed "
+                           f"({TARGETS[target]['install']})")
+
+
+def write_condensed(folder: Path, step, structure: Structure, theta: np.ndarray, reference: np.ndarray,
+                    plan: np.ndarray, target: str = "host") -> list[Path]:
+    """The folder of the module docstring for the ``daqp-condensed`` backend's step: CasADi's condensing
+    (``capture_condense.c``), the step around DAQP (``mpc_hunt_step.c``, the C the backend's library is built
+    from), DAQP's sources (``daqp/``), ``main.c``, a Makefile that needs nothing else, the input and Python's plan."""
+    import shutil
+
+    import casadi as ca
+
+    from mpc_hunt.solving.backends.daqp_condensed import (
+        DAQP_SOURCES, DAQP_VERSION, NON_FINITE_INPUT, NON_FINITE_PLAN, step_source)
+
+    folder.mkdir(parents=True, exist_ok=True)
+    generator = ca.CodeGenerator("capture_condense.c", {"with_header": True})
+    generator.add(step.function)
+    generator.generate(str(folder) + "/")
+    daqp = folder / "daqp"
+    for part in ("src", "include"):
+        (daqp / part).mkdir(parents=True, exist_ok=True)
+        for path in sorted((DAQP_SOURCES / part).glob("*.[ch]")):
+            shutil.copyfile(path, daqp / part / path.name)
+    shutil.copyfile(DAQP_SOURCES / "LICENSE", daqp / "LICENSE")
+    cc = TARGETS[target]["cc"]
+    files = {
+        "mpc_hunt_step.h": DAQP_H.format(structure=structure, n_theta=len(theta), n_reference=len(reference),
+                                         n_plan=len(plan), non_finite_input=NON_FINITE_INPUT,
+                                         non_finite_plan=NON_FINITE_PLAN),
+        "mpc_hunt_step.c": DAQP_STEP.format(step=step_source(step.function, step.sizes)),
+        "main.c": MAIN_C,
+        "Makefile": DAQP_MAKEFILE.format(structure=structure, version=DAQP_VERSION,
+                                         cc=f"CC = {cc}\n" if cc else ""),
+        "input.txt": "\n".join(f"{v:.17g}" for v in np.concatenate([theta, reference])) + "\n",
+        "expected.txt": "\n".join(f"{v:.17g}" for v in plan) + "\n",
+    }
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return [folder / "capture_condense.c", folder / "capture_condense.h", *(folder / name for name in files), daqp]
+
+
 def write_step(folder: Path, step, iteration: QPIteration, structure: Structure, theta: np.ndarray,
-               reference: np.ndarray, plan: np.ndarray) -> list[Path]:
-    """Write the folder of the module docstring for the backend's ``step`` Function of ``structure``, repeated by
-    ``iteration``'s rule, with the inputs ``theta``, ``reference`` and their plan; returns the files written.
-    :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it has set up."""
+               reference: np.ndarray, plan: np.ndarray, target: str = "host") -> list[Path]:
+    """Write the folder of the module docstring for the backend's ``step`` (a CasADi Function, or the
+    ``daqp-condensed`` backend's condensed step) of ``structure``, repeated by ``iteration``'s rule, with the
+    inputs ``theta``, ``reference`` and their plan, its Makefile building for ``target`` (:data:`TARGETS`);
+    returns the files written. :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it
+    has set up."""
+    from mpc_hunt.solving.backends.daqp_condensed import CondensedStep
+
+    condensed = isinstance(step, CondensedStep)
+    check_target(target, condensed)
+    if condensed:
+        if iteration.max_qps != 1:
+            raise MpcHuntError("backend daqp-condensed: its export writes one QP a step (rti, distributed), not "
+                               f"up to {iteration.max_qps}; export this formulation with hpipm")
+        return write_condensed(folder, step, structure, theta, reference, plan, target)
     import casadi as ca
 
     from mpc_hunt.solving.backends.hpipm_codegen import patch

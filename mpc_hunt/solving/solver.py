@@ -141,11 +141,14 @@ class CaptureSolver:
                         iterations=loop.iterations, warm_started=warm_plan is not None,
                         extras=loop.extras, **scores)
 
-    def export(self, folder: Path, problem: CaptureProblem, robot: int = 0) -> list[Path]:
+    def export(self, folder: Path, problem: CaptureProblem, robot: int = 0, target: str = "host") -> list[Path]:
         """The step of ``problem``'s structure, as this solver set it up, written as C sources for a robot's board
         (:mod:`mpc_hunt.solving.export`); returns the files written. For a formulation that plans robot by robot,
-        the step of planned defender ``robot`` (0-based), its inputs from the team held where it stands."""
-        from mpc_hunt.solving.export import write_step
+        the step of planned defender ``robot`` (0-based), its inputs from the team held where it stands. ``target``:
+        the CPU its Makefile builds for (:data:`mpc_hunt.solving.export.TARGETS`)."""
+        from mpc_hunt.solving.export import check_target, write_step
+
+        check_target(target, self.backend.name == "daqp-condensed")
 
         loop = self.loop(problem)
         loop.load(problem)
@@ -159,7 +162,7 @@ class CaptureSolver:
             raise MpcHuntError(f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
                                "nothing to compare the C step with")
         return write_step(Path(folder), self.backend.generated_step(loop.step_function), loop.formulation.iteration,
-                          loop.structure, theta, reference, loop.plan.reshape(-1))
+                          loop.structure, theta, reference, loop.plan.reshape(-1), target)
 
     def _poses(self, problem: CaptureProblem) -> bool:
         taken = self.backend.objectives
