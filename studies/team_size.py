@@ -76,6 +76,9 @@ MAX_SIZE, MAX_STATES = 40, 500
 ROUNDS = (1, 2, 3, 5, 10)
 ROUND_SIZES = (3, 6, 12)    # the rounds table's teams
 COMMAND = "python studies/team_size.py"
+ROBOT_BACKENDS = ("daqp-condensed", "hpipm-codegen")     # a robot's step: the default first, then HPIPM's
+BACKEND_KEYS = {"daqp-condensed": "daqp", "hpipm-codegen": "hpipm"}
+AARCH64_CC = "aarch64-linux-gnu-gcc"
 GAP_TOL = 1e-6              # the check: the rounds table's gaps, relative (HPIPM's tolerance, with margin)
 
 
@@ -135,17 +138,19 @@ class HpipmAlone:
 
 
 def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
-    """The growth table's rows, and per size the robots' inputs and plans (for the exported C)."""
+    """The growth table's rows, and per size the robots' inputs and both backends' plans (for the exported C)."""
     rows, robots = [], {}
     for size, hunt in states.items():
         problems = problems_of(size, hunt)
         central = CaptureSolver("rti", "hpipm-codegen", score=False)
-        distributed = CaptureSolver("distributed", "hpipm-codegen", score=False)
-        c_loop, d_loop = central.loop(problems[0]), distributed.loop(problems[0])
+        c_loop = central.loop(problems[0])
+        d_loops = {b: CaptureSolver("distributed", b, score=False).loop(problems[0]) for b in ROBOT_BACKENDS}
+        d_loop = d_loops[ROBOT_BACKENDS[0]]
         applied = {"c": None, "d": None}
         alone = {"central": HpipmAlone(problems[0].structure), "robot": HpipmAlone(d_loop.team.robot)}
-        times = {k: [] for k in ("central", "robot", "team", "broadcast", "central_hpipm", "robot_hpipm")}
-        inputs, plans, failed, unseen = [], [], 0, 0
+        times = {k: [] for k in ("central", "team", "broadcast", "central_hpipm", "robot_hpipm",
+                                 *(f"robot {b}" for b in ROBOT_BACKENDS))}
+        inputs, plans, failed, unseen, difference = [], {b: [] for b in ROBOT_BACKENDS}, 0, 0, 0.0
         for problem in problems:
             warm = warm_plan(applied["c"], problem)
             start = time.perf_counter()
@@ -156,36 +161,46 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
             plan = problem.plan_with(c_loop.plan)
             applied["c"] = (problem.signature, plan if status.usable else (warm if warm is not None
                                                                            else problem.held_plan()))
+            # Each robot backend's step from the same plans (the default's closed loop): the same inputs, so
+            # their plans compare.
             warm = warm_plan(applied["d"], problem)
-            start = time.perf_counter()
-            d_loop.load(problem, warm)
-            loaded = time.perf_counter()
-            d_loop.step()
-            stepped = time.perf_counter()
+            for backend in reversed(ROBOT_BACKENDS):            # the default last: the team's numbers are its
+                loop = d_loops[backend]
+                start = time.perf_counter()
+                loop.load(problem, warm)
+                loaded = time.perf_counter()
+                loop.step()
+                stepped = time.perf_counter()
+                times[f"robot {backend}"] += loop.robot_times
             # The step ran each robot's inputs and QP one after another, timing each (``robot_times``); the rest of
             # the step is the broadcast. On the robots: the load, the broadcast and the slowest robot.
             robot_times = d_loop.robot_times
-            times["robot"] += robot_times
             times["broadcast"].append(stepped - loaded - sum(robot_times))
             times["team"].append(stepped - start - sum(robot_times) + max(robot_times))
             failed += d_loop.extras["failed_robot_qps"]
             unseen = max(unseen, d_loop.unseen_neighbours)
-            for loop in d_loop.robots:
+            difference = max(difference, float(np.max(np.abs(d_loop.plan - d_loops["hpipm-codegen"].plan))))
+            for i, loop in enumerate(d_loop.robots):
                 inputs.append(np.concatenate([loop.theta, loop.reference.reshape(-1)]))
-                plans.append(loop.plan.reshape(-1).copy())
+                for backend in ROBOT_BACKENDS:
+                    plans[backend].append(d_loops[backend].robots[i].plan.reshape(-1).copy())
                 times["robot_hpipm"].append(alone["robot"].time(loop.theta, loop.reference.reshape(-1)))
             applied["d"] = (problem.signature, problem.plan_with(d_loop.plan.reshape(-1)))
         first = len(d_loop.robots)            # the first state, which builds, excluded
         row = {"size": size, "states": len(problems), "central_ms": _median(times["central"][1:]),
                "central_hpipm_ms": _median(times["central_hpipm"][1:]),
-               "robot_ms": _median(times["robot"][first:]), "robot_hpipm_ms": _median(times["robot_hpipm"][first:]),
+               "robot_ms": _median(times[f"robot {ROBOT_BACKENDS[0]}"][first:]),
+               "robot_hpipm_loop_ms": _median(times["robot hpipm-codegen"][first:]),
+               "robot_hpipm_ms": _median(times["robot_hpipm"][first:]),
+               "robot_plan_difference_m": difference,
                "broadcast_ms": _median(times["broadcast"][1:]), "team_ms": _median(times["team"][1:]),
                "failed_robot_qps": failed, "unseen_neighbours": unseen,
                "neighbour_slots": d_loop.team.robot.fixed}
         rows.append(row)
         robots[size] = (problems[0], inputs, plans)
         print(f"N_d = {size}: centralised {row['central_ms']:.3f} ms; a robot {row['robot_ms']:.3f} ms "
-              f"team {row['team_ms']:.3f} ms", file=sys.stderr, flush=True)
+              f"(HPIPM {row['robot_hpipm_loop_ms']:.3f} ms) team {row['team_ms']:.3f} ms", file=sys.stderr,
+              flush=True)
     return rows, robots
 
 
@@ -194,23 +209,53 @@ def _median(values: list[float]) -> float:
 
 
 def exported(robots: dict) -> list[dict] | None:
-    """One robot's step in C per size: its median time on every robot's inputs, and the plans' difference."""
+    """One robot's step in C per size and robot backend: its median time on every robot's inputs, and the
+    largest difference from Python's plans."""
     if shutil.which("make") is None or shutil.which("gcc") is None:
         return None
     rows = []
     for size, (problem, inputs, plans) in robots.items():
-        with tempfile.TemporaryDirectory() as folder:
-            CaptureSolver("distributed", "hpipm-codegen").export(Path(folder), problem, robot=0)
-            subprocess.run(["make", "-s", "-B", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True,
-                           timeout=1800)
-            text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
-            run = subprocess.run([f"{folder}/capture_step", "--time"], capture_output=True, text=True, timeout=600,
-                                 input=text)
-        times = [float(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("time_us")]
+        row = {"size": size}
+        for backend in ROBOT_BACKENDS:
+            run = _run_exported(backend, problem, inputs, "host")
+            times = [float(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("time_us")]
+            key = BACKEND_KEYS[backend]
+            row[f"{key}_c_ms"] = float(np.median(times[1:])) / 1e3
+            row[f"{key}_exit"] = run.returncode
+            row[f"{key}_plan_difference_m"] = float(np.max(np.abs(np.array(run.stdout.split(), dtype=float)
+                                                                  - np.concatenate(plans[backend]))))
+        rows.append(row)
+        print(f"N_d = {size}: a robot's step in C {row['daqp_c_ms']:.3f} ms (HPIPM {row['hpipm_c_ms']:.3f} ms)",
+              file=sys.stderr, flush=True)
+    return rows
+
+
+def _run_exported(backend: str, problem, inputs: list, target: str, command: tuple = ()) -> subprocess.CompletedProcess:
+    """Robot 0's step of ``problem`` exported on ``backend`` for ``target``, built by its Makefile at -O2 and run on
+    ``inputs`` (``command`` before the program: an emulator)."""
+    with tempfile.TemporaryDirectory() as folder:
+        CaptureSolver("distributed", backend).export(Path(folder), problem, robot=0, target=target)
+        subprocess.run(["make", "-s", "-B", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True,
+                       timeout=1800)
+        text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
+        return subprocess.run([*command, f"{folder}/capture_step", "--time"], capture_output=True, text=True,
+                              timeout=3600, input=text)
+
+
+def on_arm(robots: dict) -> list[dict] | None:
+    """The default backend's robot step cross-compiled for aarch64 Linux and run under qemu-aarch64 on every robot's
+    inputs: the largest difference from the host C's plans (Python's, to the bit: the exported table)."""
+    if shutil.which(AARCH64_CC) is None or shutil.which("qemu-aarch64") is None or shutil.which("make") is None:
+        return None
+    rows = []
+    for size, (problem, inputs, plans) in robots.items():
+        run = _run_exported(ROBOT_BACKENDS[0], problem, inputs, "aarch64-linux",
+                            ("qemu-aarch64", "-L", "/usr/aarch64-linux-gnu"))
         out = np.array(run.stdout.split(), dtype=float)
-        rows.append({"size": size, "robot_c_ms": float(np.median(times[1:])) / 1e3, "exit": run.returncode,
-                     "max_plan_difference_m": float(np.max(np.abs(out - np.concatenate(plans))))})
-        print(f"N_d = {size}: a robot's step in C {rows[-1]['robot_c_ms']:.3f} ms", file=sys.stderr, flush=True)
+        rows.append({"size": size, "exit": run.returncode, "states": len(inputs),
+                     "plan_difference_m": float(np.max(np.abs(out - np.concatenate(plans[ROBOT_BACKENDS[0]]))))})
+        print(f"N_d = {size}: aarch64 under qemu, plans within {rows[-1]['plan_difference_m']:.1e} m",
+              file=sys.stderr, flush=True)
     return rows
 
 
@@ -274,21 +319,25 @@ def readme(results: dict) -> str:
              f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker "
              "(within its perception radius), posed as the `enclose` problem. "
              "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "
-             "and its step on its loop (`TeamLoop.robots[i]`); *its HPIPM alone*: the step's own QP linearised apart "
+             "and its step on its loop (`TeamLoop.robots[i]`) on the `distributed` formulation's default backend, "
+             "`daqp-condensed` (its QP condensed to its 2N controls, DAQP from its last active set, compiled); "
+             "*on HPIPM*: the same on `hpipm-codegen` (the stage form, compiled), from the same inputs (both loops "
+             "step from the default's plans), and *plans within*: the largest difference between the two loops' "
+             "plans; *its HPIPM alone*: the step's own QP linearised apart "
              f"and solved by CasADi's `hpipm` plugin, the fastest of {REPEATS} solves (what the step's QP costs at best "
              "through CasADi, from Python); *team*: the "
              "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
              "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
              "`step()`.", "",
-             "| N_d | centralised (ms) | its HPIPM alone (ms) | ratio | a robot (ms) | its HPIPM alone (ms) | ratio | "
-             "broadcast (ms) | team (ms) | centralised / team | neighbour slots | unseen neighbours | "
-             "failed robot QPs |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+             "| N_d | centralised (ms) | its HPIPM alone (ms) | ratio | a robot (ms) | on HPIPM (ms) | its HPIPM alone "
+             "(ms) | on HPIPM / a robot | plans within (m) | broadcast (ms) | team (ms) | centralised / team | "
+             "neighbour slots | unseen neighbours | failed robot QPs |",
+             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
     for r in rows:
         lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['central_hpipm_ms']:.3f} | "
                      f"{r['central_ms'] / r['central_hpipm_ms']:.2f} | {r['robot_ms']:.3f} | "
-                     f"{r['robot_hpipm_ms']:.3f} | "
-                     f"{r['robot_ms'] / r['robot_hpipm_ms']:.2f} | "
+                     f"{r['robot_hpipm_loop_ms']:.3f} | {r['robot_hpipm_ms']:.3f} | "
+                     f"{r['robot_hpipm_loop_ms'] / r['robot_ms']:.2f} | {r['robot_plan_difference_m']:.1e} | "
                      f"{r['broadcast_ms']:.3f} | {r['team_ms']:.3f} | {r['central_ms'] / r['team_ms']:.1f} | "
                      f"{r['neighbour_slots']} | {r['unseen_neighbours']} | {r['failed_robot_qps']} |")
     lines += ["", "Exponents b of time ∝ N_d^b over N_d = " + ", ".join(map(str, sizes)) + ": centralised "
@@ -299,16 +348,28 @@ def readme(results: dict) -> str:
     if c is None:
         lines += ["A robot's exported step was not measured: no `make` or `gcc` here.", ""]
     else:
-        lines += ["**A robot's step exported as C** (`CaptureSolver(\"distributed\", \"hpipm-codegen\").export(folder, "
-                  "problem, robot=0)`, built with its Makefile at `-O2` against CasADi's HPIPM and BLASFEO, the "
-                  "wheel's generic build), run on every robot's inputs of every state: median time of one robot's "
-                  "step in pure C, and the largest difference from Python's plans.", "",
-                  "| N_d | a robot's step in C (ms) | plans within (m) | exit |", "| ---: | ---: | ---: | ---: |"]
-        lines += [f"| {r['size']} | {r['robot_c_ms']:.3f} | {r['max_plan_difference_m']:.1e} | {r['exit']} |"
-                  for r in c]
-        slope = exponent([r["size"] for r in c], [r["robot_c_ms"] for r in c])
-        lines += ["", f"Exponent of a robot's C step: {slope:.2f}.",
-                  ""]
+        lines += ["**A robot's step exported as C** (`CaptureSolver(\"distributed\", backend).export(folder, "
+                  "problem, robot=0)`, built with its Makefile at `-O2`: on `daqp-condensed` with DAQP's own "
+                  "sources, on `hpipm-codegen` against CasADi's HPIPM and BLASFEO, the wheel's generic build), run on "
+                  "every robot's inputs of every state: median time of one robot's step in pure C, and the largest "
+                  "difference from Python's plans on the same backend.", "",
+                  "| N_d | DAQP condensed (ms) | plans within (m) | exit | HPIPM (ms) | plans within (m) | exit | "
+                  "HPIPM / DAQP |", "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        lines += [f"| {r['size']} | {r['daqp_c_ms']:.4f} | {r['daqp_plan_difference_m']:.1e} | {r['daqp_exit']} | "
+                  f"{r['hpipm_c_ms']:.4f} | {r['hpipm_plan_difference_m']:.1e} | {r['hpipm_exit']} | "
+                  f"{r['hpipm_c_ms'] / r['daqp_c_ms']:.1f} |" for r in c]
+        slope = exponent([r["size"] for r in c], [r["daqp_c_ms"] for r in c])
+        lines += ["", f"Exponent of a robot's C step (DAQP): {slope:.2f}.", ""]
+    arm = results.get("arm")
+    if arm is None:
+        lines += ["The aarch64 build was not run: no `aarch64-linux-gnu-gcc` or `qemu-aarch64` here.", ""]
+    else:
+        lines += ["**The same step on an ARM core**: exported with `--target aarch64-linux` (built by "
+                  f"`{AARCH64_CC}` at `-O2`), run under `qemu-aarch64 -L /usr/aarch64-linux-gnu` on the same inputs: "
+                  "the largest difference from the host's plans.", "",
+                  "| N_d | robot steps | plans within (m) | exit |", "| ---: | ---: | ---: | ---: |"]
+        lines += [f"| {r['size']} | {r['states']} | {r['plan_difference_m']:.1e} | {r['exit']} |" for r in arm]
+        lines += [""]
     lines += targets(results)
     lines += ["## What each round buys", "",
               "From the controller's warm start (the first state, cold, excluded), each step's plan after k "
@@ -346,7 +407,7 @@ def targets(results: dict) -> list[str]:
            line("exponent of a robot's step in N_d", exponent(sizes, [r["robot_ms"] for r in rows]),
                 ROBOT_EXPONENT, "")]
     if c is not None:
-        out.append(line("a robot's step in C, the slowest team size", max(r["robot_c_ms"] for r in c), ROBOT_C_MS))
+        out.append(line("a robot's step in C, the slowest team size", max(r["daqp_c_ms"] for r in c), ROBOT_C_MS))
     team = [r for r in rows if r["size"] == TEAM_SIZE]
     if team:
         out.append(line(f"the team's step at N_d = {TEAM_SIZE}, the robots in parallel", team[0]["team_ms"], TEAM_MS))
@@ -405,7 +466,7 @@ def main(argv: list[str] | None = None) -> int:
             growth, robots = timed_sizes(states)
             c = exported(robots)
             results = {"machine": describe_machine(), "load_before": before, "growth": growth, "exported": c,
-                       "rounds": rounds_table(states)}
+                       "arm": on_arm(robots), "rounds": rounds_table(states)}
             results["load_after"] = load_average()
         except MpcHuntError as exc:
             print(f"error: {exc}", file=sys.stderr)

@@ -253,6 +253,15 @@ TARGETS = {
 }
 
 
+def check_export(target: str, condensed: bool, iteration: QPIteration) -> None:
+    """Refuse what the export cannot write, before any work: a target :func:`check_target` refuses, or a step of
+    several QPs on the condensed backend."""
+    check_target(target, condensed)
+    if condensed and iteration.max_qps != 1:
+        raise MpcHuntError("backend daqp-condensed: its export writes one QP a step (rti, distributed), not "
+                           f"up to {iteration.max_qps}; export this formulation with hpipm")
+
+
 def check_target(target: str, condensed: bool) -> None:
     """Refuse a target that is unknown, needs a backend's solver built for it, or whose compiler is missing."""
     import shutil
@@ -319,11 +328,8 @@ def write_step(folder: Path, step, iteration: QPIteration, structure: Structure,
     from mpc_hunt.solving.backends.daqp_condensed import CondensedStep
 
     condensed = isinstance(step, CondensedStep)
-    check_target(target, condensed)
+    check_export(target, condensed, iteration)
     if condensed:
-        if iteration.max_qps != 1:
-            raise MpcHuntError("backend daqp-condensed: its export writes one QP a step (rti, distributed), not "
-                               f"up to {iteration.max_qps}; export this formulation with hpipm")
         return write_condensed(folder, step, structure, theta, reference, plan, target)
     import casadi as ca
 

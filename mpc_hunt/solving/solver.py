@@ -146,9 +146,9 @@ class CaptureSolver:
         (:mod:`mpc_hunt.solving.export`); returns the files written. For a formulation that plans robot by robot,
         the step of planned defender ``robot`` (0-based), its inputs from the team held where it stands. ``target``:
         the CPU its Makefile builds for (:data:`mpc_hunt.solving.export.TARGETS`)."""
-        from mpc_hunt.solving.export import check_target, write_step
+        from mpc_hunt.solving.export import check_export, write_step
 
-        check_target(target, self.backend.name == "daqp-condensed")
+        check_export(target, self.backend.name == "daqp-condensed", self.formulation.iteration)
 
         loop = self.loop(problem)
         loop.load(problem)

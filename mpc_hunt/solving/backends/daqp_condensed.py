@@ -423,6 +423,9 @@ class DaqpCondensedBackend(Backend):
             return (Status.OPTIMAL_INACCURATE if buffer.flag == 4 else Status.OPTIMAL), buffer.iterations
         return _STATUS.get(buffer.code, Status.ERROR), buffer.iterations
 
+    def loop_message(self, step: CondensedStep, buffer) -> str:
+        return message(buffer.code)
+
 
 def message(code: int) -> str:
     """What a step's code means: "" solved, else DAQP's exit flag's name or the step's own."""
