@@ -245,11 +245,137 @@ clean:
 \trm -f capture_step $(OBJECTS)
 """
 
+# A Cortex-M7 without an operating system (``--target cortex-m7``): the start-up, the memory map of qemu's
+# mps2-an500 board, and a main that steps the states of input.txt (compiled in) and reports on semihosting.
+BOARD_STARTUP = r"""/* Cortex-M7 start-up for a bare-metal capture step: the vector table, .data and .bss, the FPU on, main. */
+#include <stdint.h>
+#include <stdlib.h>
+
+extern uint32_t __stack_top, __data_load, __data_start, __data_end, __bss_start, __bss_end;
+extern int main(void);
+extern void initialise_monitor_handles(void);
+
+void Reset_Handler(void) {
+  uint32_t *src = &__data_load, *dst = &__data_start;
+  while (dst < &__data_end) *dst++ = *src++;
+  for (dst = &__bss_start; dst < &__bss_end;) *dst++ = 0;
+  *(volatile uint32_t *) 0xE000ED88 |= 0xFu << 20;          /* CPACR: CP10 and CP11, the FPU, full access */
+  __asm volatile ("dsb\n isb");
+  initialise_monitor_handles();                             /* semihosting: stdout, stderr, exit */
+  exit(main());
+}
+
+static void Fault_Handler(void) { exit(3); }
+
+__attribute__((section(".vectors"), used)) static const void *const vectors[16] = {
+  &__stack_top, (void *) Reset_Handler, (void *) Fault_Handler, (void *) Fault_Handler, (void *) Fault_Handler,
+  (void *) Fault_Handler, (void *) Fault_Handler};
+"""
+
+BOARD_LD = r"""/* mps2-an500 (Cortex-M7): code in ZBT SSRAM1 (as flash), data, heap and stack in ZBT SSRAM2&3. */
+MEMORY {
+  FLASH (rx) : ORIGIN = 0x00000000, LENGTH = 4M
+  RAM (rwx) : ORIGIN = 0x20000000, LENGTH = 4M
+}
+ENTRY(Reset_Handler)
+SECTIONS {
+  .text : { KEEP(*(.vectors)) *(.text*) *(.rodata*) . = ALIGN(8); } > FLASH
+  .ARM.exidx : { *(.ARM.exidx*) } > FLASH
+  .data : { __data_start = .; *(.data*) . = ALIGN(8); __data_end = .; } > RAM AT > FLASH
+  __data_load = LOADADDR(.data);
+  .bss (NOLOAD) : { __bss_start = .; *(.bss*) *(COMMON) . = ALIGN(8); __bss_end = .; } > RAM
+  end = .;                                                  /* the heap from here (newlib's sbrk) */
+  __stack_top = ORIGIN(RAM) + LENGTH(RAM);
+}
+"""
+
+BOARD_MAIN = r"""/* The capture step on a bare-metal Cortex-M7 (qemu-system-arm -M mps2-an500 -icount shift=0 -semihosting):
+   every state of input.txt (compiled in) stepped in turn, each plan printed; on stderr each step's SysTick count
+   (the CPU clock; under -icount shift=0 one instruction is 1 ns of the board's 25 MHz, 40 instructions a tick),
+   a calibration loop of known length, the heap in use and the stack's high-water mark. */
+#include <malloc.h>
+#include <stdint.h>
+#include <stdio.h>
+#include "mpc_hunt_step.h"
+#include "board_input.h"
+
+#define SYST_CSR (*(volatile uint32_t *) 0xE000E010)
+#define SYST_RVR (*(volatile uint32_t *) 0xE000E014)
+#define SYST_CVR (*(volatile uint32_t *) 0xE000E018)
+#define STATE (MPC_HUNT_THETA + MPC_HUNT_REFERENCE)
+#define PAINT 0xA5A5A5A5u
+
+extern uint32_t end, __stack_top;
+
+static uint32_t ticks(uint32_t start) { return (start - SYST_CVR) & 0xFFFFFFu; }   /* SysTick counts down */
+
+static void __attribute__((noinline)) spin(uint32_t n) {    /* 2 instructions an iteration: subs, bne */
+  __asm volatile ("1: subs %0, %0, #1\n bne 1b" : "+r"(n));
+}
+
+int main(void) {
+  static double plan[MPC_HUNT_PLAN];
+  volatile uint32_t *p;
+  uint32_t start, *sp, lowest;
+  int s, i, status, failed = 0;
+  __asm volatile ("mov %0, sp" : "=r"(sp));
+  for (p = sp - 64 * 1024 / 4; p < sp - 16; ++p) *p = PAINT;      /* 64 KiB of stack below this frame */
+  SYST_RVR = 0xFFFFFF; SYST_CVR = 0; SYST_CSR = 5;               /* the CPU clock, no interrupt */
+  start = SYST_CVR; spin(1000000); fprintf(stderr, "calibration 2000000 %lu\n", (unsigned long) ticks(start));
+  for (s = 0; s < (int) (sizeof board_input / sizeof board_input[0]) / STATE; ++s) {
+    start = SYST_CVR;
+    status = mpc_hunt_step(board_input + s * STATE, board_input + s * STATE + MPC_HUNT_THETA, plan, 0);
+    fprintf(stderr, "ticks %lu\n", (unsigned long) ticks(start));
+    for (i = 0; i < MPC_HUNT_PLAN; ++i) printf("%.17g\n", plan[i]);
+    if (status) { fprintf(stderr, "state %d: step status %d\n", s, status); failed = 1; }
+  }
+  for (p = sp - 64 * 1024 / 4; p < sp - 16 && *p == PAINT; ++p) ;
+  lowest = (uint32_t) p;
+  fprintf(stderr, "heap %d\nstack %lu\n", mallinfo().uordblks, (unsigned long) ((uint32_t) &__stack_top - lowest));
+  return failed;
+}
+"""
+
+BOARD_MAKEFILE = r"""# The capture step of mpc-hunt, structure @STRUCTURE@: condensed, solved by DAQP @VERSION@ (its C sources in
+# daqp/, MIT licence), for a Cortex-M7 with a double-precision FPU and no operating system; input.txt's states are
+# compiled in (board_input.h). `make run` runs it on qemu's mps2-an500 board: plans on stdout; on stderr each
+# step's SysTick count (under -icount shift=0, 40 instructions a tick: see the calibration line), the heap in use
+# and the stack's high-water mark. Needs arm-none-eabi-gcc with newlib (semihosting: rdimon.specs).
+CC = arm-none-eabi-gcc
+CPU ?= -mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard -mthumb
+CFLAGS ?= -O2
+DAQP = daqp
+OBJECTS = board.o startup.o mpc_hunt_step.o capture_condense.o $(patsubst %.c,%.o,$(wildcard $(DAQP)/src/*.c))
+QEMU = qemu-system-arm -M mps2-an500 -nographic -monitor none -serial none -icount shift=0 \
+	-semihosting-config enable=on,target=native
+
+capture_step.elf: $(OBJECTS) board.ld
+	$(CC) $(CPU) $(CFLAGS) -nostartfiles --specs=rdimon.specs -T board.ld -Wl,--gc-sections -o $@ $(OBJECTS) -lm
+
+%.o: %.c capture_condense.h mpc_hunt_step.h
+	$(CC) $(CPU) $(CFLAGS) -ffunction-sections -fdata-sections -I$(DAQP)/include -c $< -o $@
+
+board.o: board_input.h
+
+board_input.h: input.txt
+	awk 'BEGIN { print "static const double board_input[] = {" } { for (i = 1; i <= NF; ++i) print $$i "," } \
+	END { print "};" }' input.txt > $@
+
+run: capture_step.elf
+	$(QEMU) -kernel capture_step.elf
+
+clean:
+	rm -f capture_step.elf board_input.h $(OBJECTS)
+"""
+
+
 # The export's targets: the compiler the folder's Makefile builds with (None: make's own) and how to run it.
 TARGETS = {
     "host": {"cc": None, "run": "./capture_step < input.txt", "install": ""},
     "aarch64-linux": {"cc": "aarch64-linux-gnu-gcc", "run": "qemu-aarch64 -L /usr/aarch64-linux-gnu ./capture_step "
                       "< input.txt", "install": "apt-get install gcc-aarch64-linux-gnu"},
+    "cortex-m7": {"cc": "arm-none-eabi-gcc", "run": "make run (qemu-system-arm -M mps2-an500)",
+                  "install": "apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi"},
 }
 
 
@@ -313,6 +439,11 @@ def write_condensed(folder: Path, step, structure: Structure, theta: np.ndarray,
         "input.txt": "\n".join(f"{v:.17g}" for v in np.concatenate([theta, reference])) + "\n",
         "expected.txt": "\n".join(f"{v:.17g}" for v in plan) + "\n",
     }
+    if target == "cortex-m7":
+        del files["main.c"]
+        files.update({"board.c": BOARD_MAIN, "startup.c": BOARD_STARTUP, "board.ld": BOARD_LD,
+                      "Makefile": BOARD_MAKEFILE.replace("@STRUCTURE@", str(structure)).replace("@VERSION@",
+                                                                                                DAQP_VERSION)})
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return [folder / "capture_condense.c", folder / "capture_condense.h", *(folder / name for name in files), daqp]

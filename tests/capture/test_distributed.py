@@ -403,7 +403,7 @@ def test_team_mates_within_reach_beyond_the_slots_are_counted(robots, radius, un
 
 # --- 11. a robot's step condensed, on DAQP (the default backend) ----------------------------------------------------
 
-def _closed_loop(solver, problem, steps=3):
+def _plans_along(solver, problem, steps=3):
     """The plans of ``steps`` steps of ``solver`` along its own closed loop from ``problem``."""
     plans, warm = [], None
     for _ in range(steps):
@@ -420,10 +420,10 @@ def test_the_default_backend_condenses_and_gives_hpipms_plans():
     assert CaptureSolver("distributed").backend.name == "daqp-condensed"
     for options in ({}, GAUSS_SEIDEL):
         for problem in _team_problems():
-            reference = _closed_loop(CaptureSolver("distributed", "hpipm", formulation_options=options), problem)
+            reference = _plans_along(CaptureSolver("distributed", "hpipm", formulation_options=options), problem)
             for loop in (True, False):
                 solver = CaptureSolver("distributed", loop=loop, formulation_options=options)
-                for a, b in zip(_closed_loop(solver, problem), reference):
+                for a, b in zip(_plans_along(solver, problem), reference):
                     np.testing.assert_allclose(a, b, rtol=0, atol=1e-8)
 
 
@@ -451,10 +451,10 @@ def test_without_a_compiler_the_same_step_runs_interpreted(monkeypatch, tmp_path
     from mpc_hunt.solving.compiled import CompilationWarning
 
     problem = next(_team_problems())
-    compiled = _closed_loop(CaptureSolver("distributed"), problem)
+    compiled = _plans_along(CaptureSolver("distributed"), problem)
     monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
     with pytest.warns(CompilationWarning, match="interpreted"):
-        interpreted = _closed_loop(CaptureSolver("distributed"), problem)
+        interpreted = _plans_along(CaptureSolver("distributed"), problem)
     for a, b in zip(interpreted, compiled):
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
 
