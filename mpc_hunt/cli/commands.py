@@ -471,7 +471,8 @@ def _backends(args) -> int:
     for b in registry.BACKENDS:
         cls = registry.backend_class(b)
         where = "installed" if registry.installed(b) else f"NOT installed: pip install {cls.install}"
-        print(f"backend {b} (accepts {', '.join(cls.accepts)}): {where}")
+        only = f"; objective {' or '.join(cls.objectives)} only" if cls.objectives is not None else ""
+        print(f"backend {b} (accepts {', '.join(cls.accepts)}{only}): {where}")
     return 0
 
 

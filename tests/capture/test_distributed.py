@@ -429,7 +429,8 @@ def test_the_default_backend_condenses_and_gives_hpipms_plans():
 
 def test_each_robot_starts_from_its_own_last_active_set():
     """The same inputs again: warm, DAQP starts from the working set it ended with and stops at once (an
-    iteration); a loop of its own (another robot's buffer) starts cold, as the first did."""
+    iteration, the plan within 1e-12 m (measured: 1.8e-15); a loop of its own (another robot's buffer) starts
+    cold, as the first did (21 iterations)."""
     problem = next(_team_problems())
     team = CaptureSolver("distributed").loop(problem)
     team.load(problem)
@@ -447,7 +448,8 @@ def test_each_robot_starts_from_its_own_last_active_set():
 
 
 def test_without_a_compiler_the_same_step_runs_interpreted(monkeypatch, tmp_path):
-    """No compiler: one warning, CasADi's condensing and DAQP's Python package, the compiled step's plans."""
+    """No compiler: one warning, CasADi's condensing and DAQP's Python package, the compiled step's plans (within
+    1e-12 m; measured: 1.8e-15)."""
     from mpc_hunt.solving.compiled import CompilationWarning
 
     problem = next(_team_problems())
