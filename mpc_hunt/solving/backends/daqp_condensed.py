@@ -40,6 +40,7 @@ import numpy as np
 
 from mpc_hunt.capture.data import StageQPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.errors import UnknownNameError
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.solving.backends.daqp import _MESSAGE, _STATUS
 from mpc_hunt.solving.compiled import CompilationWarning, build, compiler
@@ -389,7 +390,6 @@ class DaqpCondensedBackend(Backend):
                  **options):
         super().__init__(time_limit, accuracy, **options)
         if self.options:
-            from mpc_hunt.errors import UnknownNameError
             raise UnknownNameError(f"backend {self.name} takes no options (got {', '.join(sorted(self.options))})")
         self.flags = tuple(flags)
 
