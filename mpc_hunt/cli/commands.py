@@ -161,9 +161,10 @@ def build_parser() -> argparse.ArgumentParser:
                           "instead of LQ factorisations: faster with a BLASFEO built for the board's CPU, `make "
                           "BLASFEO=DIR`; plans differ from robust's within HPIPM's tolerances)")
     exp.add_argument("--target", choices=tuple(EXPORT_TARGETS), default="host",
-                     help="the CPU the Makefile builds for: host (default) or aarch64-linux (with "
-                          "aarch64-linux-gnu-gcc; run under qemu-aarch64 -L /usr/aarch64-linux-gnu); daqp-condensed "
-                          "only")
+                     help="the CPU the Makefile builds for: host (default), aarch64-linux (with "
+                          "aarch64-linux-gnu-gcc; run under qemu-aarch64 -L /usr/aarch64-linux-gnu) or cortex-m7 "
+                          "(bare metal, arm-none-eabi-gcc with newlib; `make run` on qemu's mps2-an500 board); "
+                          "daqp-condensed only")
     exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write (a new or "
                      "existing folder, not the current one)")
     exp.set_defaults(json=False)

@@ -23,7 +23,10 @@ formulation's default) the step is condensed to a dense QP in its controls and s
 CasADi's condensing (``capture_condense.c``, ``.h``), the step around DAQP (``mpc_hunt_step.c``: the C the
 backend's own library is built from), DAQP's C sources (``daqp/``, MIT), ``main.c`` and a Makefile that needs
 no library but libm, so ``make CC=aarch64-linux-gnu-gcc`` (or ``export --target aarch64-linux``, which writes
-that compiler into the Makefile) builds it for another CPU.
+that compiler into the Makefile) builds it for another CPU. ``--target cortex-m7`` writes, instead of ``main.c``,
+a bare-metal program for a Cortex-M7 with a double-precision FPU (``board.c``, ``startup.c``, ``board.ld``: qemu's
+mps2-an500 board) that steps input.txt's states compiled in and reports each step's SysTick count, the heap and
+the stack over semihosting; ``make run`` runs it under ``qemu-system-arm -icount shift=0``.
 
 HPIPM runs in the solver's ``mode`` (:data:`mpc_hunt.solving.backends.hpipm.MODES`): ``robust``, the
 ``hpipm`` backend's default, or ``balance``, which factorises by Cholesky instead of LQ, the path a BLASFEO
