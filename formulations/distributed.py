@@ -100,7 +100,9 @@ class DistributedFormulation(Formulation):
 
     name = "distributed"
     kind = "ocp-qp"
-    default_backend = "hpipm"
+    # A robot's QP condensed to its 2N controls and solved by DAQP from its last active set: 3x faster than HPIPM
+    # on the stage form at the same plans (studies/team_size).
+    default_backend = "daqp-condensed"
     exact = RTIFormulation.exact
     smoothing = RTIFormulation.smoothing
     per_robot = True

@@ -10,15 +10,19 @@ by side on one machine, the steps taking turns on each state:
 
 * **centralised**: ``CaptureSolver("rti", "hpipm-codegen").loop(problem)``, the
   state loaded and one ``step()``: the team's QP, one call;
-* **distributed** (one Jacobi round): ``CaptureSolver("distributed",
-  "hpipm-codegen").loop(problem)`` (a :class:`~mpc_hunt.solving.team_loop.TeamLoop`):
-  the state loaded, the round's broadcast, and each robot's step (its inputs
-  from the broadcast, its QP on its own loop) timed apart by the loop
-  (``TeamLoop.robot_times``), as each robot would run it on its own board;
-  *team*: load + broadcast + the slowest robot (the robots in parallel);
-* **exported C**: one robot's step exported (``CaptureSolver.export``, built
-  with its Makefile at ``-O2`` against CasADi's HPIPM and BLASFEO), run on every
-  robot's inputs of every state: the median time of one robot's step in C;
+* **distributed** (one Jacobi round): ``CaptureSolver("distributed").loop(problem)`` (a
+  :class:`~mpc_hunt.solving.team_loop.TeamLoop`, on the formulation's default backend ``daqp-condensed``: each
+  robot's QP condensed to its 2N controls, DAQP from its last active set): the state loaded, the round's
+  broadcast, and each robot's step (its inputs from the broadcast, its QP on its own loop) timed apart by the
+  loop (``TeamLoop.robot_times``), as each robot would run it on its own board; *team*: load + broadcast + the
+  slowest robot (the robots in parallel); beside it the same on ``hpipm-codegen`` (HPIPM on the stage form)
+  from the same plans, and the largest difference between the two backends' plans;
+* **exported C**: one robot's step exported on each backend (``CaptureSolver.export``, built with its Makefile
+  at ``-O2``), run on every robot's inputs of every state, robot by robot: the median time of one robot's
+  step in C;
+* **on ARM** (where the tools are): the default's step cross-compiled for aarch64 Linux and run under
+  ``qemu-aarch64``, and built for a bare-metal Cortex-M7 and run on qemu's mps2-an500 board: plans against the
+  host's, instructions a step, flash and RAM; with the host's, each target's share of a 50 Hz cycle;
 * **rounds**: what each Jacobi or Gauss–Seidel round buys: after k rounds from
   the controller's warm start, the evaluator's objective of the team's plan
   against the centralised ``stage-sqp`` plan (the ``rti`` QP iterated to
@@ -29,7 +33,7 @@ Each solver is warm-started from its own previous plan, shifted, as the
 controller does. Exponents: the least-squares slope of log(time) on log(N_d).
 
     python studies/team_size.py [--out studies/team_size] [--sizes 3 6 …] [--states 20] [--reuse-states]
-    python studies/team_size.py --check     # the rounds table, rerun on the committed states
+    python studies/team_size.py --check     # the rounds table and the plans agreement, on the committed states
 """
 
 from __future__ import annotations
@@ -75,6 +79,12 @@ MAX_SIZE, MAX_STATES = 40, 500
 ROUNDS = (1, 2, 3, 5, 10)
 ROUND_SIZES = (3, 6, 12)    # the rounds table's teams
 COMMAND = "python studies/team_size.py"
+ROBOT_BACKENDS = ("daqp-condensed", "hpipm-codegen")     # a robot's step: the default first, then HPIPM's
+BACKEND_KEYS = {"daqp-condensed": "daqp", "hpipm-codegen": "hpipm"}
+AARCH64_CC, AARCH64_SIZE = "aarch64-linux-gnu-gcc", "aarch64-linux-gnu-size"
+M7_CC, M7_SIZE = "arm-none-eabi-gcc", "arm-none-eabi-size"
+M7_CLOCK_HZ = 480e6         # a Cortex-M7 at 480 MHz (STM32H743's), one instruction a cycle assumed
+CYCLE_S = 0.02              # the team's 50 Hz
 GAP_TOL = 1e-6              # the check: the rounds table's gaps, relative (HPIPM's tolerance, with margin)
 
 
@@ -134,17 +144,19 @@ class HpipmAlone:
 
 
 def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
-    """The growth table's rows, and per size the robots' inputs and plans (for the exported C)."""
+    """The growth table's rows, and per size the robots' inputs and both backends' plans (for the exported C)."""
     rows, robots = [], {}
     for size, hunt in states.items():
         problems = problems_of(size, hunt)
         central = CaptureSolver("rti", "hpipm-codegen", score=False)
-        distributed = CaptureSolver("distributed", "hpipm-codegen", score=False)
-        c_loop, d_loop = central.loop(problems[0]), distributed.loop(problems[0])
+        c_loop = central.loop(problems[0])
+        d_loops = {b: CaptureSolver("distributed", b, score=False).loop(problems[0]) for b in ROBOT_BACKENDS}
+        d_loop = d_loops[ROBOT_BACKENDS[0]]
         applied = {"c": None, "d": None}
         alone = {"central": HpipmAlone(problems[0].structure), "robot": HpipmAlone(d_loop.team.robot)}
-        times = {k: [] for k in ("central", "robot", "team", "broadcast", "central_hpipm", "robot_hpipm")}
-        inputs, plans, failed, unseen = [], [], 0, 0
+        times = {k: [] for k in ("central", "team", "broadcast", "central_hpipm", "robot_hpipm",
+                                 *(f"robot {b}" for b in ROBOT_BACKENDS))}
+        inputs, plans, failed, unseen, difference = [], {b: [] for b in ROBOT_BACKENDS}, 0, 0, 0.0
         for problem in problems:
             warm = warm_plan(applied["c"], problem)
             start = time.perf_counter()
@@ -155,36 +167,46 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
             plan = problem.plan_with(c_loop.plan)
             applied["c"] = (problem.signature, plan if status.usable else (warm if warm is not None
                                                                            else problem.held_plan()))
+            # Each robot backend's step from the same plans (the default's closed loop): the same inputs, so
+            # their plans compare.
             warm = warm_plan(applied["d"], problem)
-            start = time.perf_counter()
-            d_loop.load(problem, warm)
-            loaded = time.perf_counter()
-            d_loop.step()
-            stepped = time.perf_counter()
+            for backend in reversed(ROBOT_BACKENDS):            # the default last: the team's numbers are its
+                loop = d_loops[backend]
+                start = time.perf_counter()
+                loop.load(problem, warm)
+                loaded = time.perf_counter()
+                loop.step()
+                stepped = time.perf_counter()
+                times[f"robot {backend}"] += loop.robot_times
             # The step ran each robot's inputs and QP one after another, timing each (``robot_times``); the rest of
             # the step is the broadcast. On the robots: the load, the broadcast and the slowest robot.
             robot_times = d_loop.robot_times
-            times["robot"] += robot_times
             times["broadcast"].append(stepped - loaded - sum(robot_times))
             times["team"].append(stepped - start - sum(robot_times) + max(robot_times))
             failed += d_loop.extras["failed_robot_qps"]
             unseen = max(unseen, d_loop.unseen_neighbours)
-            for loop in d_loop.robots:
+            difference = max(difference, float(np.max(np.abs(d_loop.plan - d_loops["hpipm-codegen"].plan))))
+            for i, loop in enumerate(d_loop.robots):
                 inputs.append(np.concatenate([loop.theta, loop.reference.reshape(-1)]))
-                plans.append(loop.plan.reshape(-1).copy())
+                for backend in ROBOT_BACKENDS:
+                    plans[backend].append(d_loops[backend].robots[i].plan.reshape(-1).copy())
                 times["robot_hpipm"].append(alone["robot"].time(loop.theta, loop.reference.reshape(-1)))
             applied["d"] = (problem.signature, problem.plan_with(d_loop.plan.reshape(-1)))
         first = len(d_loop.robots)            # the first state, which builds, excluded
         row = {"size": size, "states": len(problems), "central_ms": _median(times["central"][1:]),
                "central_hpipm_ms": _median(times["central_hpipm"][1:]),
-               "robot_ms": _median(times["robot"][first:]), "robot_hpipm_ms": _median(times["robot_hpipm"][first:]),
+               "robot_ms": _median(times[f"robot {ROBOT_BACKENDS[0]}"][first:]),
+               "robot_hpipm_loop_ms": _median(times["robot hpipm-codegen"][first:]),
+               "robot_hpipm_ms": _median(times["robot_hpipm"][first:]),
+               "robot_plan_difference_m": difference,
                "broadcast_ms": _median(times["broadcast"][1:]), "team_ms": _median(times["team"][1:]),
                "failed_robot_qps": failed, "unseen_neighbours": unseen,
                "neighbour_slots": d_loop.team.robot.fixed}
         rows.append(row)
         robots[size] = (problems[0], inputs, plans)
         print(f"N_d = {size}: centralised {row['central_ms']:.3f} ms; a robot {row['robot_ms']:.3f} ms "
-              f"team {row['team_ms']:.3f} ms", file=sys.stderr, flush=True)
+              f"(HPIPM {row['robot_hpipm_loop_ms']:.3f} ms) team {row['team_ms']:.3f} ms", file=sys.stderr,
+              flush=True)
     return rows, robots
 
 
@@ -193,24 +215,110 @@ def _median(values: list[float]) -> float:
 
 
 def exported(robots: dict) -> list[dict] | None:
-    """One robot's step in C per size: its median time on every robot's inputs, and the plans' difference."""
+    """One robot's step in C per size and robot backend: its median time on every robot's inputs, and the
+    largest difference from Python's plans."""
     if shutil.which("make") is None or shutil.which("gcc") is None:
         return None
     rows = []
     for size, (problem, inputs, plans) in robots.items():
-        with tempfile.TemporaryDirectory() as folder:
-            CaptureSolver("distributed", "hpipm-codegen").export(Path(folder), problem, robot=0)
-            subprocess.run(["make", "-s", "-B", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True,
-                           timeout=1800)
-            text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
-            run = subprocess.run([f"{folder}/capture_step", "--time"], capture_output=True, text=True, timeout=600,
-                                 input=text)
-        times = [float(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("time_us")]
-        out = np.array(run.stdout.split(), dtype=float)
-        rows.append({"size": size, "robot_c_ms": float(np.median(times[1:])) / 1e3, "exit": run.returncode,
-                     "max_plan_difference_m": float(np.max(np.abs(out - np.concatenate(plans))))})
-        print(f"N_d = {size}: a robot's step in C {rows[-1]['robot_c_ms']:.3f} ms", file=sys.stderr, flush=True)
+        row = {"size": size}
+        n = problem.structure.planned
+        for backend in ROBOT_BACKENDS:
+            run = _run_exported(backend, problem, _robot_major(inputs, n), "host",
+                                size_tool="size" if shutil.which("size") else None)
+            times = [float(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("time_us")]
+            key = BACKEND_KEYS[backend]
+            row[f"{key}_c_ms"] = float(np.median(times[1:])) / 1e3
+            row[f"{key}_c_max_ms"] = float(np.max(times)) / 1e3
+            row[f"{key}_exit"] = run.returncode
+            row[f"{key}_footprint"] = run.footprint
+            row[f"{key}_plan_difference_m"] = float(np.max(np.abs(np.array(run.stdout.split(), dtype=float)
+                                                                  - np.concatenate(_robot_major(plans[backend], n)))))
+        rows.append(row)
+        print(f"N_d = {size}: a robot's step in C {row['daqp_c_ms']:.3f} ms (HPIPM {row['hpipm_c_ms']:.3f} ms)",
+              file=sys.stderr, flush=True)
     return rows
+
+
+def _run_exported(backend: str, problem, inputs: list, target: str, command: tuple = (),
+                  size_tool: str | None = None) -> subprocess.CompletedProcess:
+    """Robot 0's step of ``problem`` exported on ``backend`` for ``target``, built by its Makefile at -O2 and run on
+    ``inputs`` (``command`` before the program: an emulator); with ``size_tool``, the program's sizes
+    (:func:`_sizes`) as the run's ``footprint``."""
+    with tempfile.TemporaryDirectory() as folder:
+        CaptureSolver("distributed", backend).export(Path(folder), problem, robot=0, target=target)
+        subprocess.run(["make", "-s", "-B", "-C", folder, "CFLAGS=-O2"], check=True, capture_output=True,
+                       timeout=1800)
+        text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
+        run = subprocess.run([*command, f"{folder}/capture_step", "--time"], capture_output=True, text=True,
+                             timeout=3600, input=text)
+        run.footprint = _sizes(Path(folder) / "capture_step", size_tool) if size_tool else None
+        return run
+
+
+def _robot_major(values: list, robots: int) -> list:
+    """``values`` of every robot at every state (state by state) reordered robot by robot: each robot's steps in
+    turn, as its own board runs them (each from its own last working set)."""
+    states = len(values) // robots
+    return [values[s * robots + i] for i in range(robots) for s in range(states)]
+
+
+def _sizes(path: Path, tool: str) -> dict:
+    """``tool`` (a binutils ``size``)'s text, data and bss of the program at ``path``, in bytes."""
+    out = subprocess.run([tool, str(path)], capture_output=True, text=True, check=True).stdout.splitlines()[1].split()
+    return {"text": int(out[0]), "data": int(out[1]), "bss": int(out[2])}
+
+
+def on_arm(robots: dict) -> dict | None:
+    """The default backend's robot step on ARM cores, per size, on every robot's inputs (robot by robot): for
+    aarch64 Linux under qemu-aarch64, the largest difference from the host's plans; for a bare-metal Cortex-M7
+    under qemu-system-arm (mps2-an500, -icount shift=0), the same and each step's instructions (its SysTick count
+    times the calibration's instructions a tick), its flash and RAM. None where the tools are missing."""
+    tools = {"aarch64": (AARCH64_CC, "qemu-aarch64"), "m7": (M7_CC, "qemu-system-arm")}
+    have = {k: shutil.which("make") is not None and all(shutil.which(t) for t in v) for k, v in tools.items()}
+    if not any(have.values()):
+        return None
+    out = {"aarch64": [] if have["aarch64"] else None, "m7": [] if have["m7"] else None}
+    for size, (problem, inputs, plans) in robots.items():
+        n = problem.structure.planned
+        ordered, expected = _robot_major(inputs, n), np.concatenate(_robot_major(plans[ROBOT_BACKENDS[0]], n))
+        if have["aarch64"]:
+            run = _run_exported(ROBOT_BACKENDS[0], problem, ordered, "aarch64-linux",
+                                ("qemu-aarch64", "-L", "/usr/aarch64-linux-gnu"),
+                                AARCH64_SIZE if shutil.which(AARCH64_SIZE) else None)
+            got = np.array(run.stdout.split(), dtype=float)
+            out["aarch64"].append({"size": size, "exit": run.returncode, "steps": len(ordered),
+                                   "plan_difference_m": float(np.max(np.abs(got - expected))),
+                                   "footprint": run.footprint})
+            print(f"N_d = {size}: aarch64 under qemu, plans within {out['aarch64'][-1]['plan_difference_m']:.1e} m",
+                  file=sys.stderr, flush=True)
+        if have["m7"]:
+            out["m7"].append(_on_cortex_m7(size, problem, ordered, expected))
+    return out
+
+
+def _on_cortex_m7(size: int, problem, inputs: list, expected: np.ndarray) -> dict:
+    with tempfile.TemporaryDirectory() as folder:
+        CaptureSolver("distributed", ROBOT_BACKENDS[0]).export(Path(folder), problem, robot=0, target="cortex-m7")
+        subprocess.run(["make", "-s", "-C", folder], check=True, capture_output=True, timeout=3600)
+        footprint = _sizes(Path(folder) / "capture_step.elf", M7_SIZE)     # with the export's one state
+        single = subprocess.run(["make", "-s", "-C", folder, "run"], capture_output=True, text=True, timeout=600)
+        report = dict(line.split(maxsplit=1) for line in single.stderr.splitlines() if not line.startswith("ticks"))
+        (Path(folder) / "input.txt").write_text("\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n")
+        subprocess.run(["make", "-s", "-C", folder], check=True, capture_output=True, timeout=3600)
+        run = subprocess.run(["make", "-s", "-C", folder, "run"], capture_output=True, text=True, timeout=3600)
+    calibration = [line.split() for line in run.stderr.splitlines() if line.startswith("calibration")][0]
+    per_tick = int(calibration[1]) / int(calibration[2])
+    ticks = np.array([int(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("ticks")])
+    got = np.array(run.stdout.split(), dtype=float)
+    row = {"size": size, "exit": run.returncode, "steps": len(inputs), "instructions_per_tick": per_tick,
+           "instructions_median": float(np.median(ticks[1:]) * per_tick),
+           "instructions_max": float(ticks.max() * per_tick),
+           "plan_difference_m": float(np.max(np.abs(got - expected))), **footprint,
+           "heap": int(report["heap"]), "stack": int(report["stack"])}
+    print(f"N_d = {size}: Cortex-M7 under qemu, {row['instructions_median']:.0f} instructions a step, plans within "
+          f"{row['plan_difference_m']:.1e} m", file=sys.stderr, flush=True)
+    return row
 
 
 def rounds_table(states: dict[int, list[HuntState]]) -> list[dict]:
@@ -273,21 +381,26 @@ def readme(results: dict) -> str:
              f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker "
              "(within its perception radius), posed as the `enclose` problem. "
              "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "
-             "and its step on its loop (`TeamLoop.robots[i]`); *its HPIPM alone*: the step's own QP linearised apart "
-             f"and solved by CasADi's `hpipm` plugin, the fastest of {REPEATS} solves (what the step's QP costs at best "
+             "and its step on its loop (`TeamLoop.robots[i]`) on the `distributed` formulation's default backend, "
+             "`daqp-condensed` (its QP condensed to its 2N controls, DAQP from its last active set, compiled); "
+             "*on HPIPM*: the same on `hpipm-codegen` (the stage form, compiled), from the same inputs (both loops "
+             "step from the default's plans), and *plans within*: the largest difference between the two loops' "
+             "plans; *its HPIPM alone*: the step's own QP linearised apart "
+             f"and solved by CasADi's `hpipm` plugin, the fastest of {REPEATS} solves (what the step's QP costs at "
+             "best "
              "through CasADi, from Python); *team*: the "
              "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
              "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
              "`step()`.", "",
-             "| N_d | centralised (ms) | its HPIPM alone (ms) | ratio | a robot (ms) | its HPIPM alone (ms) | ratio | "
-             "broadcast (ms) | team (ms) | centralised / team | neighbour slots | unseen neighbours | "
-             "failed robot QPs |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+             "| N_d | centralised (ms) | its HPIPM alone (ms) | ratio | a robot (ms) | on HPIPM (ms) | its HPIPM alone "
+             "(ms) | on HPIPM / a robot | plans within (m) | broadcast (ms) | team (ms) | centralised / team | "
+             "neighbour slots | unseen neighbours | failed robot QPs |",
+             "|" + " ---: |" * 15]
     for r in rows:
         lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['central_hpipm_ms']:.3f} | "
                      f"{r['central_ms'] / r['central_hpipm_ms']:.2f} | {r['robot_ms']:.3f} | "
-                     f"{r['robot_hpipm_ms']:.3f} | "
-                     f"{r['robot_ms'] / r['robot_hpipm_ms']:.2f} | "
+                     f"{r['robot_hpipm_loop_ms']:.3f} | {r['robot_hpipm_ms']:.3f} | "
+                     f"{r['robot_hpipm_loop_ms'] / r['robot_ms']:.2f} | {r['robot_plan_difference_m']:.1e} | "
                      f"{r['broadcast_ms']:.3f} | {r['team_ms']:.3f} | {r['central_ms'] / r['team_ms']:.1f} | "
                      f"{r['neighbour_slots']} | {r['unseen_neighbours']} | {r['failed_robot_qps']} |")
     lines += ["", "Exponents b of time ∝ N_d^b over N_d = " + ", ".join(map(str, sizes)) + ": centralised "
@@ -298,16 +411,19 @@ def readme(results: dict) -> str:
     if c is None:
         lines += ["A robot's exported step was not measured: no `make` or `gcc` here.", ""]
     else:
-        lines += ["**A robot's step exported as C** (`CaptureSolver(\"distributed\", \"hpipm-codegen\").export(folder, "
-                  "problem, robot=0)`, built with its Makefile at `-O2` against CasADi's HPIPM and BLASFEO, the "
-                  "wheel's generic build), run on every robot's inputs of every state: median time of one robot's "
-                  "step in pure C, and the largest difference from Python's plans.", "",
-                  "| N_d | a robot's step in C (ms) | plans within (m) | exit |", "| ---: | ---: | ---: | ---: |"]
-        lines += [f"| {r['size']} | {r['robot_c_ms']:.3f} | {r['max_plan_difference_m']:.1e} | {r['exit']} |"
-                  for r in c]
-        slope = exponent([r["size"] for r in c], [r["robot_c_ms"] for r in c])
-        lines += ["", f"Exponent of a robot's C step: {slope:.2f}.",
-                  ""]
+        lines += ["**A robot's step exported as C** (`CaptureSolver(\"distributed\", backend).export(folder, "
+                  "problem, robot=0)`, built with its Makefile at `-O2`: on `daqp-condensed` with DAQP's own "
+                  "sources, on `hpipm-codegen` against CasADi's HPIPM and BLASFEO, the wheel's generic build), run on "
+                  "every robot's inputs of every state: median time of one robot's step in pure C, and the largest "
+                  "difference from Python's plans on the same backend.", "",
+                  "| N_d | DAQP condensed (ms) | plans within (m) | exit | HPIPM (ms) | plans within (m) | exit | "
+                  "HPIPM / DAQP |", "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        lines += [f"| {r['size']} | {r['daqp_c_ms']:.4f} | {r['daqp_plan_difference_m']:.1e} | {r['daqp_exit']} | "
+                  f"{r['hpipm_c_ms']:.4f} | {r['hpipm_plan_difference_m']:.1e} | {r['hpipm_exit']} | "
+                  f"{r['hpipm_c_ms'] / r['daqp_c_ms']:.1f} |" for r in c]
+        slope = exponent([r["size"] for r in c], [r["daqp_c_ms"] for r in c])
+        lines += ["", f"Exponent of a robot's C step (DAQP): {slope:.2f}.", ""]
+    lines += on_the_board(results)
     lines += targets(results)
     lines += ["## What each round buys", "",
               "From the controller's warm start (the first state, cold, excluded), each step's plan after k "
@@ -322,6 +438,76 @@ def readme(results: dict) -> str:
     lines += [f"| {r['size']} | {r['scheme']} | {r['rounds']} | {r['median_gap']:.2e} | {r['max_gap']:.2e} | "
               f"{r['max_distance_m']:.1e} | {r['failed']} |" for r in results["rounds"]]
     return "\n".join(lines) + "\n"
+
+
+def _kib(n: float) -> str:
+    return f"{n / 1024:.0f} KiB"
+
+
+def _memory(footprint: dict | None) -> str:
+    """A program's size (text + data) and memory (data + bss) cells; the heap is not in a program's sizes."""
+    if footprint is None:
+        return "— | —"
+    return f"{_kib(footprint['text'] + footprint['data'])} | {_kib(footprint['data'] + footprint['bss'])} + heap"
+
+
+def on_the_board(results: dict) -> list[str]:
+    """The README's ARM sections: the Cortex-M7 per size, and the 50 Hz budget per target."""
+    c, arm = results["exported"], results.get("arm")
+    lines = []
+    m7 = arm and arm.get("m7")
+    if m7:
+        lines += ["**The same step on a bare-metal Cortex-M7** (`--target cortex-m7`: `arm-none-eabi-gcc -O2 "
+                  "-mcpu=cortex-m7 -mfpu=fpv5-d16 -mfloat-abi=hard`, newlib, no operating system), run by `make run` "
+                  "on qemu's mps2-an500 board with `-icount shift=0` on every robot's inputs, robot by robot (each "
+                  "step from the last one's working set): each step's instructions (its SysTick count times the "
+                  f"instructions a tick of a calibration loop of known length, {m7[0]['instructions_per_tick']:.0f}), "
+                  f"and that count as time at {M7_CLOCK_HZ / 1e6:.0f} MHz (an STM32H743's clock) assuming one "
+                  "instruction a cycle: an estimate, as an emulator counts instructions, not cycles (the M7 issues "
+                  "up to two a cycle; a double division or square root takes several, a cache miss or a flash wait "
+                  "state more).", "",
+                  f"| N_d | robot steps | instructions a step (median) | largest | at {M7_CLOCK_HZ / 1e6:.0f} MHz (ms, "
+                  "median) | largest (ms) | plans within the host's (m) | exit |",
+                  "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        lines += [f"| {r['size']} | {r['steps']} | {r['instructions_median']:.0f} | {r['instructions_max']:.0f} | "
+                  f"{r['instructions_median'] / M7_CLOCK_HZ * 1e3:.3f} | "
+                  f"{r['instructions_max'] / M7_CLOCK_HZ * 1e3:.3f} | "
+                  f"{r['plan_difference_m']:.1e} | {r['exit']} |" for r in m7]
+        lines += [""]
+    lines += ["## On the board: the 50 Hz budget", "",
+              f"A robot's step on each target, the slowest team size's median (and the largest step of any size), "
+              f"its share of a {CYCLE_S * 1e3:.0f} ms cycle, its program's size (text + data) and memory (data + bss; "
+              "on the Cortex-M7 also the heap DAQP allocates and the stack's high-water mark, measured on the "
+              "board), and its plans' largest difference from the host's (Python's on the host).", "",
+              "| target | measured as | a robot's step | largest | share of 20 ms | program | memory | "
+              "plans within (m) |",
+              "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    if c is not None:
+        worst = max(r["daqp_c_ms"] for r in c)
+        fp = c[0].get("daqp_footprint")
+        lines.append(f"| x86-64 (this machine), C | wall time | {worst:.4f} ms | "
+                     f"{max(r['daqp_c_max_ms'] for r in c):.4f} ms | {worst / (CYCLE_S * 1e3):.2%} | "
+                     + _memory(fp)
+                     + f" | {max(r['daqp_plan_difference_m'] for r in c):.1e} |")
+    a64 = arm and arm.get("aarch64")
+    if a64:
+        fp = a64[0].get("footprint")
+        lines.append("| aarch64 Linux, qemu-aarch64 | plans only (an emulator's time is not the core's) | — | — | — | "
+                     + _memory(fp)
+                     + f" | {max(r['plan_difference_m'] for r in a64):.1e} |")
+    if m7:
+        worst = max(r["instructions_median"] for r in m7) / M7_CLOCK_HZ
+        largest = max(r["instructions_max"] for r in m7) / M7_CLOCK_HZ
+        r = m7[-1]
+        lines.append(f"| Cortex-M7 bare metal, qemu mps2-an500 | instructions at {M7_CLOCK_HZ / 1e6:.0f} MHz, one a "
+                     "cycle | "
+                     f"{worst * 1e3:.3f} ms | {largest * 1e3:.3f} ms | {worst / CYCLE_S:.2%} | "
+                     f"{_kib(max(x['text'] + x['data'] for x in m7))} flash | "
+                     f"{_kib(max(x['data'] + x['bss'] + x['heap'] + x['stack'] for x in m7))} RAM | "
+                     f"{max(x['plan_difference_m'] for x in m7):.1e} |")
+    if not (a64 or m7):
+        lines.append("| ARM | not run: no cross compiler or qemu here | — | — | — | — | — | — |")
+    return lines + [""]
 
 
 # The capture stage's targets for teams (N = 10): a robot's step through the loop API, a robot's step in C, the
@@ -345,7 +531,7 @@ def targets(results: dict) -> list[str]:
            line("exponent of a robot's step in N_d", exponent(sizes, [r["robot_ms"] for r in rows]),
                 ROBOT_EXPONENT, "")]
     if c is not None:
-        out.append(line("a robot's step in C, the slowest team size", max(r["robot_c_ms"] for r in c), ROBOT_C_MS))
+        out.append(line("a robot's step in C, the slowest team size", max(r["daqp_c_ms"] for r in c), ROBOT_C_MS))
     team = [r for r in rows if r["size"] == TEAM_SIZE]
     if team:
         out.append(line(f"the team's step at N_d = {TEAM_SIZE}, the robots in parallel", team[0]["team_ms"], TEAM_MS))
@@ -365,6 +551,26 @@ def load_states(path: Path) -> dict[int, list[HuntState]]:
             for n, hunt in data.items()}
 
 
+def plan_agreement(states: dict[int, list[HuntState]]) -> dict[int, float]:
+    """Per size, the largest difference between a robot's plans on the default backend and on HPIPM (interpreted:
+    its compiled step's plans to the bit) from the same plans, along the default's closed loop: what the growth
+    table's *plans within* reports, without the timing."""
+    out = {}
+    for size, hunt in states.items():
+        problems = problems_of(size, hunt)
+        loops = [CaptureSolver("distributed", b, score=False).loop(problems[0]) for b in (ROBOT_BACKENDS[0], "hpipm")]
+        applied, difference = None, 0.0
+        for problem in problems:
+            warm = warm_plan(applied, problem)
+            for loop in loops:
+                loop.load(problem, warm)
+                loop.step()
+            difference = max(difference, float(np.max(np.abs(loops[0].plan - loops[1].plan))))
+            applied = (problem.signature, problem.plan_with(loops[0].plan.reshape(-1)))
+        out[size] = difference
+    return out
+
+
 def check(out: Path) -> int:
     """The committed rounds table, rerun on the committed states (deterministic, machine-independent: HPIPM on
     the wheel's BLASFEO); the timings are the run's, not checked."""
@@ -377,6 +583,11 @@ def check(out: Path) -> int:
             if not math.isclose(old[key], new[key], rel_tol=GAP_TOL, abs_tol=GAP_TOL):
                 errors.append(f"rounds N_d = {old['size']} {old['scheme']} {old['rounds']}: {key} {old[key]:.6e} "
                               f"committed, {new[key]:.6e} now")
+    for size, difference in plan_agreement({r["size"]: states[r["size"]] for r in committed["growth"]}).items():
+        old = next(r["robot_plan_difference_m"] for r in committed["growth"] if r["size"] == size)
+        if not (difference <= 10 * old + 1e-12 and old <= 10 * difference + 1e-12):   # the same order: solver tolerance
+            errors.append(f"N_d = {size}: a robot's plans on {ROBOT_BACKENDS[0]} within {old:.1e} m of HPIPM's "
+                          f"committed, {difference:.1e} m now")
     if len(fresh) != len(committed["rounds"]):
         errors.append(f"rounds: {len(committed['rounds'])} rows committed, {len(fresh)} now")
     if readme(committed) != (out / "README.md").read_text(encoding="utf-8"):
@@ -407,7 +618,7 @@ def main(argv: list[str] | None = None) -> int:
             growth, robots = timed_sizes(states)
             c = exported(robots)
             results = {"machine": describe_machine(), "load_before": before, "growth": growth, "exported": c,
-                       "rounds": rounds_table(states)}
+                       "arm": on_arm(robots), "rounds": rounds_table(states)}
             results["load_after"] = load_average()
         except MpcHuntError as exc:
             print(f"error: {exc}", file=sys.stderr)

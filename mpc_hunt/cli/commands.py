@@ -20,6 +20,7 @@ from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.backends.hpipm import MODES as HPIPM_MODES
+from mpc_hunt.solving.export import TARGETS as EXPORT_TARGETS
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.capture.problem import MAX_HORIZON
@@ -39,6 +40,7 @@ from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_
 EXIT_ERROR = 2
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif",)
+EXPORT_BACKENDS = ("hpipm", "daqp-condensed")   # the backends whose step the C export writes
 
 
 def _backend_help() -> str:
@@ -125,11 +127,12 @@ def build_parser() -> argparse.ArgumentParser:
         "export", help="write a stage-form capture step (rti, stage-sqp, distributed) as C sources for a robot's "
                        "board",
         description="Write, for the structure of the capture problem at a state (as `solve` poses it: --scenario, "
-                    "--state, --horizon, --objective), the step of --formulation (linearisation, HPIPM, read-back; "
-                    "stage-sqp repeats it to convergence) as C sources "
-                    "with a header, a Makefile (HPIPM and BLASFEO as dependencies), a program that reads a state's "
-                    "θ and reference and prints the plan, and that state's input and Python's plan "
-                    "(mpc_hunt/solving/export.py).")
+                    "--state, --horizon, --objective), the step of --formulation as C sources with a header, a "
+                    "Makefile, a program that reads a state's θ and reference and prints the plan, and that state's "
+                    "input and Python's plan (mpc_hunt/solving/export.py). On hpipm: linearisation, HPIPM, "
+                    "read-back (stage-sqp repeats it to convergence), HPIPM and BLASFEO as dependencies; on "
+                    "daqp-condensed (distributed's default): the step condensed to a dense QP in its controls and "
+                    "DAQP's own sources, nothing else needed, so it cross-compiles (--target).")
     exp.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
                      help=f"built-in name or a TOML file (default: {DEFAULT_SCENARIO})")
     exp.add_argument("--state", type=Path, metavar="FILE", help="JSON state to pose the problem at (as solve)")
@@ -138,13 +141,23 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--formulation", default="rti", metavar="NAME",
                      help="a stage-form step: rti (one QP a step, the default), stage-sqp (QPs to convergence) or "
                           "distributed (one robot's own QP; with --objective enclose)")
-    exp.add_argument("--robot", type=count(MAX_DEFENDERS), default=1, metavar="I",
-                     help="distributed: the planned defender whose step to write, counted from 1 (default: 1)")
-    exp.add_argument("--hpipm-mode", choices=HPIPM_MODES, default="robust",
-                     help="HPIPM's mode: robust (the hpipm backend's, the default) or balance (Cholesky instead of "
-                          "LQ factorisations: faster with a BLASFEO built for the board's CPU, `make BLASFEO=DIR`; "
-                          "plans differ from robust's within HPIPM's tolerances)")
-    exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write")
+    exp.add_argument("--backend", choices=EXPORT_BACKENDS, metavar="NAME",
+                     help="the step's solver: " + ", ".join(EXPORT_BACKENDS) + " (default: the formulation's own: "
+                          + ", ".join(f"{f}→{registry.formulation_class(f).default_backend}"
+                                      for f in registry.stage_formulations()) + ")")
+    exp.add_argument("--robot", type=count(MAX_DEFENDERS), metavar="I",
+                     help="distributed only: the planned defender whose step to write, counted from 1 (default: 1)")
+    exp.add_argument("--hpipm-mode", choices=HPIPM_MODES,
+                     help="hpipm only: HPIPM's mode: robust (the hpipm backend's, the default) or balance (Cholesky "
+                          "instead of LQ factorisations: faster with a BLASFEO built for the board's CPU, `make "
+                          "BLASFEO=DIR`; plans differ from robust's within HPIPM's tolerances)")
+    exp.add_argument("--target", choices=tuple(EXPORT_TARGETS), default="host",
+                     help="the CPU the Makefile builds for: host (default), aarch64-linux (with "
+                          "aarch64-linux-gnu-gcc; run under qemu-aarch64 -L /usr/aarch64-linux-gnu) or cortex-m7 "
+                          "(bare metal, arm-none-eabi-gcc with newlib; `make run` on qemu's mps2-an500 board); "
+                          "daqp-condensed only")
+    exp.add_argument("--output", type=Path, required=True, metavar="DIR", help="the folder to write (a new or "
+                     "existing folder, not the current one)")
     exp.set_defaults(json=False)
 
     scen = sub.add_parser("scenarios", help="list built-in scenarios, or write one out as TOML",
@@ -393,24 +406,39 @@ def _solve(args) -> int:
 
 def _export(args) -> int:
     from mpc_hunt.control.posing import posed_problem
+    from mpc_hunt.solving.export import check_target
     from mpc_hunt.solving.solver import CaptureSolver
 
     if args.formulation not in registry.stage_formulations():
         raise MpcHuntError(registry.stage_form_message(args.formulation))
-    scenario = resolve_scenario(args.scenario)
+    per_robot = registry.formulation_class(args.formulation).per_robot
+    backend = args.backend or registry.formulation_class(args.formulation).default_backend
+    if args.robot is not None and not per_robot:
+        raise MpcHuntError(f"--robot: only a formulation that plans robot by robot (distributed) writes one robot's "
+                           f"step; {args.formulation} plans the team at once: drop --robot")
+    if args.hpipm_mode is not None and backend != "hpipm":
+        raise MpcHuntError(f"--hpipm-mode: the step is solved by {backend}, not HPIPM: drop --hpipm-mode or add "
+                           "--backend hpipm")
+    if not str(args.output).strip() or args.output.resolve() == Path.cwd().resolve():
+        raise MpcHuntError(f"--output {str(args.output)!r}: that is the current folder (as an empty name is); name "
+                           "a folder of its own for the step's files")
     if args.output.exists() and not args.output.is_dir():
         raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
+    check_target(args.target, backend == "daqp-condensed")
+    scenario = resolve_scenario(args.scenario)
+    robot = 1 if args.robot is None else args.robot
+    options = {} if args.hpipm_mode is None else {"mode": args.hpipm_mode}
     with stop_at_once("export"):
         problem = posed_problem(scenario, _state(args, scenario), args.horizon, args.objective)
-        if args.robot > problem.structure.planned:
-            raise MpcHuntError(f"--robot {args.robot}: {problem.structure.planned} defenders are planned at this "
+        if robot > problem.structure.planned:
+            raise MpcHuntError(f"--robot {robot}: {problem.structure.planned} defenders are planned at this "
                                f"state (1 to {problem.structure.planned})")
-        files = CaptureSolver(args.formulation, "hpipm", mode=args.hpipm_mode).export(args.output, problem,
-                                                                                      robot=args.robot - 1)
-    structure = problem.structure if not registry.formulation_class(args.formulation).per_robot else \
-        f"robot {args.robot} of {problem.structure}"
+        files = CaptureSolver(args.formulation, backend, **options).export(args.output, problem, robot=robot - 1,
+                                                                          target=args.target)
+    structure = problem.structure if not per_robot else f"robot {robot} of {problem.structure}"
+    run = EXPORT_TARGETS[args.target]["run"]
     print(f"wrote {len(files)} files for the structure ({structure}) into {args.output}; build with "
-          f"make -C {shlex.quote(str(args.output))}, run with ./capture_step < input.txt")
+          f"make -C {shlex.quote(str(args.output))}, run with {run}")
     return 0
 
 
@@ -443,7 +471,8 @@ def _backends(args) -> int:
     for b in registry.BACKENDS:
         cls = registry.backend_class(b)
         where = "installed" if registry.installed(b) else f"NOT installed: pip install {cls.install}"
-        print(f"backend {b} (accepts {', '.join(cls.accepts)}): {where}")
+        only = f"; objective {' or '.join(cls.objectives)} only" if cls.objectives is not None else ""
+        print(f"backend {b} (accepts {', '.join(cls.accepts)}{only}): {where}")
     return 0
 
 

@@ -65,14 +65,16 @@ def casadi_paths() -> tuple[str, str]:
     return os.path.join(root, "include"), root
 
 
-def library_path(source: str, flags: tuple[str, ...], cc: str) -> Path:
-    key = hashlib.sha256("\0".join([source, _compiler_identity(cc), *flags]).encode()).hexdigest()[:24]
+def library_path(source: str, flags: tuple[str, ...], cc: str, extra: tuple[str, ...] = ()) -> Path:
+    key = hashlib.sha256("\0".join([source, _compiler_identity(cc), *flags, *extra]).encode()).hexdigest()[:24]
     return cache_directory() / f"step-{key}.so"
 
 
-def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: str) -> Path:
-    """The shared library of ``source``: from the cache, or compiled into it. Raises on a failed build."""
-    target = library_path(source, flags, cc)
+def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: str,
+          extra: tuple[str, ...] = ()) -> Path:
+    """The shared library of ``source``: from the cache, or compiled into it (with the compiler's ``extra``
+    arguments: more sources, include folders). Raises on a failed build."""
+    target = library_path(source, flags, cc, extra)
     if target.exists():
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -84,7 +86,7 @@ def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: s
         with tempfile.TemporaryDirectory(dir=target.parent) as work:
             c_file, so_file = Path(work) / "step.c", Path(work) / "step.so"
             c_file.write_text(source, encoding="utf-8")
-            command = [cc, *flags, str(c_file), "-o", str(so_file), f"-I{include}", f"-L{lib}",
+            command = [cc, *flags, str(c_file), *extra, "-o", str(so_file), f"-I{include}", f"-L{lib}",
                        *[f"-l{name}" for name in libraries], f"-Wl,-rpath,{lib}", "-lm"]
             run = subprocess.run(command, capture_output=True, text=True, timeout=BUILD_TIMEOUT)
             if run.returncode != 0:

@@ -111,7 +111,8 @@ class CaptureLoop:
             move = self._move.max()                  # NaN when the plan has one
             if not status.usable or not math.isfinite(move):
                 status = status if not status.usable else Status.ERROR
-                self.message = f"QP {count + 1}: {status.value}"
+                detail = self.backend.loop_message(self.step_function, self._buffer)
+                self.message = f"QP {count + 1}: {status.value}" + (f" ({detail})" if detail else "")
                 np.copyto(self.plan, self._previous)
                 return status
             if iteration.settled(move):

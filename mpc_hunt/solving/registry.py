@@ -34,6 +34,7 @@ BACKENDS = {
     "clarabel": "mpc_hunt.solving.backends.clarabel:ClarabelBackend",
     "cvxpy": "mpc_hunt.solving.backends.cvxpy:CvxpyBackend",
     "daqp": "mpc_hunt.solving.backends.daqp:DaqpBackend",
+    "daqp-condensed": "mpc_hunt.solving.backends.daqp_condensed:DaqpCondensedBackend",
     "hpipm": "mpc_hunt.solving.backends.hpipm:HpipmBackend",
     "hpipm-codegen": "mpc_hunt.solving.backends.hpipm_codegen:HpipmCodegenBackend",
 }
@@ -83,7 +84,13 @@ def pairs(installed_only: bool = True, objective: str | None = None) -> list[tup
     """Every (formulation, backend) that works together (by default, only installed backends), or only those
     whose formulation poses ``objective``."""
     return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)
-            if objective is None or objective in formulation_class(f).objectives]
+            if objective is None or poses(f, b, objective)]
+
+
+def poses(formulation: str, backend: str, objective: str) -> bool:
+    """Whether ``formulation`` poses ``objective`` and ``backend`` solves its QPs."""
+    taken = backend_class(backend).objectives
+    return objective in formulation_class(formulation).objectives and (taken is None or objective in taken)
 
 
 @dataclass(frozen=True)

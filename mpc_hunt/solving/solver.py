@@ -78,7 +78,7 @@ class CaptureSolver:
         :class:`TeamLoop` (one loop per robot) for a formulation that plans robot by robot."""
         if not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(self.formulation.name))
-        if problem.objective not in self.formulation.objectives:
+        if not self._poses(problem):
             raise MpcHuntError(self._objective_message(problem))
         loop = self._loops.get(problem.structure)
         if loop is None:
@@ -88,7 +88,7 @@ class CaptureSolver:
 
     def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> Solution:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held."""
-        if problem.objective not in self.formulation.objectives:
+        if not self._poses(problem):
             return self._finish(Solution(status=Status.ERROR, formulation=self.formulation.name,
                                          backend=self.backend.name, message=self._objective_message(problem)))
         if self.on_loops:
@@ -141,11 +141,14 @@ class CaptureSolver:
                         iterations=loop.iterations, warm_started=warm_plan is not None,
                         extras=loop.extras, **scores)
 
-    def export(self, folder: Path, problem: CaptureProblem, robot: int = 0) -> list[Path]:
+    def export(self, folder: Path, problem: CaptureProblem, robot: int = 0, target: str = "host") -> list[Path]:
         """The step of ``problem``'s structure, as this solver set it up, written as C sources for a robot's board
         (:mod:`mpc_hunt.solving.export`); returns the files written. For a formulation that plans robot by robot,
-        the step of planned defender ``robot`` (0-based), its inputs from the team held where it stands."""
-        from mpc_hunt.solving.export import write_step
+        the step of planned defender ``robot`` (0-based), its inputs from the team held where it stands. ``target``:
+        the CPU its Makefile builds for (:data:`mpc_hunt.solving.export.TARGETS`)."""
+        from mpc_hunt.solving.export import check_export, write_step
+
+        check_export(target, self.backend.name == "daqp-condensed", self.formulation.iteration)
 
         loop = self.loop(problem)
         loop.load(problem)
@@ -159,11 +162,18 @@ class CaptureSolver:
             raise MpcHuntError(f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
                                "nothing to compare the C step with")
         return write_step(Path(folder), self.backend.generated_step(loop.step_function), loop.formulation.iteration,
-                          loop.structure, theta, reference, loop.plan.reshape(-1))
+                          loop.structure, theta, reference, loop.plan.reshape(-1), target)
+
+    def _poses(self, problem: CaptureProblem) -> bool:
+        taken = self.backend.objectives
+        return problem.objective in self.formulation.objectives and (taken is None or problem.objective in taken)
 
     def _objective_message(self, problem: CaptureProblem) -> str:
-        return (f"objective: formulation {self.formulation.name} poses the {' or '.join(self.formulation.objectives)} "
-                f"objective, not {problem.objective!r}")
+        if problem.objective not in self.formulation.objectives:
+            return (f"objective: formulation {self.formulation.name} poses the "
+                    f"{' or '.join(self.formulation.objectives)} objective, not {problem.objective!r}")
+        return (f"objective: backend {self.backend.name} solves the {' or '.join(self.backend.objectives)} "
+                f"objective's QPs, not {problem.objective!r}'s (pick another backend)")
 
     def _finish(self, solution: Solution) -> Solution:
         return solution.raise_for_status() if self.raise_on_failure else solution

@@ -4,6 +4,7 @@ attacker's model, the midpoint separation rows and the obstacle rows bind, and w
 from __future__ import annotations
 
 import shutil
+import warnings
 import subprocess
 
 import numpy as np
@@ -398,3 +399,92 @@ def test_team_mates_within_reach_beyond_the_slots_are_counted(robots, radius, un
     solution = CaptureSolver("distributed", "hpipm", score=False).solve(problem)
     assert solution.status.usable, solution.message
     assert solution.extras["unseen_neighbours"] == unseen
+
+
+# --- 11. a robot's step condensed, on DAQP (the default backend) ----------------------------------------------------
+
+def _plans_along(solver, problem, steps=3):
+    """The plans of ``steps`` steps of ``solver`` along its own closed loop from ``problem``."""
+    plans, warm = [], None
+    for _ in range(steps):
+        solution = solver.solve(problem, warm)
+        assert solution.status.usable, solution.message
+        plans.append(solution.plan)
+        warm = shift_plan(solution.plan)
+    return plans
+
+
+def test_the_default_backend_condenses_and_gives_hpipms_plans():
+    """The condensed QP on DAQP has the stage QP's optimum: HPIPM's plans within HPIPM's tolerance (measured:
+    2.4e-10 m), on loops and on the formulation's own path, Jacobi and Gauss–Seidel."""
+    assert CaptureSolver("distributed").backend.name == "daqp-condensed"
+    for options in ({}, GAUSS_SEIDEL):
+        for problem in _team_problems():
+            reference = _plans_along(CaptureSolver("distributed", "hpipm", formulation_options=options), problem)
+            for loop in (True, False):
+                solver = CaptureSolver("distributed", loop=loop, formulation_options=options)
+                for a, b in zip(_plans_along(solver, problem), reference):
+                    np.testing.assert_allclose(a, b, rtol=0, atol=1e-8)
+
+
+def test_each_robot_starts_from_its_own_last_active_set():
+    """The same inputs again: warm, DAQP starts from the working set it ended with and stops at once (an
+    iteration, the plan within 1e-12 m (measured: 1.8e-15); a loop of its own (another robot's buffer) starts
+    cold, as the first did (21 iterations)."""
+    problem = next(_team_problems())
+    team = CaptureSolver("distributed").loop(problem)
+    team.load(problem)
+    robot = team.robot_loop(0)
+    theta, reference = robot.theta.copy(), robot.reference.copy()
+    assert robot.step().usable
+    cold, plan = robot.iterations, robot.plan.copy()
+    assert cold > 2                                   # rows bind: a cold start adds them one by one
+    robot.theta[:], robot.reference[:] = theta, reference
+    assert robot.step().usable and robot.iterations == 1
+    np.testing.assert_allclose(robot.plan, plan, rtol=0, atol=1e-12)
+    other = team.robots[1]
+    other.theta[:], other.reference[:] = theta, reference
+    assert other.step().usable and other.iterations == cold
+
+
+def test_without_a_compiler_the_same_step_runs_interpreted(monkeypatch, tmp_path):
+    """No compiler: one warning, CasADi's condensing and DAQP's Python package, the compiled step's plans (within
+    1e-12 m; measured: 1.8e-15)."""
+    from mpc_hunt.solving.compiled import CompilationWarning
+
+    problem = next(_team_problems())
+    compiled = _plans_along(CaptureSolver("distributed"), problem)
+    monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
+    with pytest.warns(CompilationWarning, match="interpreted"):
+        interpreted = _plans_along(CaptureSolver("distributed"), problem)
+    for a, b in zip(interpreted, compiled):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("interpreted", [False, True], ids=["compiled", "interpreted"])
+def test_a_non_finite_input_fails_the_step_and_keeps_the_reference(monkeypatch, tmp_path, interpreted):
+    if interpreted:
+        monkeypatch.setenv("CC", str(tmp_path / "no-such-compiler"))
+    problem = next(_team_problems())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        team = CaptureSolver("distributed").loop(problem)
+    team.load(problem)
+    robot = team.robot_loop(2)
+    robot.theta[0] = np.nan
+    status = robot.step()
+    assert not status.usable and "non-finite input" in robot.message
+    np.testing.assert_array_equal(robot.plan, robot.reference)
+
+
+def test_the_papers_objective_is_not_the_condensed_backends():
+    """Eq. 14's slacks enter linearly: the condensed Hessian is singular, so the backend takes enclose only."""
+    from mpc_hunt.solving.registry import pairs
+
+    problem = CaptureProblem.at_state(_scenario(3), ATTACKER, TEAM[:3], HORIZON)
+    assert problem.objective == "paper"
+    solution = CaptureSolver("rti", "daqp-condensed").solve(problem)
+    assert solution.status is Status.ERROR and "backend daqp-condensed solves the enclose objective" in \
+        solution.message
+    assert ("rti", "daqp-condensed") not in pairs(objective="paper")
+    assert ("rti", "daqp-condensed") in pairs(objective="enclose")

@@ -107,3 +107,146 @@ def test_a_robot_that_is_not_there_or_the_papers_objective_is_one_line(tmp_path,
     assert main(command + arguments) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1 and not (tmp_path / "x").exists()
+
+
+# --- options an export cannot use, and its targets ------------------------------------------------------------------
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--formulation", "rti", "--robot", "3"], "--robot: only a formulation that plans robot by robot"),
+    (["--formulation", "distributed", "--objective", "enclose", "--hpipm-mode", "balance"],
+     "--hpipm-mode: the step is solved by daqp-condensed"),
+    (["--target", "aarch64-linux"], "--target aarch64-linux: HPIPM and BLASFEO come built for this machine only"),
+    (["--formulation", "stage-sqp", "--objective", "enclose", "--backend", "daqp-condensed"],
+     "its export writes one QP a step")])
+def test_an_option_the_export_cannot_use_is_refused(tmp_path, capsys, arguments, message):
+    assert main(["export", "--output", str(tmp_path / "x")] + arguments) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("output", ["", "."])
+def test_the_current_folder_is_not_an_output(tmp_path, monkeypatch, capsys, output):
+    monkeypatch.chdir(tmp_path)
+    assert main(["export", "--output", output]) == 2
+    err = capsys.readouterr().err
+    assert "that is the current folder" in err and err.count("\n") == 1 and not list(tmp_path.iterdir())
+
+
+def test_an_unknown_target_or_a_missing_cross_compiler_is_one_line(tmp_path, monkeypatch, capsys):
+    command = ["export", "--formulation", "distributed", "--objective", "enclose", "--output", str(tmp_path / "x")]
+    with pytest.raises(SystemExit) as exit_:
+        main(command + ["--target", "sparc"])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "--target" in err and "sparc" in err and err.count("\n") == 1
+    which = shutil.which
+    monkeypatch.setattr(shutil, "which", lambda name, *a, **k: None if "aarch64" in name else which(name, *a, **k))
+    assert main(command + ["--target", "aarch64-linux"]) == 2
+    err = capsys.readouterr().err
+    assert "the cross compiler aarch64-linux-gnu-gcc is not installed (apt-get install gcc-aarch64-linux-gnu)" in err
+    assert err.count("\n") == 1 and not (tmp_path / "x").exists()
+
+
+@pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
+@pytest.mark.parametrize("backend", ["daqp-condensed", "hpipm"])
+def test_the_exported_program_refuses_malformed_input(tmp_path, backend):
+    """A token that is not a number, a non-finite number, trailing numbers that make no state: one line on stderr,
+    exit 2, and no plan for that state (the states before it are printed)."""
+    folder = tmp_path / "board"
+    assert main(["export", "--scenario", "paper-obstacles", "--horizon", "2", "--formulation", "distributed",
+                 "--objective", "enclose", "--backend", backend, "--output", str(folder)]) == 0
+    subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O1"], check=True, capture_output=True, timeout=600)
+    state = (folder / "input.txt").read_text()
+    plan = len((folder / "expected.txt").read_text().split())
+    numbers = state.split()
+
+    def changed(i: int, token: str) -> str:
+        return " ".join(numbers[:i] + [token] + numbers[i + 1:]) + "\n"
+
+    cases = {state + "garbage\n": "state 1: theta[0]: 'garbage' is not a number",
+             state + " ".join(numbers[:3]): "state 1: theta[3] missing",
+             state + changed(5, "nan"): "state 1: theta[5]: 'nan' is not finite",
+             changed(len(numbers) - 1, "1e999"): f"state 0: reference[{plan - 1}]: '1e999' is not finite",
+             changed(0, "0.5x"): "state 0: theta[0]: '0.5x' is not a number",
+             changed(2, "-inf"): "state 0: theta[2]: '-inf' is not finite"}
+    for text, message in cases.items():
+        run = subprocess.run([str(folder / "capture_step")], input=text, capture_output=True, text=True, timeout=60)
+        assert run.returncode == 2 and run.stderr.startswith(f"input: {message}"), run.stderr
+        assert run.stderr.count("\n") == 1
+        printed = len(run.stdout.split())
+        assert printed == (plan if message.startswith("state 1") else 0)
+
+
+def _robot_inputs(size: int, states: int) -> tuple:
+    """Every robot's step inputs along the committed team_size states of ``size`` robots (the default backend's
+    closed loop), the first problem, and Python's plans."""
+    from pathlib import Path
+
+    from mpc_hunt import CaptureSolver
+    from mpc_hunt.control.strategy import warm_plan
+    from studies.team_size import load_states, problems_of
+
+    committed = load_states(Path(__file__).resolve().parents[2] / "studies" / "team_size" / "states.json")
+    problems = problems_of(size, committed[size][:states])
+    team = CaptureSolver("distributed", score=False).loop(problems[0])
+    inputs, plans, applied = [], [], None
+    for problem in problems:
+        team.load(problem, warm_plan(applied, problem))
+        assert team.step().usable
+        for robot in team.robots:
+            inputs.append(np.concatenate([robot.theta, robot.reference.reshape(-1)]))
+            plans.append(robot.plan.reshape(-1).copy())
+        applied = (problem.signature, problem.plan_with(team.plan.reshape(-1)))
+    return problems[0], inputs, plans
+
+
+@pytest.mark.skipif(shutil.which("make") is None or shutil.which("aarch64-linux-gnu-gcc") is None
+                    or shutil.which("qemu-aarch64") is None,
+                    reason="needs make, aarch64-linux-gnu-gcc and qemu-aarch64 (Debian: gcc-aarch64-linux-gnu, "
+                           "qemu-user)")
+def test_a_robots_step_cross_compiled_for_aarch64_gives_the_hosts_plans(tmp_path):
+    """Robot 1's step exported by the CLI for aarch64 Linux, run under qemu-aarch64 on every robot's inputs of
+    the committed states of 6 robots: the host's plans (Python's, which the host's C gives to the bit) within
+    1e-9 m (measured: 0)."""
+    from mpc_hunt import CaptureSolver
+
+    problem, inputs, plans = _robot_inputs(6, 5)
+    folder = tmp_path / "arm"
+    CaptureSolver("distributed").export(folder, problem, robot=0, target="aarch64-linux")
+    assert "CC = aarch64-linux-gnu-gcc" in (folder / "Makefile").read_text()
+    subprocess.run(["make", "-s", "-C", str(folder), "CFLAGS=-O2"], check=True, capture_output=True, timeout=900)
+    assert (folder / "capture_step").read_bytes()[18] == 183          # the ELF header's machine: EM_AARCH64
+    text = "\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n"
+    run = subprocess.run(["qemu-aarch64", "-L", "/usr/aarch64-linux-gnu", str(folder / "capture_step")], input=text,
+                         capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0, run.stderr
+    out = np.array(run.stdout.split(), dtype=float)
+    assert out.shape == (len(inputs) * plans[0].size,)
+    np.testing.assert_allclose(out, np.concatenate(plans), rtol=0, atol=1e-9)
+
+
+@pytest.mark.skipif(shutil.which("make") is None or shutil.which("arm-none-eabi-gcc") is None
+                    or shutil.which("qemu-system-arm") is None,
+                    reason="needs make, arm-none-eabi-gcc with newlib and qemu-system-arm (Debian: gcc-arm-none-eabi, "
+                           "libnewlib-arm-none-eabi, qemu-system-arm)")
+def test_a_robots_step_on_a_bare_metal_cortex_m7_gives_the_hosts_plans(tmp_path):
+    """Robot 1's step built for a Cortex-M7 without an operating system, on qemu's mps2-an500 board, the inputs of
+    the committed states compiled in: the host's plans within 1e-9 m (measured: 4e-16), each step's SysTick
+    count at 40 instructions a tick (the calibration loop's 2,000,000 instructions), heap and stack reported."""
+    from mpc_hunt import CaptureSolver
+
+    problem, inputs, plans = _robot_inputs(6, 2)
+    folder = tmp_path / "m7"
+    CaptureSolver("distributed").export(folder, problem, robot=0, target="cortex-m7")
+    (folder / "input.txt").write_text("\n".join(" ".join(f"{v:.17g}" for v in x) for x in inputs) + "\n")
+    subprocess.run(["make", "-s", "-C", str(folder)], check=True, capture_output=True, timeout=900)
+    run = subprocess.run(["make", "-s", "-C", str(folder), "run"], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    out = np.array(run.stdout.split(), dtype=float)
+    assert out.shape == (len(inputs) * plans[0].size,)
+    np.testing.assert_allclose(out, np.concatenate(plans), rtol=0, atol=1e-9)
+    report = dict(line.split(maxsplit=1) for line in run.stderr.splitlines() if not line.startswith("ticks"))
+    assert report["calibration"] == "2000000 50000"
+    ticks = [int(line.split()[1]) for line in run.stderr.splitlines() if line.startswith("ticks")]
+    assert len(ticks) == len(inputs) and min(ticks) > 0
+    assert 0 < int(report["heap"]) < 256 * 1024 and 0 < int(report["stack"]) < 64 * 1024

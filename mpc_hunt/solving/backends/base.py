@@ -40,6 +40,7 @@ class Backend:
     install: ClassVar[str]                  # what to pip install
     ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}
     TIME_LIMIT: ClassVar[bool] = True       # whether the solver takes a wall-clock limit
+    objectives: ClassVar[tuple[str, ...] | None] = None     # the objectives whose QPs it can solve (None: every one)
 
     def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
         if accuracy not in ACCURACIES:

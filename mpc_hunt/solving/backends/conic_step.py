@@ -81,6 +81,10 @@ class ConicStepBackend(Backend):
         stats = buffer.stats()
         return (Status.OPTIMAL if stats.get("success") else self.failure(stats)), int(stats.get("iter_count", 0))
 
+    def loop_message(self, step, buffer) -> str:
+        """What went wrong in the last evaluation of ``step`` through ``buffer``, beyond its status ("" if nothing)."""
+        return ""
+
 
 def call(step, data: StageQPData, warm: WarmStart) -> tuple:
     """One step: (plan, model objective, λ_x, λ_a), from the previous duals where they fit."""
