@@ -21,12 +21,8 @@ arena's edge). The reference has two phases:
   edge's openings closed first: the defender that owns an open arc cuts it, the
   others close the rest, and a team too small to enclose alone leans on the
   obstacles that close the other directions (the paper's obstacles as members).
-  The places over the horizon are the straight run at top speed (a
-  minimum-time closing, not a tracking of places), held ``STANDOFF`` R_hunt
-  from the attacker: a mover that gets there goes round, down the
-  gradient's tangential part, instead of pressing in from one side (near a
-  slower attacker every direction's limit is nearly zero, the region's
-  area with it, and only the ring closes on it);
+  The places over the horizon are the straight run at top speed: a
+  minimum-time closing, not a tracking of places;
 - **herd** (fewer robots than the three that enclose, Eqs. 4–5, so an obstacle
   must close the circle, and the attacker farther than R_hunt from the nearest
   obstacle's surface): the movers take places behind the attacker as seen from
@@ -72,7 +68,6 @@ EDGE_MARGIN = 1.0     # m: how far inside the edge the region's boundary must st
 SHARPNESS = 4.0       # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
 TINY = 1e-9           # m: a limit's floor in that minimum (a defender already within reach)
 STEP = 1e-4           # m: the finite difference of the gradient
-STANDOFF = 2.0       # of R_hunt: how near the attacker a mover comes before the ring closes (it goes round there)
 HERD_SPREAD = np.radians(50.0)    # rad: either side of the attacker's far side from the anchor, where a mover herds
 HERD_TOLERANCE = np.radians(30.0)  # rad: a mover this close to its herding bearing closes in; farther, goes round
 HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it closes in at top speed down to this)
@@ -158,12 +153,7 @@ class Trap:
         elif len(movers):
             self.phase = "shrink"
             ways = self.headings(p_a, P[movers], speeds)
-            run = P[movers][None] + (speeds[None, :, None] * steps[:, :, None]) * ways[None]
-            offset = run - (p_a + drift)[:, None]
-            distance = norm(offset)[..., None]
-            standoff = STANDOFF * s.hunt.hunt_radius
-            places[:, movers] = np.where(distance < standoff, (p_a + drift)[:, None] + standoff * offset
-                                         / np.maximum(distance, 1e-12), run)
+            places[:, movers] = P[movers][None] + (speeds[None, :, None] * steps[:, :, None]) * ways[None]
         places[:, movers] = kept_clear(s, places[:, movers])
         weight = np.ones(N)
         weight[-1] = TERMINAL_WEIGHT
