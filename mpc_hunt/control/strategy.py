@@ -160,35 +160,35 @@ class EnclosingStrategy(HuntingStrategy):
     OBJECTIVE = "enclose"
 
 
-class ContainingStrategy(HuntingStrategy):
-    """The capture problem with the enclose objective tracking the model-free places of
+class ModelFreeStrategy(HuntingStrategy):
+    """The capture problem with the enclose objective and no term on a predicted attacker (``CONTAIN_WEIGHTS``),
+    tracking the places its ``REFERENCE`` builds from what the defenders observe; ``NAME`` is its controller's."""
+
+    enclose_weights = CONTAIN_WEIGHTS
+    OBJECTIVE = "enclose"
+    REFERENCE: type
+    NAME: str
+
+    def __init__(self, scenario: Scenario, **options):
+        super().__init__(scenario, **options)
+        self.enclosure = self.REFERENCE(scenario, self.horizon)
+
+    def describe(self) -> dict:
+        return super().describe() | {"controller": self.NAME}
+
+
+class ContainingStrategy(ModelFreeStrategy):
+    """Tracking the Voronoi rule's places moved with the attacker's observed velocity,
     :class:`~mpc_hunt.control.containment.Containment` (CLI ``--controller contain``)."""
 
-    enclose_weights = CONTAIN_WEIGHTS
-    OBJECTIVE = "enclose"
-
-    def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, **options)
-        self.enclosure = Containment(scenario, self.horizon)
-
-    def describe(self) -> dict:
-        return super().describe() | {"controller": "contain"}
+    REFERENCE, NAME = Containment, "contain"
 
 
-class TrappingStrategy(HuntingStrategy):
-    """The capture problem with the enclose objective tracking the minimum-time closing of the attacker's
-    dominance region that :class:`~mpc_hunt.control.trap.Trap` builds, with no term on a predicted attacker
-    (CLI ``--controller trap``)."""
+class TrappingStrategy(ModelFreeStrategy):
+    """Tracking the minimum-time shrink of the attacker's dominance region that :class:`~mpc_hunt.control.trap.Trap`
+    builds (CLI ``--controller trap``)."""
 
-    enclose_weights = CONTAIN_WEIGHTS
-    OBJECTIVE = "enclose"
-
-    def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, **options)
-        self.enclosure = Trap(scenario, self.horizon)
-
-    def describe(self) -> dict:
-        return super().describe() | {"controller": "trap"}
+    REFERENCE, NAME = Trap, "trap"
 
 
 class AdaptiveStrategy(EnclosingStrategy):
