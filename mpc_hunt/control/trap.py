@@ -22,7 +22,11 @@ arena's edge). The reference has two phases:
   others close the rest, and a team too small to enclose alone leans on the
   obstacles that close the other directions (the paper's obstacles as members).
   The places over the horizon are the straight run at top speed: a
-  minimum-time closing, not a tracking of places;
+  minimum-time closing, not a tracking of places. Near a slower attacker
+  every ray's limit is nearly zero, and the area with it, so the gradient no
+  longer spreads the team: a mover within ``NEAR`` R_hunt of the attacker
+  instead takes its place in an even spread round it on that circle, in the
+  order the movers stand, until the ring can close;
 - **herd** (fewer robots than the three that enclose, Eqs. 4–5, so an obstacle
   must close the circle, and the attacker farther than R_hunt from the nearest
   obstacle's surface): the movers take places behind the attacker as seen from
@@ -56,7 +60,7 @@ from mpc_hunt.capture.problem import Reference
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
 from mpc_hunt.control.observed import ObservedVelocity
-from mpc_hunt.control.voronoi import ring_bearings
+from mpc_hunt.control.voronoi import ring_bearings, route
 from mpc_hunt.world.arena import kept_clear
 from mpc_hunt.world.geometry import direction, encloses, norm
 from mpc_hunt.world.hunting_circle import MIN_MEMBERS, members
@@ -68,6 +72,7 @@ EDGE_MARGIN = 1.0     # m: how far inside the edge the region's boundary must st
 SHARPNESS = 4.0       # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
 TINY = 1e-9           # m: a limit's floor in that minimum (a defender already within reach)
 STEP = 1e-4           # m: the finite difference of the gradient
+NEAR = 3.0            # of R_hunt: a mover this near the attacker before the ring can close takes its place in a spread
 HERD_SPREAD = np.radians(50.0)    # rad: either side of the attacker's far side from the anchor, where a mover herds
 HERD_TOLERANCE = np.radians(30.0)  # rad: a mover this close to its herding bearing closes in; farther, goes round
 HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it closes in at top speed down to this)
@@ -154,10 +159,29 @@ class Trap:
             self.phase = "shrink"
             ways = self.headings(p_a, P[movers], speeds)
             places[:, movers] = P[movers][None] + (speeds[None, :, None] * steps[:, :, None]) * ways[None]
+            near = norm(P[movers] - p_a) < NEAR * s.hunt.hunt_radius
+            if near.any():
+                places[:, movers[near]] = self._spread(p_a, P[movers], speeds, stationary, steps, drift)[:, near]
         places[:, movers] = kept_clear(s, places[:, movers])
         weight = np.ones(N)
         weight[-1] = TERMINAL_WEIGHT
         return Reference(places, p_a + drift, weight)
+
+    def _spread(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray,
+                steps: np.ndarray, drift: np.ndarray) -> np.ndarray:
+        """The places (N, k, 2) of movers that have come within ``NEAR`` R_hunt while the ring cannot close yet: on
+        that circle round the attacker, at their places in an even spread in the order they stand (a stationary
+        member first), going round the circle where the straight way would cross it, at top speed."""
+        radius = NEAR * self.scenario.hunt.hunt_radius
+        angles = ring_bearings(p_a, movers, stationary)
+        reach = speeds[None] * steps                                                                # (N, k)
+        places = np.empty((len(steps), len(movers), 2))
+        for k, centre in enumerate(p_a + drift):
+            for i, (q, angle) in enumerate(zip(movers, angles)):
+                way = route(q, centre, angle, radius, reach[k, i]) - q
+                length = float(np.hypot(*way))
+                places[k, i] = q + way * (min(1.0, reach[k, i] / length) if length > 0 else 0.0)
+        return places
 
     def _herd(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, anchor: np.ndarray,
               steps: np.ndarray) -> np.ndarray:

@@ -69,3 +69,17 @@ def test_the_trap_controller_plans_every_defender_inside_the_time_step():
     assert command.solution.success and command.capture_stage.all()
     assert np.all(norm(command.velocities) <= 0.08 + 1e-9)
     assert controller.describe()["controller"] == "trap"
+
+
+def test_movers_near_the_attacker_before_the_ring_can_close_spread_round_it():
+    # Three defenders 1 m from the attacker, all on one side (not enclosing): each heads for its place in an even
+    # spread on the 1.5 m circle (3 R_hunt), going round, rather than pressing in from that side.
+    side = [(10.0 + np.cos(a), 10.0 + np.sin(a)) for a in np.radians([-20.0, 0.0, 20.0])]
+    s = _world(side, (10.0, 10.0))
+    trap = Trap(s, N)
+    reference = trap.reference(Observation(0.0, np.array([10.0, 10.0]), None, s.defender_starts))
+    assert trap.phase == "shrink"
+    last = reference.defenders[-1] - 10.0
+    np.testing.assert_allclose(norm(last), 1.08, atol=1e-3)                 # outwards at top speed, to the circle
+    turned = np.degrees(np.arctan2(last[:, 1], last[:, 0])) - np.array([-20.0, 0.0, 20.0])
+    assert turned[0] < -0.5 and abs(turned[1]) < 1e-6 and turned[2] > 0.5  # the outer two go round, apart
