@@ -2,10 +2,10 @@
 
 The model is discrete-time: state x = (p_a, p_di for the controlled i), input
 u = (Δp_d, q, s), x⁺ = (p_a + T sat(u_a(p_a, p_d), v_a,max), p_d + Δp_d), the
-attacker's resultant built from :mod:`formulations.field`'s
+attacker's resultant built from :mod:`mpc_hunt.formulations.field`'s
 ``repulsion``, ``obstacle_repulsion`` and ``saturate`` (the paper's field,
 unsmoothed, as ``nlp``). The scenario's numbers (θ of
-:func:`~formulations.capture_model.parameter_vector`, of which the state's part
+:func:`~mpc_hunt.formulations.capture_model.parameter_vector`, of which the state's part
 is unused) and the relaxed bounds are time-varying parameters, so one
 ``setup()`` serves every state of a structure.
 
@@ -44,9 +44,9 @@ with warnings.catch_warnings():
     warnings.simplefilter("ignore")         # do-mpc warns about its optional features on import
     import do_mpc
 
-from formulations.base import separation_pairs
-from formulations.capture_model import parameter_size, parameter_vector, unpack
-from formulations.field import norm, obstacle_repulsion, repulsion, saturate
+from mpc_hunt.formulations.base import separation_pairs
+from mpc_hunt.formulations.capture_model import parameter_size, parameter_vector, unpack
+from mpc_hunt.formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.solving.backends.ipopt import IpoptBackend
 from mpc_hunt.capture.problem import CaptureProblem
 

@@ -22,8 +22,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from formulations.capture_model import parameter_vector
-from formulations.qp import linearised_capture
+from mpc_hunt.formulations.capture_model import parameter_vector
+from mpc_hunt.formulations.qp import linearised_capture
 from mpc_hunt import CaptureProblem, CaptureSolver
 from mpc_hunt.solving import registry
 from mpc_hunt.control.strategy import applied_plan, warm_plan

@@ -16,9 +16,9 @@ import time
 import casadi as ca
 import numpy as np
 
-from formulations.capture_model import parameter_vector
-from formulations.rti import linearised_stages
-from formulations.stage_model import SMOOTHING
+from mpc_hunt.formulations.capture_model import parameter_vector
+from mpc_hunt.formulations.rti import linearised_stages
+from mpc_hunt.formulations.stage_model import SMOOTHING
 from mpc_hunt import CaptureProblem, CaptureSolver
 from mpc_hunt.solving.backends.conic_step import QP_KEYS
 from mpc_hunt.solving.backends.hpipm import HpipmBackend

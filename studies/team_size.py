@@ -54,7 +54,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 import casadi as ca
 import numpy as np
 
-from formulations.rti import linearised_stages
+from mpc_hunt.formulations.rti import linearised_stages
 from mpc_hunt import CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-import formulations
 import mpc_hunt
 from mpc_hunt import CaptureSolver, SolverNotFoundError, solve
 from mpc_hunt.solving import registry
@@ -18,12 +17,12 @@ from mpc_hunt.solving.backends.daqp import DaqpBackend
 from conftest import problem_at
 
 ROOT = Path(__file__).resolve().parents[1]
-TOP = ("mpc_hunt", "formulations")
+TOP = ("mpc_hunt",)
 
 
 def _modules() -> list[str]:
     names = []
-    for package in (mpc_hunt, formulations):
+    for package in (mpc_hunt,):
         names.append(package.__name__)
         names += [m.name for m in pkgutil.walk_packages(package.__path__, package.__name__ + ".")
                   if not m.name.endswith(".__main__")]      # importing it runs the command line
@@ -32,7 +31,7 @@ def _modules() -> list[str]:
 
 def test_every_module_imports_alone_in_a_fresh_interpreter():
     modules = _modules()
-    assert {"formulations.nlp", "mpc_hunt.solving.backends.daqp", "mpc_hunt.cli.commands"} <= set(modules)
+    assert {"mpc_hunt.formulations.nlp", "mpc_hunt.solving.backends.daqp", "mpc_hunt.cli.commands"} <= set(modules)
     running = {m: subprocess.Popen([sys.executable, "-c", f"import {m}"], cwd=ROOT, stderr=subprocess.PIPE,
                                    text=True) for m in modules}
     failed = {m: p.communicate()[1].strip().splitlines()[-1:] for m, p in running.items()}
@@ -63,7 +62,7 @@ def _private(name: str) -> bool:
 
 def _forbidden_imports(source: str, path: str) -> list[str]:
     """Imports in ``source`` (of the file ``path``, from the root) of a private name or module (``_name``) of
-    another subpackage of mpc_hunt or formulations; in a study, also of the command line (``mpc_hunt.cli``) and
+    another subpackage of mpc_hunt; in a study, also of the command line (``mpc_hunt.cli``) and
     of another study by its bare name: the studies use the package's public API, and one another as
     ``studies.…``."""
     here = ".".join(Path(path).with_suffix("").parts[:2])
@@ -76,7 +75,7 @@ def _forbidden_imports(source: str, path: str) -> list[str]:
 
 
 def test_no_module_imports_a_private_name_of_another_package_nor_a_study_the_command_line():
-    files = [f for top in ("mpc_hunt", "formulations", "studies") for f in (ROOT / top).rglob("*.py")]
+    files = [f for top in ("mpc_hunt", "studies") for f in (ROOT / top).rglob("*.py")]
     assert [hit for f in files for hit in _forbidden_imports(f.read_text(encoding="utf-8"),
                                                              f.relative_to(ROOT).as_posix())] == []
 
@@ -93,8 +92,8 @@ def test_the_import_check_finds_a_study_reaching_past_the_public_api():
                                                               "mpc_hunt/cli/x.py: mpc_hunt.solving._hidden.x"]
 
 
-def test_import_mpc_hunt_loads_no_solver_and_no_environment_package():
-    code = ("import sys, mpc_hunt; print(sorted(m for m in ('cvxpy', 'casadi', 'osqp', 'clarabel', 'daqp', "
+def test_import_mpc_hunt_loads_no_qp_solver_and_no_environment_package():
+    code = ("import sys, mpc_hunt; print(sorted(m for m in ('cvxpy', 'osqp', 'clarabel', 'daqp', "
             "'gymnasium', 'pettingzoo') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
@@ -114,11 +113,8 @@ class MissingSolver(DaqpBackend):
 
 @pytest.fixture
 def extra_backends(monkeypatch):
-    monkeypatch.setitem(registry.BACKENDS, "daqp2", "test_layers:SecondDaqp")
-    monkeypatch.setitem(registry.BACKENDS, "missing", "test_layers:MissingSolver")
-    registry.backend_class.cache_clear()
-    yield
-    registry.backend_class.cache_clear()
+    monkeypatch.setitem(registry.BACKENDS, "daqp2", SecondDaqp)
+    monkeypatch.setitem(registry.BACKENDS, "missing", MissingSolver)
 
 
 def test_a_registered_backend_works_with_every_formulation_of_its_kind(extra_backends, scenario):
@@ -134,3 +130,10 @@ def test_a_missing_solver_is_listed_with_its_install_hint(extra_backends):
     assert ("qp", "missing") in registry.pairs(installed_only=False)
     with pytest.raises(SolverNotFoundError, match="pip install no-such-solver"):
         CaptureSolver("qp", "missing")
+
+
+def test_the_formulations_folder_documents_every_registered_formulation_and_installs_none():
+    table = (ROOT / "formulations" / "README.md").read_text(encoding="utf-8")
+    rows = {line.split("|")[1].strip().strip("`") for line in table.splitlines() if line.startswith("| `")}
+    assert rows == set(registry.FORMULATIONS)
+    assert not list((ROOT / "formulations").glob("*.py"))      # the code is mpc_hunt.formulations

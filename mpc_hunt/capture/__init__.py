@@ -1,7 +1,7 @@
 """The capture stage's contract (Eqs. 12–15): the problem at one state and its structure, the data a formulation
 hands a backend, the solution, and the evaluator that scores every plan on the true problem.
 
-The formulations (the top-level package ``formulations``) build on it; the solving machinery
+The formulations (:mod:`mpc_hunt.formulations`) build on it; the solving machinery
 (:mod:`mpc_hunt.solving`: registry, backends, solver, export) on both.
 """
 

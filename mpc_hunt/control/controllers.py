@@ -1,4 +1,4 @@
-"""Controllers by name, imported on first use (the registry's pattern, for the control layer)."""
+"""Controllers by name: one file and one registry line each (the registry's pattern, for the control layer)."""
 
 from __future__ import annotations
 
@@ -8,23 +8,27 @@ import numpy as np
 
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.world.belief import Belief, believed
-from mpc_hunt.world.names import load_class
+from mpc_hunt.control.encircling import EncirclingController
+from mpc_hunt.control.strategy import (AdaptiveStrategy, ContainingStrategy, EnclosingStrategy, HuntingStrategy,
+                                       TrappingStrategy)
+from mpc_hunt.control.voronoi import VoronoiController
+from mpc_hunt.world.names import registered
 
 CONTROLLERS = {
-    "paper": "mpc_hunt.control.strategy:HuntingStrategy",
-    "enclose": "mpc_hunt.control.strategy:EnclosingStrategy",
-    "apf": "mpc_hunt.control.encircling:EncirclingController",
-    "voronoi": "mpc_hunt.control.voronoi:VoronoiController",
-    "contain": "mpc_hunt.control.strategy:ContainingStrategy",
-    "adapt": "mpc_hunt.control.strategy:AdaptiveStrategy",
-    "trap": "mpc_hunt.control.strategy:TrappingStrategy",
+    "paper": HuntingStrategy,
+    "enclose": EnclosingStrategy,
+    "apf": EncirclingController,
+    "voronoi": VoronoiController,
+    "contain": ContainingStrategy,
+    "adapt": AdaptiveStrategy,
+    "trap": TrappingStrategy,
 }
 SOLVING = ("paper", "enclose", "contain", "adapt", "trap")     # the controllers that solve a capture problem (take solver settings)
 
 
 def controller_objective(name: str) -> str:
     """The capture objective the solving controller ``name`` (one of :data:`SOLVING`) poses."""
-    return load_class(CONTROLLERS, "controller", name).OBJECTIVE
+    return registered(CONTROLLERS, "controller", name).OBJECTIVE
 
 
 def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):
@@ -37,7 +41,7 @@ def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None,
 
     The controller is built on the defenders' ``belief`` of the attacker (:func:`mpc_hunt.world.belief.believed`;
     ``rng`` draws its heading error), never on the world's behaviour."""
-    return load_class(CONTROLLERS, "controller", name)(believed(scenario, belief, rng), **options)
+    return registered(CONTROLLERS, "controller", name)(believed(scenario, belief, rng), **options)
 
 
 def checked_controller(name: str, scenario, *, argument: str = "options", belief: Belief = Belief(), **options):
@@ -57,7 +61,7 @@ def checked_controller(name: str, scenario, *, argument: str = "options", belief
         raise OptionError(f"controller: unknown controller {name!r} (available: {', '.join(CONTROLLERS)})")
     if not isinstance(belief, Belief):
         raise OptionError(f"belief: a Belief (mpc_hunt.world.belief), got {type(belief).__name__}")
-    cls = load_class(CONTROLLERS, "controller", name)
+    cls = registered(CONTROLLERS, "controller", name)
     parameters = inspect.signature(cls).parameters.values()
     if not any(p.kind is p.VAR_KEYWORD for p in parameters):       # a class that passes no option on
         taken = [p.name for p in parameters if p.kind is p.KEYWORD_ONLY]

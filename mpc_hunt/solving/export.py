@@ -33,7 +33,7 @@ HPIPM runs in the solver's ``mode`` (:data:`mpc_hunt.solving.backends.hpipm.MODE
 built for the CPU speeds up (its plans differ from ``robust``'s within HPIPM's
 tolerances; Python's plan in ``expected.txt`` is solved in the same mode).
 
-θ is :func:`formulations.capture_model.parameter_vector` followed by the field's
+θ is :func:`mpc_hunt.formulations.capture_model.parameter_vector` followed by the field's
 smoothing; the reference is the previous plan shifted one step (or every
 defender held), as the formulation's ``step_inputs`` writes them.
 """

@@ -1,7 +1,7 @@
-"""Formulations and backends by name, imported on first use.
+"""Formulations and backends by name: one table line each, naming the class.
 
-A registry line names the class as ``"module:Class"``; nothing is imported
-until a name is used, so ``import mpc_hunt`` pulls in no solver. What a
+A backend module imports its solver package on first use, so ``import mpc_hunt``
+pulls in no QP solver; the formulations are CasADi models and load CasADi. What a
 formulation emits (``kind``: ``"nlp"``, ``"qp"``, ``"socp"``) and what a
 backend accepts (``accepts``) decide which pairs work: compatibility is derived,
 never listed. A backend whose solver package is missing is listed as
@@ -12,44 +12,57 @@ from __future__ import annotations
 
 import importlib.util
 from dataclasses import dataclass
-from functools import cache
 
 from mpc_hunt.errors import SolverNotFoundError, UnknownNameError
-from mpc_hunt.world.names import load_class
+from mpc_hunt.formulations.distributed import DistributedFormulation
+from mpc_hunt.formulations.ms_nlp import MSNLPFormulation
+from mpc_hunt.formulations.nlp import NLPFormulation
+from mpc_hunt.formulations.qp import QPFormulation
+from mpc_hunt.formulations.rti import RTIFormulation
+from mpc_hunt.formulations.socp import SOCPFormulation
+from mpc_hunt.formulations.sqp import SQPFormulation
+from mpc_hunt.formulations.stage_sqp import StageSQPFormulation
+from mpc_hunt.solving.backends.clarabel import ClarabelBackend
+from mpc_hunt.solving.backends.cvxpy import CvxpyBackend
+from mpc_hunt.solving.backends.daqp import DaqpBackend
+from mpc_hunt.solving.backends.daqp_condensed import DaqpCondensedBackend
+from mpc_hunt.solving.backends.hpipm import HpipmBackend
+from mpc_hunt.solving.backends.hpipm_codegen import HpipmCodegenBackend
+from mpc_hunt.solving.backends.ipopt import IpoptBackend
+from mpc_hunt.solving.backends.osqp import OsqpBackend
+from mpc_hunt.world.names import registered
 
 FORMULATIONS = {
-    "nlp": "formulations.nlp:NLPFormulation",
-    "qp": "formulations.qp:QPFormulation",
-    "sqp": "formulations.sqp:SQPFormulation",
-    "socp": "formulations.socp:SOCPFormulation",
-    "ms-nlp": "formulations.ms_nlp:MSNLPFormulation",
-    "rti": "formulations.rti:RTIFormulation",
-    "stage-sqp": "formulations.stage_sqp:StageSQPFormulation",
-    "distributed": "formulations.distributed:DistributedFormulation",
+    "nlp": NLPFormulation,
+    "qp": QPFormulation,
+    "sqp": SQPFormulation,
+    "socp": SOCPFormulation,
+    "ms-nlp": MSNLPFormulation,
+    "rti": RTIFormulation,
+    "stage-sqp": StageSQPFormulation,
+    "distributed": DistributedFormulation,
 }
 
 BACKENDS = {
-    "ipopt": "mpc_hunt.solving.backends.ipopt:IpoptBackend",
-    "osqp": "mpc_hunt.solving.backends.osqp:OsqpBackend",
-    "clarabel": "mpc_hunt.solving.backends.clarabel:ClarabelBackend",
-    "cvxpy": "mpc_hunt.solving.backends.cvxpy:CvxpyBackend",
-    "daqp": "mpc_hunt.solving.backends.daqp:DaqpBackend",
-    "daqp-condensed": "mpc_hunt.solving.backends.daqp_condensed:DaqpCondensedBackend",
-    "hpipm": "mpc_hunt.solving.backends.hpipm:HpipmBackend",
-    "hpipm-codegen": "mpc_hunt.solving.backends.hpipm_codegen:HpipmCodegenBackend",
+    "ipopt": IpoptBackend,
+    "osqp": OsqpBackend,
+    "clarabel": ClarabelBackend,
+    "cvxpy": CvxpyBackend,
+    "daqp": DaqpBackend,
+    "daqp-condensed": DaqpCondensedBackend,
+    "hpipm": HpipmBackend,
+    "hpipm-codegen": HpipmCodegenBackend,
 }
 
 
-@cache
 def formulation_class(name: str) -> type:
     """The formulation registered as ``name``; an unknown name lists the registered ones."""
-    return load_class(FORMULATIONS, "formulation", name)
+    return registered(FORMULATIONS, "formulation", name)
 
 
-@cache
 def backend_class(name: str) -> type:
     """The backend registered as ``name`` (its module imports no solver until used)."""
-    return load_class(BACKENDS, "backend", name)
+    return registered(BACKENDS, "backend", name)
 
 
 def installed(backend: str) -> bool:

@@ -14,7 +14,7 @@ Distances below ``FIELD_FLOOR`` are raised to it (the offset keeps its
 direction and takes the floor's length), so the field stays finite, and huge,
 at a contact or inside an obstacle instead of becoming NaN. Only an offset of
 exactly zero, which has no direction, gives no push. The optimiser's field
-(:mod:`formulations.field`) is this one in CasADi, or rounded at |r| = R.
+(:mod:`mpc_hunt.formulations.field`) is this one in CasADi, or rounded at |r| = R.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ FIELD_FLOOR = 1e-3
 def repulsion_gain(d, length, radius: float, eta: float, select=np.where):
     """H(r)/|r| of Eq. 2: η (R³/d³ − 1) d/|r| for the floored distance d < R, else 0, with |r| = ``length``.
 
-    ``select`` is np.where here, casadi.if_else in the optimiser's field (:mod:`formulations.field`).
+    ``select`` is np.where here, casadi.if_else in the optimiser's field (:mod:`mpc_hunt.formulations.field`).
     """
     return select(d < radius, eta * (radius**3 / d**3 - 1.0), 0.0) * d / length
 

@@ -1,20 +1,17 @@
-"""Registries by name: a line names a class as ``"module:Class"``, imported when the name is first used; and
-inputs given by a shipped name or a file."""
+"""Registries by name: a table maps each name to its class; and inputs given by a shipped name or a file."""
 
 from __future__ import annotations
 
-import importlib
 from pathlib import Path
 
 from mpc_hunt.errors import UnknownNameError
 
 
-def load_class(table: dict[str, str], what: str, name: str) -> type:
-    """The class a table line names as ``"module:Class"``, imported now; an unknown name lists the table's."""
-    if name not in table:
+def registered(table: dict[str, type], what: str, name: str) -> type:
+    """The class ``table`` registers as ``name``; an unknown name lists the table's."""
+    if not isinstance(name, str) or name not in table:
         raise UnknownNameError(f"unknown {what} {name!r} (available: {', '.join(table)})")
-    module, cls = table[name].split(":")
-    return getattr(importlib.import_module(module), cls)
+    return table[name]
 
 
 def shipped_name(name_or_file, shipped: list[str], what: str, suffix: str, listed: str = "shipped") -> str | None:

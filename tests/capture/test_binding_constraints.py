@@ -21,8 +21,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from binding_cases import CASES, SYMMETRIC, Case, octagon_slack, on_circle, slack
-from formulations.capture_model import parameter_vector
-from formulations.qp import POLYGON_SIDES, linearised_capture
+from mpc_hunt.formulations.capture_model import parameter_vector
+from mpc_hunt.formulations.qp import POLYGON_SIDES, linearised_capture
 from mpc_hunt import CaptureProblem, HuntParameters, Solution, Status, evaluate, solve
 from mpc_hunt.solving import registry
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES

@@ -12,11 +12,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import formulations.team as team_module
-from formulations.capture_model import parameter_vector, reference_size, stage_parameters, step_size, unpack
-from formulations.distributed import DistributedFormulation
-from formulations.team import NEIGHBOURS
-from formulations.stage_model import SMOOTHING, stage_model
+import mpc_hunt.formulations.team as team_module
+from mpc_hunt.formulations.capture_model import parameter_vector, reference_size, stage_parameters, step_size, unpack
+from mpc_hunt.formulations.distributed import DistributedFormulation
+from mpc_hunt.formulations.team import NEIGHBOURS
+from mpc_hunt.formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt import (Attacker, CaptureProblem, CaptureSolver, Defender, HuntParameters, Obstacle, Scenario, Status,
                       shift_plan)
 from mpc_hunt.bench.compare import check_pairs

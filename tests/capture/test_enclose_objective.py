@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from conftest import small_scenario
-from formulations.capture_model import capture_model, parameter_vector
-from formulations.stage_linearisation import stage_linearisation
+from mpc_hunt.formulations.capture_model import capture_model, parameter_vector
+from mpc_hunt.formulations.stage_linearisation import stage_linearisation
 from mpc_hunt import CaptureProblem, CaptureSolver, Structure, evaluate
 from mpc_hunt.capture.evaluator import ENCLOSE_TERM_NAMES
 from mpc_hunt.capture.problem import EncloseWeights, ProblemError, Reference

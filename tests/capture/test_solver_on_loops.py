@@ -9,7 +9,7 @@ import pytest
 
 from conftest import ATTACKER, DEFENDERS, small_scenario
 from mpc_hunt import CaptureProblem, CaptureSolver, HuntingStrategy, Solution, Status, shift_plan, simulate
-from formulations.stage_sqp import StageSQPFormulation
+from mpc_hunt.formulations.stage_sqp import StageSQPFormulation
 from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.control.strategy import applied_plan
 from mpc_hunt.errors import MpcHuntError, SolverError

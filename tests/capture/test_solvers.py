@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from conftest import ATTACKER, DEFENDERS, problem_at, small_scenario
-from formulations.capture_model import decision_point, parameter_vector
-from formulations.qp import linearised_capture
+from mpc_hunt.formulations.capture_model import decision_point, parameter_vector
+from mpc_hunt.formulations.qp import linearised_capture
 from mpc_hunt import (CaptureProblem, CaptureSolver, SolverError, Status, UnknownNameError, evaluate, pairs,
                       shift_plan, solve)
 from mpc_hunt.solving import registry

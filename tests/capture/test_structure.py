@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import ATTACKER, DEFENDERS, small_scenario
-from formulations.capture_model import parameter_size, parameter_vector
+from mpc_hunt.formulations.capture_model import parameter_size, parameter_vector
 from mpc_hunt import CaptureProblem, Structure
 
 

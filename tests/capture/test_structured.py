@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from conftest import ATTACKER, DEFENDERS, problem_at
-from formulations import field, ms_nlp, stage_model
+from mpc_hunt.formulations import field, ms_nlp, stage_model
 from mpc_hunt import CaptureProblem, CaptureSolver, solve
 from mpc_hunt.world.field import repulsion
 from mpc_hunt.capture.plan import shift_plan

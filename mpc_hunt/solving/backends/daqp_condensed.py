@@ -1,7 +1,7 @@
 """``daqp-condensed``: a stage-form step condensed to a dense QP in its controls, solved by DAQP from its last
 active set.
 
-A stage QP (kind ``ocp-qp``, :mod:`formulations.rti`) has ξ_0 = 0 and gaps
+A stage QP (kind ``ocp-qp``, :mod:`mpc_hunt.formulations.rti`) has ξ_0 = 0 and gaps
 ξ_k+1 + G_x ξ_k + G_u ν_k = 0, so its states follow from its controls: z = Z ν.
 Condensed once per structure, as CasADi expressions of the step's inputs (θ,
 reference), it is the dense QP
@@ -168,7 +168,7 @@ int mpc_hunt_daqp_solve(mpc_hunt_daqp *s, const double *theta, const double *ref
 
 
 def condensed(graph) -> tuple[Any, dict]:
-    """The condensing Function of a stage QP ``graph`` (:class:`formulations.rti.LinearisedStages`): (θ,
+    """The condensing Function of a stage QP ``graph`` (:class:`mpc_hunt.formulations.rti.LinearisedStages`): (θ,
     reference) → (H, f, Aᵀ, bu, bl, plan₀, P, c₀), all dense (Aᵀ column by column is A row by row, as DAQP
     reads it), and its sizes."""
     import casadi as ca

@@ -1,4 +1,4 @@
-"""How the world moves the attacker: behaviours by name, one file and one line each, imported on first use.
+"""How the world moves the attacker: behaviours by name, one file and one registry line each.
 
 ``apf`` is the paper's attacker (Eqs. 2 and 9; :mod:`mpc_hunt.world.attacker`),
 the default, which every scenario without a ``behaviour`` keeps. The others are
@@ -17,20 +17,27 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.names import load_class
+from mpc_hunt.world.behaviours.apf import ApfAttacker
+from mpc_hunt.world.behaviours.flee import FleeingAttacker
+from mpc_hunt.world.behaviours.gap import GapAttacker
+from mpc_hunt.world.behaviours.learned import LearnedAttacker
+from mpc_hunt.world.behaviours.minimax import MinimaxAttacker
+from mpc_hunt.world.behaviours.noisy import NoisyAttacker
+from mpc_hunt.world.behaviours.voronoi import VoronoiAttacker
+from mpc_hunt.world.names import registered
 
 if TYPE_CHECKING:
     from mpc_hunt.world.behaviours.base import Behaviour
     from mpc_hunt.world.scenario import Scenario
 
 BEHAVIOURS = {
-    "apf": "mpc_hunt.world.behaviours.apf:ApfAttacker",
-    "flee": "mpc_hunt.world.behaviours.flee:FleeingAttacker",
-    "gap": "mpc_hunt.world.behaviours.gap:GapAttacker",
-    "voronoi": "mpc_hunt.world.behaviours.voronoi:VoronoiAttacker",
-    "noisy": "mpc_hunt.world.behaviours.noisy:NoisyAttacker",
-    "learned": "mpc_hunt.world.behaviours.learned:LearnedAttacker",
-    "minimax": "mpc_hunt.world.behaviours.minimax:MinimaxAttacker",
+    "apf": ApfAttacker,
+    "flee": FleeingAttacker,
+    "gap": GapAttacker,
+    "voronoi": VoronoiAttacker,
+    "noisy": NoisyAttacker,
+    "learned": LearnedAttacker,
+    "minimax": MinimaxAttacker,
 }
 DEFAULT_BEHAVIOUR = "apf"
 
@@ -38,7 +45,7 @@ DEFAULT_BEHAVIOUR = "apf"
 def make_behaviour(scenario: Scenario, rng: np.random.Generator) -> Behaviour:
     """A fresh behaviour for the attacker of ``scenario`` (``scenario.attacker.behaviour``); ``rng`` draws any
     randomness it has, so the same scenario and seed give the same hunt."""
-    return load_class(BEHAVIOURS, "attacker behaviour", scenario.attacker.behaviour)(scenario, rng)
+    return registered(BEHAVIOURS, "attacker behaviour", scenario.attacker.behaviour)(scenario, rng)
 
 
 def with_behaviour(scenario: Scenario, behaviour: str) -> Scenario:

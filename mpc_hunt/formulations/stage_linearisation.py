@@ -1,6 +1,6 @@
 """One stage of the capture problem linearised and scaled, for the real-time iteration (``rti``).
 
-At a reference stage (x̄, ū) of :mod:`formulations.stage_model`, in the scaled
+At a reference stage (x̄, ū) of :mod:`mpc_hunt.formulations.stage_model`, in the scaled
 deviations ξ = S_x⁻¹ (x − x̄) and ν = ((u − ū) / r_d, q̃, s̃): the residuals
 and their Jacobians (Gauss–Newton), the linearised dynamics, and the rows with
 their Jacobians and bounds. S_x holds each state's reach in one step (v_a T
@@ -8,7 +8,7 @@ for the attacker, r_d for a defender); rows in metres are divided by r̄_d,
 Eq. 14's squared distances by R_hunt r̄_d, so that the Hessian and the rows
 are of order one. Built once per structure; independent of the horizon.
 
-The ``enclose`` objective has no Eq. 14 (:mod:`formulations.stage_model`):
+The ``enclose`` objective has no Eq. 14 (:mod:`mpc_hunt.formulations.stage_model`):
 its rows could never bind and its slacks would sit at zero, so the stage
 leaves both out, ν = (u − ū) / r_d. The QP's optimum is the same; HPIPM's
 factorisations shrink with the stage (4 of 10 controls and 6 rows fewer at
@@ -22,8 +22,8 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from formulations.capture_model import unpack
-from formulations.stage_model import stage_model
+from mpc_hunt.formulations.capture_model import unpack
+from mpc_hunt.formulations.stage_model import stage_model
 from mpc_hunt.capture.structure import Structure
 
 _DIAGONALS = ca.DM([[1.0, 1.0], [-1.0, 1.0]]) / np.sqrt(2.0)   # the octagon's diagonal normals

@@ -8,7 +8,7 @@ as ``rti`` has it):
     ā_0 = p_a,   ā_k+1 = ā_k + T sat(u_a + Σ_j k_d H(ā_k − p_j,k) + Σ_o k_o H_o(ā_k), v_a),
 
 and, at every step k < N, each defender's push k_d H(ā_k − p_j,k) and its
-Jacobian in ā_k. A robot's parameters (:mod:`formulations.distributed`) take the
+Jacobian in ā_k. A robot's parameters (:mod:`mpc_hunt.formulations.distributed`) take the
 sum over the others: its own push it models itself. One CasADi Function per
 team structure, O(n N) to evaluate: what the UAV of the paper's Fig. 2 (or
 every robot) computes once a round.
@@ -20,8 +20,8 @@ from functools import lru_cache
 
 import casadi as ca
 
-from formulations.capture_model import parameter_size, unpack
-from formulations.field import obstacle_repulsion, repulsion, saturate
+from mpc_hunt.formulations.capture_model import parameter_size, unpack
+from mpc_hunt.formulations.field import obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.structure import Structure
 
 

@@ -1,7 +1,7 @@
-"""A team's capture problem as its robots see it (the ``distributed`` formulation, :mod:`formulations.distributed`).
+"""A team's capture problem as its robots see it (the ``distributed`` formulation, :mod:`mpc_hunt.formulations.distributed`).
 
 The numbers the team shares at a state (the team's θ, each robot's places), the
-round's broadcast (:mod:`formulations.team_push`: the attacker's path under the
+round's broadcast (:mod:`mpc_hunt.formulations.team_push`: the attacker's path under the
 team's plans and each defender's push on it), and each robot's step inputs: its
 own θ, laid out for its structure (:func:`robot_structure`, ``Structure.robot``),
 and its reference. A robot's separation rows go to the midpoints between its
@@ -17,9 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from formulations.capture_model import pack, parameter_size, parameter_vector, reference_size, step_size, unpack
-from formulations.qp import TRUST_REGION
-from formulations.team_push import team_push
+from mpc_hunt.formulations.capture_model import pack, parameter_size, parameter_vector, reference_size, step_size, unpack
+from mpc_hunt.formulations.qp import TRUST_REGION
+from mpc_hunt.formulations.team_push import team_push
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.structure import Structure
 

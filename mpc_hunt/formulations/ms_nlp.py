@@ -2,7 +2,7 @@
 
 The same problem as ``nlp`` (Eq. 14 as the same exact L1 penalty), posed with
 the attacker's and the defenders' positions at every step as variables, tied
-by the dynamics as equality constraints (:mod:`formulations.stage_model`), and
+by the dynamics as equality constraints (:mod:`mpc_hunt.formulations.stage_model`), and
 declared stage by stage, so that the Jacobian and the Hessian are block-banded:
 
     w = (u_0, x_1, u_1, …, x_N, u_N),  u_0 = Δp_d,0,
@@ -26,10 +26,10 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from formulations.base import Formulation
-from formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
-from formulations.nlp import RELAXABLE, arena_bounds
-from formulations.stage_model import SMOOTHING, stage_model
+from mpc_hunt.formulations.base import Formulation
+from mpc_hunt.formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
+from mpc_hunt.formulations.nlp import RELAXABLE, arena_bounds
+from mpc_hunt.formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt.capture.data import NLPData
 from mpc_hunt.capture.solution import Solution, WarmStart
 from mpc_hunt.capture.structure import Structure

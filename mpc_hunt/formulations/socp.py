@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from formulations.qp import QPFormulation
+from mpc_hunt.formulations.qp import QPFormulation
 
 
 class SOCPFormulation(QPFormulation):

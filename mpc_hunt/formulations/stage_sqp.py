@@ -10,8 +10,8 @@ each QP (|δp_d| ≤ 2 r_d round its reference) bounds every step.
 
 from __future__ import annotations
 
-from formulations.rti import RTIFormulation
-from formulations.sqp import SQPFormulation, iterate
+from mpc_hunt.formulations.rti import RTIFormulation
+from mpc_hunt.formulations.sqp import SQPFormulation, iterate
 from mpc_hunt.capture.solution import Solution
 
 

@@ -3,7 +3,7 @@
 Around the reference (the previous plan shifted one step, or every defender
 held), rolled out through the attacker's dynamics from the current state, the
 multiple-shooting model is linearised stage by stage
-(:mod:`formulations.stage_linearisation`) as ``qp`` linearises the condensed
+(:mod:`mpc_hunt.formulations.stage_linearisation`) as ``qp`` linearises the condensed
 one: Gauss–Newton objective, tangent half-planes for Eq. 15, the separations
 and the attacker distance, Eq. 14's exact L1 penalty through the squared
 distances, Eq. 13 as the inscribed octagon, the trust region |δp_d| ≤ 2 r_d,
@@ -28,12 +28,12 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from formulations.base import Formulation
-from formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
-from formulations.nlp import RELAXABLE
-from formulations.qp import TRUST_REGION
-from formulations.stage_linearisation import stage_linearisation
-from formulations.stage_model import SMOOTHING, stage_model
+from mpc_hunt.formulations.base import Formulation
+from mpc_hunt.formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
+from mpc_hunt.formulations.nlp import RELAXABLE
+from mpc_hunt.formulations.qp import TRUST_REGION
+from mpc_hunt.formulations.stage_linearisation import stage_linearisation
+from mpc_hunt.formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt.capture.data import StageQPData
 from mpc_hunt.capture.iteration import ONE_QP
 from mpc_hunt.capture.solution import Solution

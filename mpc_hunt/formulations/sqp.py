@@ -13,8 +13,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from formulations.capture_model import parameter_vector
-from formulations.qp import QPFormulation
+from mpc_hunt.formulations.capture_model import parameter_vector
+from mpc_hunt.formulations.qp import QPFormulation
 from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.solution import Solution, Status
 

@@ -16,8 +16,8 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from formulations.base import Formulation, separation_pairs
-from formulations.capture_model import capture_model, decision_point, parameter_vector
+from mpc_hunt.formulations.base import Formulation, separation_pairs
+from mpc_hunt.formulations.capture_model import capture_model, decision_point, parameter_vector
 from mpc_hunt.capture.data import NLPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES

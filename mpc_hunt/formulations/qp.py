@@ -20,9 +20,9 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-from formulations.base import Formulation, separation_pairs
-from formulations.capture_model import capture_model, decision_point, parameter_vector
-from formulations.field import unit
+from mpc_hunt.formulations.base import Formulation, separation_pairs
+from mpc_hunt.formulations.capture_model import capture_model, decision_point, parameter_vector
+from mpc_hunt.formulations.field import unit
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart

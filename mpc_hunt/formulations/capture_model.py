@@ -13,7 +13,7 @@ from functools import cached_property, lru_cache
 import casadi as ca
 import numpy as np
 
-from formulations.field import norm, obstacle_repulsion, repulsion, saturate
+from mpc_hunt.formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.structure import Structure
 

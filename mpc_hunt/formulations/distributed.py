@@ -1,9 +1,9 @@
 """``distributed``: every defender plans itself, one small stage QP per robot, as in the paper's Fig. 2.
 
-Robot i's QP is ``rti``'s (:mod:`formulations.rti`) for a structure of one robot
+Robot i's QP is ``rti``'s (:mod:`mpc_hunt.formulations.rti`) for a structure of one robot
 (:attr:`~mpc_hunt.capture.structure.Structure.robot`): the state (p_a, p_di), 4
 numbers, and its own step, 2, at each stage, whatever the team's size. What the
-others do enters through the round's broadcast (:mod:`formulations.team_push`):
+others do enters through the round's broadcast (:mod:`mpc_hunt.formulations.team_push`):
 
 - the attacker's response, linearised along the team's latest plans: its path
   ā_k under them and the others' push on it to first order, so that robot i's
@@ -12,7 +12,7 @@ others do enters through the round's broadcast (:mod:`formulations.team_push`):
   and each of its ``NEIGHBOURS`` nearest team-mates' at each step,
   |p_di − m_ij| ≥ d_min / 2 (two robots that keep theirs stay d_min apart even
   when both move in the same round; so a row its reference breaks is relaxed to
-  the reference's value, never to where the robot stands, :mod:`formulations.rti`).
+  the reference's value, never to where the robot stands, :mod:`mpc_hunt.formulations.rti`).
   A row to a team-mate farther than
   d_min + 2ρ at the reference (ρ = the trust region's diagonal, 2√2 r_d) can
   never bind, as the robot stays within ρ of its reference; those nearer than
@@ -38,10 +38,10 @@ from typing import Callable
 
 import numpy as np
 
-from formulations.base import Formulation
-from formulations.rti import RTIFormulation, linearised_stages
-from formulations.team import Team, robot_structure
-from formulations.team_push import team_push
+from mpc_hunt.formulations.base import Formulation
+from mpc_hunt.formulations.rti import RTIFormulation, linearised_stages
+from mpc_hunt.formulations.team import Team, robot_structure
+from mpc_hunt.formulations.team_push import team_push
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status
 from mpc_hunt.capture.structure import Structure

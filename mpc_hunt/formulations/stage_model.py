@@ -10,8 +10,8 @@ residuals of step k (Eq. 12's force error, the ring) depend on x_k, the
 smoothness term and Eq. 13 on u_{k−1}, Eq. 15, the separations and the
 attacker distance on x_k. Written once per structure (controlled, held,
 obstacles) as functions of one stage; a formulation lays them out over the
-horizon. θ is :func:`formulations.capture_model.parameter_vector` followed by
-the smoothing half-width w of :mod:`formulations.field` (w = 0: the
+horizon. θ is :func:`mpc_hunt.formulations.capture_model.parameter_vector` followed by
+the smoothing half-width w of :mod:`mpc_hunt.formulations.field` (w = 0: the
 paper's field).
 
 A robot planning apart (``Structure.robot``, the ``distributed`` formulation)
@@ -29,9 +29,9 @@ from functools import lru_cache
 
 import casadi as ca
 
-from formulations.base import separation_pairs
-from formulations.capture_model import enclose_residuals, parameter_size, step_reference, team_step, unpack
-from formulations.field import norm, obstacle_repulsion, repulsion, saturate
+from mpc_hunt.formulations.base import separation_pairs
+from mpc_hunt.formulations.capture_model import enclose_residuals, parameter_size, step_reference, team_step, unpack
+from mpc_hunt.formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.structure import Structure
 
 SMOOTHING = 0.001   # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)
@@ -41,7 +41,7 @@ class StageModel:
     """CasADi functions of one stage for one structure (its planned and held defenders, obstacles, objective).
 
     With the ``enclose`` objective a stage's θ holds its own step of the reference
-    (:func:`formulations.capture_model.stage_parameters`).
+    (:func:`mpc_hunt.formulations.capture_model.stage_parameters`).
     """
 
     def __init__(self, structure: Structure):
@@ -87,7 +87,7 @@ class StageModel:
         self.squared_distance = ca.Function("squared_distance", [x], [ca.vertcat(*squared)])
 
         # Distances, not their squares: linearised, a distance gives the tangent half-plane
-        # n̄·(p − c) ≥ R, the tightest inner approximation (the one formulations/qp.py uses).
+        # n̄·(p − c) ≥ R, the tightest inner approximation (the one mpc_hunt/formulations/qp.py uses).
         rows, lower, self.families = [], [], []
         for d in defenders:
             for o in range(m):
