@@ -78,13 +78,9 @@ def build_parser() -> argparse.ArgumentParser:
     _solver_arguments(sim, RECOMMENDED, "the recommended capture stage; the paper's is --controller paper "
                                         "--formulation nlp --horizon 1 (docs/robustness.md)")
     sim.add_argument("--controller", default=RECOMMENDED_CONTROLLER, choices=sorted(controllers.CONTROLLERS),
-                     help="enclose: the paper's model and constraints with the enclose objective, every defender "
-                          "planned (docs/formulations.md; the default, the best on the committed sweep); "
-                          "paper: the paper's strategy with its capture-stage optimisation; "
-                          "apf: the traditional potential-field encirclement, no optimisation; "
-                          "voronoi: the Voronoi encirclement from the pursuit-evasion literature, no optimisation "
-                          "(for apf and voronoi --formulation, --backend, --horizon, --time-limit and --score "
-                          "do not apply)")
+                     help=f"{controllers.described()} (default: {RECOMMENDED_CONTROLLER}; only "
+                          f"{', '.join(controllers.SOLVING)} take --formulation, --backend, --horizon, --time-limit "
+                          f"and --score)")
     sim.add_argument("--attacker", choices=list(BEHAVIOURS), metavar="NAME",
                      help=f"how the world moves the attacker, instead of the scenario's behaviour: "
                           f"{', '.join(BEHAVIOURS)} (mpc_hunt/world/behaviours/)")

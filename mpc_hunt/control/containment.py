@@ -34,6 +34,7 @@ import numpy as np
 
 from mpc_hunt.capture.problem import EncloseWeights, Reference
 from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.reference import Places
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
 from mpc_hunt.control.observed import ObservedVelocity
 from mpc_hunt.control.voronoi import VoronoiController, route
@@ -61,8 +62,13 @@ def around(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, gua
     return route(p_d, centre, angle, max(guard, 1e-9), reach)
 
 
-class Containment:
+class Containment(Places):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``contain`` controller."""
+
+    NAME = "contain"
+    SUMMARY = ("the capture problem tracking the Voronoi rule's places, moved with the attacker's observed "
+               "velocity (no model of the attacker)")
+    weights = CONTAIN_WEIGHTS
 
     def __init__(self, scenario: Scenario, horizon: int):
         self.scenario = scenario

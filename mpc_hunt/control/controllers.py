@@ -1,29 +1,66 @@
-"""Controllers by name: one file and one registry line each (the registry's pattern, for the control layer)."""
+"""Controllers by name, one registry line each: a geometric controller is its class; a solving controller is its
+reference (one file, :mod:`mpc_hunt.control.reference`) × the capture stage, registered as ``Solving(Reference)``."""
 
 from __future__ import annotations
 
 import inspect
+from dataclasses import dataclass
 
 import numpy as np
 
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.world.belief import Belief, believed
+from mpc_hunt.control.containment import Containment
 from mpc_hunt.control.encircling import EncirclingController
-from mpc_hunt.control.strategy import (AdaptiveStrategy, ContainingStrategy, EnclosingStrategy, HuntingStrategy,
-                                       TrappingStrategy)
+from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.control.reference import PaperObjective
+from mpc_hunt.control.strategy import AdaptiveStrategy, HuntingStrategy
+from mpc_hunt.control.trap import Trap
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.names import registered
 
+
+@dataclass(frozen=True)
+class Solving:
+    """A solving controller's registry line: its reference × the capture stage (:class:`HuntingStrategy`)."""
+
+    reference: type
+
+    @property
+    def OBJECTIVE(self) -> str:
+        return self.reference.OBJECTIVE
+
+    @property
+    def SUMMARY(self) -> str:
+        return self.reference.SUMMARY
+
+    def __call__(self, scenario, **options) -> HuntingStrategy:
+        return HuntingStrategy(scenario, self.reference, **options)
+
+
 CONTROLLERS = {
-    "paper": HuntingStrategy,
-    "enclose": EnclosingStrategy,
+    "paper": Solving(PaperObjective),
+    "enclose": Solving(Enclosure),
     "apf": EncirclingController,
     "voronoi": VoronoiController,
-    "contain": ContainingStrategy,
+    "contain": Solving(Containment),
     "adapt": AdaptiveStrategy,
-    "trap": TrappingStrategy,
+    "trap": Solving(Trap),
 }
-SOLVING = ("paper", "enclose", "contain", "adapt", "trap")     # the controllers that solve a capture problem (take solver settings)
+# The controllers that solve a capture problem (take solver settings): those that pose an objective.
+SOLVING = tuple(name for name, entry in CONTROLLERS.items() if hasattr(entry, "OBJECTIVE"))
+
+
+def described() -> str:
+    """Every registered controller with its summary, ``name: summary; ...`` (the CLI's help, the docs)."""
+    return "; ".join(f"{name}: {entry.SUMMARY}" for name, entry in CONTROLLERS.items())
+
+
+def table() -> str:
+    """The registry as a Markdown table (docs/architecture.md holds it; a test compares)."""
+    rows = [f"| `{name}` | {'the ' + entry.OBJECTIVE + ' objective' if name in SOLVING else 'no optimisation'} "
+            f"| {entry.SUMMARY} |" for name, entry in CONTROLLERS.items()]
+    return "\n".join(["| controller | capture stage | what it does |", "| --- | --- | --- |", *rows]) + "\n"
 
 
 def controller_objective(name: str) -> str:
@@ -32,12 +69,8 @@ def controller_objective(name: str) -> str:
 
 
 def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):
-    """A fresh controller for ``scenario`` by name: ``paper``, the strategy with the paper's capture
-    objective; ``enclose``, the same strategy with the enclose objective; ``apf``, the potential-field
-    encirclement, and ``voronoi``, the Voronoi encirclement, with no optimisation; ``contain``, the capture
-    problem tracking the Voronoi places with the attacker's observed velocity; ``trap``, the capture problem
-    tracking a minimum-time shrink of the attacker's reachable set; ``adapt``, ``enclose`` re-estimating the
-    attacker online.
+    """A fresh controller for ``scenario`` by its registered ``name`` (:data:`CONTROLLERS`; :func:`described`
+    says what each does), with ``options`` (a solving controller's solver settings, ``prediction``).
 
     The controller is built on the defenders' ``belief`` of the attacker (:func:`mpc_hunt.world.belief.believed`;
     ``rng`` draws its heading error), never on the world's behaviour."""

@@ -44,6 +44,8 @@ def circle_targets(p_a: np.ndarray, p_d: np.ndarray, ring_radius: float) -> np.n
 class EncirclingController:
     """Potential-field encirclement: the no-optimisation baseline (CLI ``--controller apf``)."""
 
+    SUMMARY = "the traditional potential-field encirclement, no optimisation"
+
     def __init__(self, scenario: Scenario, *, prediction: bool = True):
         self.scenario = scenario
         self.prediction = prediction

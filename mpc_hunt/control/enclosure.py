@@ -40,8 +40,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpc_hunt.capture.problem import Reference
+from mpc_hunt.capture.problem import EncloseWeights, Reference
 from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.reference import Places
 from mpc_hunt.world import attacker
 from mpc_hunt.world.geometry import direction, norm, unit
 from mpc_hunt.world.scenario import Scenario
@@ -78,8 +79,13 @@ class _Circle:
     heading: float | None = None     # the frozen escape (or herding) direction while closing
 
 
-class Enclosure:
+class Enclosure(Places):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``enclose`` objective."""
+
+    NAME = "enclose"
+    SUMMARY = ("the paper's model and constraints with the enclose objective: every defender planned towards "
+               "places on a hunting circle round the believed attacker (docs/formulations.md)")
+    weights = EncloseWeights()
 
     def __init__(self, scenario: Scenario, horizon: int):
         self.scenario = scenario

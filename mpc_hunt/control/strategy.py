@@ -25,15 +25,13 @@ import dataclasses
 
 import numpy as np
 
-from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target, approach_velocity
-from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem, EncloseWeights, checked_horizon
-from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment
+from mpc_hunt.capture.problem import CaptureProblem, checked_horizon
 from mpc_hunt.control.enclosure import Enclosure
-from mpc_hunt.control.trap import Trap
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
+from mpc_hunt.control.reference import CaptureReference, PaperObjective
 from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
@@ -80,49 +78,47 @@ def applied_plan(problem: CaptureProblem, solution: Solution, warm: np.ndarray |
 
 
 class HuntingStrategy:
-    """The paper's strategy; the capture stage solved by any formulation and backend, for either objective.
+    """A solving controller: a reference (:mod:`mpc_hunt.control.reference`) × the capture stage, solved over a
+    receding horizon by any formulation and backend.
 
-    ``objective="paper"``: Eqs. 12–15 for the defenders within R_agg, Eq. 6 for the others.
-    ``objective="enclose"``: every active defender planned at every step by the capture
-    problem, tracking the places :class:`~mpc_hunt.control.enclosure.Enclosure` builds.
+    ``reference``: :class:`~mpc_hunt.control.reference.PaperObjective` (the default, the paper's strategy: Eqs.
+    12–15 for the defenders within R_agg, Eq. 6 for the others), or a class building places that the enclose
+    objective tracks with every active defender (``Enclosure``, ``Containment``, ``Trap``).
     ``score``: the evaluator scores every plan, not only a failed solve's (the module's docstring).
     """
 
-    enclose_weights = EncloseWeights()     # the enclose objective's weights
-    OBJECTIVE = "paper"                    # the capture objective the controller poses unless told otherwise
-
-    def __init__(self, scenario: Scenario, *, prediction: bool = True, formulation: str = "nlp",
-                 backend: str | None = None, horizon: int = 1, time_limit: float | None = None,
-                 objective: str | None = None, score: bool = False, **solver_options):
-        objective = objective or self.OBJECTIVE
-        if objective not in OBJECTIVES:
-            raise MpcHuntError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
+    def __init__(self, scenario: Scenario, reference: type[CaptureReference] = PaperObjective, *,
+                 prediction: bool = True, formulation: str = "nlp", backend: str | None = None, horizon: int = 1,
+                 time_limit: float | None = None, score: bool = False, **solver_options):
         self.scenario = scenario
         self.prediction = prediction
         self.horizon = checked_horizon(horizon)
-        self.objective = objective
+        self.reference = reference(scenario, self.horizon)
+        self.objective = reference.OBJECTIVE
         self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
-        if objective not in self.solver.formulation.objectives:      # every solve would fail: refuse at once
+        if self.objective not in self.solver.formulation.objectives:      # every solve would fail: refuse at once
             raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(self.solver.formulation.objectives)}"
-                               f" objective, not this controller's {objective!r} (use a controller with that "
+                               f" objective, not this controller's {self.objective!r} (use a controller with that "
                                f"objective, or another formulation)")
-        self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
         self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
 
     def describe(self) -> dict:
-        return {"controller": "enclose" if self.enclosure else "paper", "prediction": self.prediction,
+        return {"controller": self.reference.NAME, "prediction": self.prediction,
                 "formulation": self.solver.formulation.name, "backend": self.solver.backend.name,
                 "horizon": self.horizon, "objective": self.objective}
 
     def command(self, obs: Observation) -> Command:
-        if self.enclosure is not None:
-            return self._enclose(obs)
+        """The capture stage's plan for the defenders it holds (the reference's places tracked, or Eq. 12 within
+        R_agg); Eq. 6 for the other active ones, filtered against the plan's next positions."""
         s = self.scenario
-        capture = attacker.perceives(s, obs.attacker, obs.defenders) & obs.active
+        capture = self.reference.capture_stage(obs)
         velocities, intercepts = approach_commands(s, obs, ~capture & obs.active, self.prediction)
         solution, fallback, planned_next = None, False, obs.defenders
         if capture.any():
-            problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active)
+            problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active,
+                                              reference=self.reference.reference(obs))
+            if self.reference.weights is not None and self.reference.weights != problem.enclose_weights:
+                problem = dataclasses.replace(problem, enclose_weights=self.reference.weights)
             solution, plan, fallback = self._capture(problem)
             velocities[capture] = (plan[0][capture] - obs.defenders[capture]) / s.hunt.time_step
             planned_next = plan[0]
@@ -131,19 +127,6 @@ class HuntingStrategy:
         velocities = keep_separation(obs.defenders, velocities, ~capture & obs.active, planned_next, s.hunt.time_step,
                                      s.defender_max_speeds, s.hunt.min_separation)
         return Command(velocities, capture, intercepts, solution, fallback)
-
-    def _enclose(self, obs: Observation) -> Command:
-        """Every active defender from the capture problem with the enclose objective."""
-        s = self.scenario
-        reference = self.enclosure.reference(obs)
-        problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active,
-                                          reference=reference)
-        if self.enclose_weights != problem.enclose_weights:
-            problem = dataclasses.replace(problem, enclose_weights=self.enclose_weights)
-        solution, plan, fallback = self._capture(problem)
-        velocities = np.where(problem.controlled[:, None], (plan[0] - obs.defenders) / s.hunt.time_step, 0.0)
-        intercepts = np.full_like(obs.defenders, np.nan)
-        return Command(velocities, problem.controlled.copy(), intercepts, solution, fallback)
 
     def _capture(self, problem: CaptureProblem):
         """Solve the capture problem; returns (solution, the plan applied, whether it is a fallback)."""
@@ -154,51 +137,17 @@ class HuntingStrategy:
         return solution, plan, fallback
 
 
-class EnclosingStrategy(HuntingStrategy):
-    """The strategy with the enclose objective (CLI ``--controller enclose``)."""
-
-    OBJECTIVE = "enclose"
-
-
-class ModelFreeStrategy(HuntingStrategy):
-    """The capture problem with the enclose objective and no term on a predicted attacker (``CONTAIN_WEIGHTS``),
-    tracking the places its ``REFERENCE`` builds from what the defenders observe; ``NAME`` is its controller's."""
-
-    enclose_weights = CONTAIN_WEIGHTS
-    OBJECTIVE = "enclose"
-    REFERENCE: type
-    NAME: str
-
-    def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, **options)
-        self.enclosure = self.REFERENCE(scenario, self.horizon)
-
-    def describe(self) -> dict:
-        return super().describe() | {"controller": self.NAME}
-
-
-class ContainingStrategy(ModelFreeStrategy):
-    """Tracking the Voronoi rule's places moved with the attacker's observed velocity,
-    :class:`~mpc_hunt.control.containment.Containment` (CLI ``--controller contain``)."""
-
-    REFERENCE, NAME = Containment, "contain"
-
-
-class TrappingStrategy(ModelFreeStrategy):
-    """Tracking the minimum-time shrink of the attacker's dominance region that :class:`~mpc_hunt.control.trap.Trap`
-    builds (CLI ``--controller trap``)."""
-
-    REFERENCE, NAME = Trap, "trap"
-
-
-class AdaptiveStrategy(EnclosingStrategy):
+class AdaptiveStrategy(HuntingStrategy):
     """The enclose controller whose model of the attacker is re-estimated every step from the observed track
     (:class:`~mpc_hunt.control.estimation.AttackerEstimator`; CLI ``--controller adapt``): the capture problem
     and the enclose reference predict the attacker with the estimated intent, gain and perception radius in
     place of the belief's, which is the estimator's prior."""
 
+    OBJECTIVE = "enclose"
+    SUMMARY = "enclose with the attacker's model re-estimated online from its observed track"
+
     def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, **options)
+        super().__init__(scenario, Enclosure, **options)
         self.prior = scenario
         self.estimator = AttackerEstimator(scenario)
         self.estimate: Estimate | None = None
@@ -208,5 +157,5 @@ class AdaptiveStrategy(EnclosingStrategy):
 
     def command(self, obs: Observation) -> Command:
         self.estimate = self.estimator.update(obs)
-        self.scenario = self.enclosure.scenario = self.estimate.scenario(self.prior)
+        self.scenario = self.reference.scenario = self.estimate.scenario(self.prior)
         return super().command(obs)

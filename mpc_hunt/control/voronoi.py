@@ -91,6 +91,9 @@ def route(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, reac
 class VoronoiController:
     """Voronoi encirclement, no optimisation (CLI ``--controller voronoi``)."""
 
+    SUMMARY = ("the Voronoi encirclement of the pursuit-evasion literature (area-minimising pursuit, Zhou et al. "
+               "2016), no optimisation")
+
     def __init__(self, scenario: Scenario, *, prediction: bool = True):
         self.scenario = scenario
         self.prediction = prediction

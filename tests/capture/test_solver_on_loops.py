@@ -12,6 +12,7 @@ from mpc_hunt import CaptureProblem, CaptureSolver, HuntingStrategy, Solution, S
 from mpc_hunt.formulations.stage_sqp import StageSQPFormulation
 from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.control.strategy import applied_plan
+from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.errors import MpcHuntError, SolverError
 
 HORIZON = 3
@@ -97,7 +98,7 @@ def test_the_solver_runs_a_loop_where_the_pair_closes_one():
 def test_a_hunt_on_the_loop_is_the_hunt_on_the_capture_solver():
     scenario = small_scenario(obstacles=((11.0, 6.0, 0.4),))
     scenario = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=40.0))
-    options = dict(objective="enclose", formulation="rti", backend="hpipm", horizon=5)
+    options = dict(reference=Enclosure, formulation="rti", backend="hpipm", horizon=5)
     looped, solved = HuntingStrategy(scenario, **options), HuntingStrategy(scenario, **options)
     solved.solver = CaptureSolver("rti", "hpipm", score=False, loop=False)
     assert looped.solver.on_loops
