@@ -71,8 +71,7 @@ class Containment(Places):
     weights = CONTAIN_WEIGHTS
 
     def __init__(self, scenario: Scenario, horizon: int):
-        self.scenario = scenario
-        self.horizon = horizon
+        super().__init__(scenario, horizon)
         self.rule = VoronoiController(scenario)
         self.observed = ObservedVelocity(scenario)
 

@@ -88,8 +88,7 @@ class Enclosure(Places):
     weights = EncloseWeights()
 
     def __init__(self, scenario: Scenario, horizon: int):
-        self.scenario = scenario
-        self.horizon = horizon
+        super().__init__(scenario, horizon)
         self.circle = _Circle()
         self._members: list[int] = []      # the first three, kept between steps
 

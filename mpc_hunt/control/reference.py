@@ -65,6 +65,10 @@ class Places:
 
     OBJECTIVE = "enclose"
 
+    def __init__(self, scenario: Scenario, horizon: int):
+        self.scenario = scenario
+        self.horizon = horizon
+
     def capture_stage(self, obs: Observation) -> np.ndarray:
         """Every active defender: nothing switches at R_agg."""
         return obs.active.copy()

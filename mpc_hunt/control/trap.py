@@ -94,8 +94,7 @@ class Trap(Places):
     weights = CONTAIN_WEIGHTS
 
     def __init__(self, scenario: Scenario, horizon: int):
-        self.scenario = scenario
-        self.horizon = horizon
+        super().__init__(scenario, horizon)
         self.observed = ObservedVelocity(scenario)
         self.rays = ray_directions()
         self.phase = "shrink"
