@@ -33,7 +33,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.recommended import (PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER, capture_settings,
                                           horizon_argument, solver_settings)
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
-from mpc_hunt.world.belief import Belief
+from mpc_hunt.world.belief import Belief, belief_rng
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_names, builtin_scenario,
                                         dumps_scenario, resolve_scenario)
 
@@ -273,15 +273,16 @@ def _controller_settings(args) -> dict:
         {"time_limit": args.time_limit, "score": args.score}
 
 
-def _controller(args, scenario, belief_rng, settings: dict):
+def _controller(args, scenario, drawn, settings: dict):
     """The controller the flags name with ``settings`` (:func:`_controller_settings`), built on the belief of
-    --belief (``belief_rng`` draws its errors)."""
+    --belief (``drawn``, the belief's generator, draws its errors)."""
     return controllers.make_controller(args.controller, scenario, prediction=not args.no_prediction,
-                                       belief=args.belief, rng=belief_rng, **settings)
+                                       belief=args.belief, rng=drawn, **settings)
 
 
 def _world(args, scenario):
-    """The scenario with --attacker's behaviour, the world's random generator and the belief's (--seed)."""
+    """The scenario with --attacker's behaviour, the world's random generator and the belief's (--seed;
+    :func:`~mpc_hunt.world.belief.belief_rng` of a lone hunt)."""
     import numpy as np
 
     from mpc_hunt.sim.simulator import DEFAULT_SEED
@@ -292,8 +293,7 @@ def _world(args, scenario):
         except MpcHuntError as exc:
             raise MpcHuntError(f"--attacker {args.attacker} on {args.scenario}: {exc}") from None
     world_seed = DEFAULT_SEED if args.seed is None else args.seed
-    belief_seed = np.random.SeedSequence(world_seed).spawn(1)[0]
-    return scenario, np.random.default_rng(world_seed), np.random.default_rng(belief_seed)
+    return scenario, np.random.default_rng(world_seed), belief_rng(world_seed)
 
 
 def _simulate(args) -> int:
@@ -302,8 +302,8 @@ def _simulate(args) -> int:
     settings = _controller_settings(args)
     check_output(args.plot, FIGURE_SUFFIXES, "--plot")
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
-    scenario, world, belief_rng = _world(args, resolve_scenario(args.scenario))
-    controller = _controller(args, scenario, belief_rng, settings)
+    scenario, world, drawn = _world(args, resolve_scenario(args.scenario))
+    controller = _controller(args, scenario, drawn, settings)
     with stop_at_once("simulate"), Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
         result = simulate(scenario, controller, progress=update, rng=world)
     report = result.to_dict()

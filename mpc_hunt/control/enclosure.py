@@ -36,6 +36,7 @@ the centre), the circle gathers again.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -87,8 +88,8 @@ class Enclosure(Places):
                "places on a hunting circle round the believed attacker (docs/formulations.md)")
     weights = EncloseWeights()
 
-    def __init__(self, scenario: Scenario, horizon: int):
-        super().__init__(scenario, horizon)
+    def __init__(self, scenario: Scenario, horizon: int, posed: Callable[[], Scenario] | None = None):
+        super().__init__(scenario, horizon, posed)
         self.circle = _Circle()
         self._members: list[int] = []      # the first three, kept between steps
 

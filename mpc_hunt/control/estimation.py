@@ -42,13 +42,13 @@ The fit (docs/estimation.md gives the measurements behind each choice):
   likewise whether scaling (v_nom, g) by ``SCALE_CHANGE`` (10 %) either way
   would worsen the fit significantly (an intent above v_a being excluded).
 
-The prior is the believed scenario's attacker; R is searched within
+The prior is the defenders' believed model (:class:`~mpc_hunt.world.belief.AttackerModel`); each update
+returns it with the fit put in (k_d = g/η, keeping η). R is searched within
 [R₀/RADIUS_SPAN, R₀·RADIUS_SPAN] and g within [g₀/GAIN_SPAN, g₀·GAIN_SPAN].
 """
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from collections import deque
 from dataclasses import dataclass
@@ -56,6 +56,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpc_hunt.control.controller import Observation
+from mpc_hunt.world.belief import AttackerModel
 from mpc_hunt.world.field import FIELD_FLOOR, nominal_intent, obstacle_repulsion
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Scenario
@@ -81,29 +82,15 @@ SATURATED = 1.0 - 1e-6  # of v_a: an observed speed at least this counts as capp
 
 @dataclass(frozen=True)
 class Estimate:
-    """The attacker's parameters as estimated from the window (see the module's docstring)."""
+    """The attacker model fitted to the window, and how far the window supports it (the module's docstring)."""
 
-    intent: np.ndarray        # (2,) m/s: v_nom
-    gain: float               # k_d η
-    perception_radius: float  # m: R_agg
+    model: AttackerModel      # the prior with the fitted v_nom, g = k_d η and R_agg put in (AttackerModel.fitted)
     identified: bool          # the defenders' field was seen: gain and perception_radius were fitted
     speed_identified: bool    # the scale of (v_nom, g) is seen, not only the intent's direction and g/|v_nom|
                               # (False too for an intent of zero with no push: it has no scale)
     samples: int              # velocity samples used
     residual: float           # m/s: RMS of the fitted model's velocity error over the samples
     solve_time: float         # s: the cost of this update
-
-    def scenario(self, believed: Scenario) -> Scenario:
-        """``believed`` with these estimates put in, so that its prediction of the attacker uses them.
-
-        The attacker's nominal_velocity and perception_radius are replaced; the
-        gain goes into k_d = gain / η, keeping η, which also scales the
-        obstacles' field (Eq. 3).
-        """
-        attacker = dataclasses.replace(believed.attacker, nominal_velocity=tuple(map(float, self.intent)),
-                                       perception_radius=float(self.perception_radius))
-        hunt = dataclasses.replace(believed.hunt, k_d=float(self.gain) / believed.hunt.eta)
-        return dataclasses.replace(believed, attacker=attacker, hunt=hunt)
 
 
 def _field(radii: np.ndarray, offsets: np.ndarray, distances: np.ndarray) -> np.ndarray:
@@ -150,20 +137,20 @@ def _velocities(x: np.ndarray, offsets: np.ndarray, distances: np.ndarray, pushe
 class AttackerEstimator:
     """Estimates the attacker's intent, gain and perception radius online (the module's docstring).
 
-    Built from the defenders' believed scenario: its obstacles, time step, the
-    attacker's top speed and the obstacles' field are taken as known; its
-    attacker's parameters are the prior. ``update`` once per observation.
+    ``prior`` is the defenders' model before any observation (:class:`~mpc_hunt.world.belief.AttackerModel`;
+    its top speed and η are taken as known); ``scenario`` gives what else is known: the obstacles, the time step
+    and the obstacles' field (Eq. 3, with the model's η). ``update`` once per observation: it returns the
+    model updated from the track, which the controller predicts with.
     """
 
-    def __init__(self, believed: Scenario):
-        attacker, hunt = believed.attacker, believed.hunt
-        self.T, self.top = hunt.time_step, attacker.max_speed
-        self.prior = np.r_[nominal_intent(np.array(attacker.nominal_velocity), self.top), hunt.k_d * hunt.eta,
-                           attacker.perception_radius]
+    def __init__(self, scenario: Scenario, prior: AttackerModel):
+        self.T, self.top = scenario.hunt.time_step, prior.max_speed
+        self.prior_model = prior
+        self.prior = np.r_[nominal_intent(np.array(prior.intent), self.top), prior.gain, prior.perception_radius]
         g0, r0 = self.prior[2:]
         self.lower = np.r_[-self.top, -self.top, g0 / GAIN_SPAN, r0 / RADIUS_SPAN]
         self.upper = np.r_[self.top, self.top, g0 * GAIN_SPAN, r0 * RADIUS_SPAN]
-        self.believed = believed
+        self.scenario = scenario
         self.window: deque = deque(maxlen=WINDOW)
         self.last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None   # p_a, p_d, o at the last observation
         self.x = self.prior.copy()                  # the last fit (v_nom, g, R)
@@ -173,7 +160,8 @@ class AttackerEstimator:
 
     def update(self, obs: Observation) -> Estimate:
         """Add the velocity sample that ``obs`` completes (with the defenders of the previous observation),
-        refit, and return the estimate. Non-finite positions are skipped."""
+        refit, and return the estimate (its model: the prior with the fit put in). Non-finite positions are
+        skipped."""
         start = time.perf_counter()
         attacker, defenders = np.asarray(obs.attacker, dtype=float), np.asarray(obs.defenders, dtype=float)
         if self.last is not None and obs.previous_attacker is not None:
@@ -211,13 +199,13 @@ class AttackerEstimator:
 
     def _obstacle_push(self, p_a: np.ndarray) -> np.ndarray:
         """o = k_o Σ_o H(r_ao) (Eqs. 3 and 9), known to the defenders."""
-        s, hunt = self.believed, self.believed.hunt
+        s, hunt = self.scenario, self.scenario.hunt
         return hunt.k_o * obstacle_repulsion(p_a, s.obstacle_centres, s.obstacle_radii, hunt.protective_distance,
-                                             hunt.eta)
+                                             self.prior_model.eta)
 
     def _estimate(self, x: np.ndarray, identified: bool, speed_identified: bool, residual: float,
                   start: float) -> Estimate:
-        return Estimate(x[:2].copy(), float(x[2]), float(x[3]), identified, speed_identified, len(self.window),
+        return Estimate(self.prior_model.fitted(x[:2], x[2], x[3]), identified, speed_identified, len(self.window),
                         residual, time.perf_counter() - start)
 
     def _load(self) -> None:

@@ -13,6 +13,7 @@ new reference (one file) and one line in :data:`mpc_hunt.control.controllers.CON
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol
 
 import numpy as np
@@ -61,13 +62,22 @@ class PaperObjective:
 
 class Places:
     """The base of a reference of places, tracked by the enclose objective with every active defender: a
-    subclass sets ``NAME``, ``SUMMARY``, ``weights`` and builds :meth:`reference`."""
+    subclass sets ``NAME``, ``SUMMARY``, ``weights`` and builds :meth:`reference`.
+
+    ``posed``, if given, returns at each step the scenario whose attacker the places predict (a controller whose
+    model of the attacker changes: the adapt controller's current model); else it is ``scenario`` throughout.
+    """
 
     OBJECTIVE = "enclose"
 
-    def __init__(self, scenario: Scenario, horizon: int):
-        self.scenario = scenario
+    def __init__(self, scenario: Scenario, horizon: int, posed: Callable[[], Scenario] | None = None):
+        self._scenario, self._posed = scenario, posed
         self.horizon = horizon
+
+    @property
+    def scenario(self) -> Scenario:
+        """The defenders' believed scenario the places are built on this step."""
+        return self._scenario if self._posed is None else self._posed()
 
     def capture_stage(self, obs: Observation) -> np.ndarray:
         """Every active defender: nothing switches at R_agg."""

@@ -33,6 +33,7 @@ from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.reference import CaptureReference, PaperObjective
 from mpc_hunt.capture.plan import shift_plan
+from mpc_hunt.world.belief import AttackerModel
 from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
@@ -139,23 +140,42 @@ class HuntingStrategy:
 
 class AdaptiveStrategy(HuntingStrategy):
     """The enclose controller whose model of the attacker is re-estimated every step from the observed track
-    (:class:`~mpc_hunt.control.estimation.AttackerEstimator`; CLI ``--controller adapt``): the capture problem
-    and the enclose reference predict the attacker with the estimated intent, gain and perception radius in
-    place of the belief's, which is the estimator's prior."""
+    (CLI ``--controller adapt``): a prior :class:`~mpc_hunt.world.belief.AttackerModel`, the belief's, and an
+    :class:`~mpc_hunt.control.estimation.AttackerEstimator` beside the controller that updates it; the capture
+    problem and the enclose reference predict the attacker with the current model (its intent, gain and
+    perception radius). ``scenario`` is the hunt it was built on (arena, defenders, obstacles, parameters) posed
+    with that model (:meth:`AttackerModel.scenario <mpc_hunt.world.belief.AttackerModel.scenario>`)."""
 
     OBJECTIVE = "enclose"
     SUMMARY = "enclose with the attacker's model re-estimated online from its observed track"
 
     def __init__(self, scenario: Scenario, **options):
-        super().__init__(scenario, Enclosure, **options)
-        self.prior = scenario
-        self.estimator = AttackerEstimator(scenario)
         self.estimate: Estimate | None = None
+        super().__init__(scenario, Enclosure, **options)
+        self.estimator = AttackerEstimator(scenario, self.prior)
+        self.reference = Enclosure(scenario, self.horizon, posed=self.posed)
+
+    @property
+    def model(self) -> AttackerModel:
+        """The model the step predicts with: the last estimate's, the prior before the first update."""
+        return self.prior if self.estimate is None else self.estimate.model
+
+    def posed(self) -> Scenario:
+        """The hunt with the current model's attacker, made once per model."""
+        if self._posed[0] is not self.model:
+            self._posed = (self.model, self.model.scenario(self.hunt))
+        return self._posed[1]
+
+    def _given(self, hunt: Scenario) -> None:
+        """The hunt the controller is built on; its attacker is the prior model."""
+        self.hunt, self.prior = hunt, AttackerModel.of(hunt)
+        self._posed = (self.prior, hunt)
+
+    scenario = property(posed, _given)
 
     def describe(self) -> dict:
         return super().describe() | {"controller": "adapt"}
 
     def command(self, obs: Observation) -> Command:
         self.estimate = self.estimator.update(obs)
-        self.scenario = self.reference.scenario = self.estimate.scenario(self.prior)
         return super().command(obs)

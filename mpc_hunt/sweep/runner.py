@@ -48,7 +48,7 @@ from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, with_behaviour
-from mpc_hunt.world.belief import Belief, parse_belief
+from mpc_hunt.world.belief import WORLD, Belief, belief_rng, parse_belief
 
 # The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
@@ -61,7 +61,6 @@ DASK_IN_FLIGHT = 1_000   # hunts handed to a Dask cluster at once (more are hand
 PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
 EXACT = Belief().label()
 _END = object()          # the end of a task iterator
-WORLD, BELIEF = 0, 1     # hunt_rngs' streams: the attacker's behaviour, the belief's errors
 
 
 @dataclass(frozen=True)
@@ -108,17 +107,18 @@ class Strategy:
 
 
 def hunt_rngs(seed: int, index: int, member: int = 0) -> tuple[np.random.Generator, np.random.Generator]:
-    """The world's generator (the attacker's behaviour) and the belief's (its heading error) for hunt ``index``
-    of the sweep ``seed``, ensemble member ``member``: children ``WORLD`` and ``BELIEF`` of child ``member`` of
-    child ``index`` of ``SeedSequence(seed)``, i.e. ``SeedSequence(seed, spawn_key=(index, member, k))``.
+    """The world's generator (the attacker's behaviour) and the belief's (its heading error,
+    :func:`~mpc_hunt.world.belief.belief_rng`) for hunt ``index`` of the sweep ``seed``, ensemble member
+    ``member``: children ``WORLD`` and ``BELIEF`` of child ``member`` of child ``index`` of ``SeedSequence(seed)``,
+    i.e. ``SeedSequence(seed, spawn_key=(index, member, k))``.
 
     Spawned as the scenario's own generator is (``random_scenario.sweep_rng``, spawn key ``(index,)``), apart
     from it and from each other; the same for every strategy. Not ``default_rng([seed, index, member, k])``:
     numpy pads a short seed list with zeros, so ``[seed, index, member, 0]`` is the stream of
     ``[seed, index, member]``, which moves an ensemble member's starts (``_drawn``).
     """
-    return tuple(np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, member, k)))
-                 for k in (WORLD, BELIEF))
+    world = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, member, WORLD)))
+    return world, belief_rng(seed, index, member)
 
 
 @dataclass(frozen=True)

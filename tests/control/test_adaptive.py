@@ -16,13 +16,18 @@ def test_a_wrong_belief_is_corrected_from_the_track_and_the_hunt_is_captured():
     world = builtin_scenario("paper-obstacles")
     controller = make_controller("adapt", world, belief=Belief(perception_radius=1.3, eta=3.0), formulation="rti",
                                  backend="hpipm", horizon=10)
-    assert controller.prior.attacker.perception_radius == pytest.approx(1 / 1.3)
+    assert controller.prior.perception_radius == pytest.approx(1 / 1.3) and controller.model is controller.prior
+    hunt = controller.hunt
     result = simulate(world, controller)
     assert result.captured
-    estimate, model = controller.estimate, controller.scenario
-    assert estimate.identified
+    estimate, model = controller.estimate, controller.model
+    assert estimate.identified and model is estimate.model
     # Noise-free track: recovered to the fit's precision (achieved 1e-13; the prior is 23 % and 200 % off).
-    assert model.attacker.perception_radius == pytest.approx(world.attacker.perception_radius, rel=1e-6)
-    assert model.hunt.k_d * model.hunt.eta == pytest.approx(world.hunt.k_d * world.hunt.eta, rel=1e-6)
-    assert model.attacker.nominal_velocity == pytest.approx((0.0212132, -0.0212132), abs=1e-6)
+    assert model.perception_radius == pytest.approx(world.attacker.perception_radius, rel=1e-6)
+    assert model.gain == pytest.approx(world.hunt.k_d * world.hunt.eta, rel=1e-6)
+    assert model.intent == pytest.approx((0.0212132, -0.0212132), abs=1e-6)
+    # The capture problem and the enclose reference are posed with the model on the hunt the controller was
+    # built on, which stays as given.
+    assert controller.hunt is hunt and controller.reference.scenario is controller.scenario
+    assert controller.scenario == model.scenario(hunt) != hunt
     assert controller.describe()["controller"] == "adapt"

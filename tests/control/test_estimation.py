@@ -20,6 +20,7 @@ from mpc_hunt import CaptureProblem, Obstacle, Scenario, builtin_scenario
 from mpc_hunt.control import estimation
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
+from mpc_hunt.world.belief import AttackerModel
 from mpc_hunt.world.attacker import nominal_velocity, perceives, velocity
 from mpc_hunt.world.geometry import norm
 
@@ -45,6 +46,11 @@ def believed(truth: Scenario, prior: Scenario = PRIOR) -> Scenario:
     return dataclasses.replace(truth, attacker=prior.attacker, hunt=prior.hunt)
 
 
+def estimator(believed: Scenario) -> AttackerEstimator:
+    """The estimator the adapt controller composes on ``believed``: its attacker the prior model."""
+    return AttackerEstimator(believed, AttackerModel.of(believed))
+
+
 def observations(truth: Scenario, steps=150, reach=(0.3, 2.5), noise=0.0, seed=0):
     """The observations of a hunt: three defenders circle the attacker, their distances sweeping ``reach``
     (periods 6–14 s) as they turn (0.1–0.4 rad/s); the attacker's observed position has white noise."""
@@ -66,17 +72,18 @@ def observations(truth: Scenario, steps=150, reach=(0.3, 2.5), noise=0.0, seed=0
 
 def estimate(truth: Scenario, prior: Scenario = PRIOR, **hunt) -> Estimate:
     """The estimate after the hunt's last observation."""
-    estimator = AttackerEstimator(believed(truth, prior))
+    updated = estimator(believed(truth, prior))
     for obs in observations(truth, **hunt):
-        result = estimator.update(obs)
+        result = updated.update(obs)
     return result
 
 
 def errors(result: Estimate, truth: Scenario) -> tuple[float, float, float]:
     """|intent error| (m/s), relative gain error, relative radius error."""
     gain = truth.hunt.k_d * truth.hunt.eta
-    return (float(norm(result.intent - nominal_velocity(truth))), abs(result.gain / gain - 1),
-            abs(result.perception_radius / truth.attacker.perception_radius - 1))
+    model = result.model
+    return (float(norm(np.array(model.intent) - nominal_velocity(truth))), abs(model.gain / gain - 1),
+            abs(model.perception_radius / truth.attacker.perception_radius - 1))
 
 
 @pytest.mark.parametrize("truth", [
@@ -119,7 +126,7 @@ def test_an_attacker_with_no_intent_is_told_by_its_pushes_alone(log_gain, radius
     # On 40 such truths (the first the worst): radius within 0.41 %, residual under 1e-14 m/s.
     assert result.identified and errors(result, truth)[2] < 1e-2 and result.residual < 1e-5
     if result.speed_identified:
-        assert norm(result.intent) < 1e-9
+        assert norm(np.array(result.model.intent)) < 1e-9
 
 
 def test_heavy_saturation_is_recovered_from_directions():
@@ -140,9 +147,9 @@ def test_when_every_sample_is_capped_only_the_ratio_of_gain_to_intent_is_seen():
     result = estimate(truth, reach=(0.3, 1.5))                        # every defender always within 1.7 m
     assert result.identified and not result.speed_identified
     # The fastest intent that fits: |v_nom| = v_a, with the gain scaled alike; the radius is exact.
-    np.testing.assert_allclose(result.intent, [0.0, TOP], atol=1e-9)
-    assert result.gain == pytest.approx(0.25 * TOP / 0.007, rel=1e-6)
-    assert result.perception_radius == pytest.approx(1.7, rel=1e-6)
+    np.testing.assert_allclose(result.model.intent, [0.0, TOP], atol=1e-9)
+    assert result.model.gain == pytest.approx(0.25 * TOP / 0.007, rel=1e-6)
+    assert result.model.perception_radius == pytest.approx(1.7, rel=1e-6)
     assert result.residual < 1e-8
 
 
@@ -151,8 +158,8 @@ def test_with_no_defender_in_range_the_intent_is_recovered_and_the_field_is_the_
     truth = world(**MODERATE)
     result = estimate(truth, reach=reach)
     assert not result.identified
-    assert result.gain == PRIOR.hunt.k_d * PRIOR.hunt.eta
-    assert result.perception_radius == PRIOR.attacker.perception_radius
+    assert result.model.gain == PRIOR.hunt.k_d * PRIOR.hunt.eta
+    assert result.model.perception_radius == PRIOR.attacker.perception_radius
     # Achieved: intent within 1.6e-15 m/s.
     assert errors(result, truth)[0] < 1e-9 and result.residual < 1e-9
 
@@ -178,8 +185,8 @@ def test_noise_with_no_defender_in_range_is_not_taken_for_a_field():
 def test_the_estimate_corrects_the_capture_problems_prediction():
     truth = world(**MODERATE)
     prior, result = believed(truth), estimate(truth)
-    fitted = result.scenario(prior)
-    assert fitted.hunt.eta == prior.hunt.eta and fitted.hunt.k_d * fitted.hunt.eta == pytest.approx(result.gain)
+    fitted = result.model.scenario(prior)
+    assert fitted.hunt.eta == prior.hunt.eta and fitted.hunt.k_d * fitted.hunt.eta == result.model.gain
     assert fitted.obstacles == prior.obstacles and fitted.attacker.max_speed == prior.attacker.max_speed
     later = list(observations(truth, steps=300))[150:]               # states after the window
     missed, planned = {"prior": [], "fitted": []}, {"prior": [], "fitted": []}
@@ -200,37 +207,39 @@ def test_the_estimate_corrects_the_capture_problems_prediction():
 
 def test_the_gain_goes_into_k_d_keeping_eta_which_also_scales_the_obstacles_field():
     believed_ = dataclasses.replace(PRIOR, hunt=dataclasses.replace(PRIOR.hunt, eta=2.0, k_d=0.5))
-    fitted = Estimate(np.array([0.01, 0.0]), 0.3, 1.4, True, True, 100, 0.0, 0.0).scenario(believed_)
+    fitted = AttackerModel.of(believed_).fitted(np.array([0.01, 0.0]), 0.3, 1.4).scenario(believed_)
     assert fitted.hunt.eta == 2.0 and fitted.hunt.k_d == pytest.approx(0.15)
     assert fitted.attacker.nominal_velocity == (0.01, 0.0) and fitted.attacker.perception_radius == 1.4
     assert dataclasses.replace(fitted, attacker=believed_.attacker, hunt=believed_.hunt) == believed_
 
 
 def test_the_prior_stands_until_there_are_enough_samples():
-    estimator = AttackerEstimator(PRIOR)
+    updated = estimator(PRIOR)
     for k, obs in enumerate(observations(world(**MODERATE), steps=estimation.MIN_SAMPLES)):
-        result = estimator.update(obs)
+        result = updated.update(obs)
         assert result.samples == k and not result.identified
-        np.testing.assert_array_equal(result.intent, nominal_velocity(PRIOR))
-        assert result.gain == 1.0 and result.perception_radius == 1.0 and np.isfinite(result.residual)
+        model = result.model
+        np.testing.assert_array_equal(model.intent, nominal_velocity(PRIOR))
+        assert model.gain == 1.0 and model.perception_radius == 1.0 and np.isfinite(result.residual)
 
 
 def test_an_attacker_standing_still_is_estimated_standing_still():
     result = estimate(world(intent=(0.0, 0.0), gain=0.004, radius=1.2), reach=(3.2, 4.5))
-    assert not result.identified and norm(result.intent) < 1e-12 and result.residual < 1e-12
+    assert not result.identified and norm(np.array(result.model.intent)) < 1e-12 and result.residual < 1e-12
 
 
 def test_non_finite_observations_and_a_new_team_are_skipped():
     truth = world(**MODERATE)
-    estimator = AttackerEstimator(PRIOR)
+    updated = estimator(PRIOR)
     hunt = list(observations(truth, steps=150))
     for k, obs in enumerate(hunt):
         if k == 60:
             obs = dataclasses.replace(obs, attacker=np.array([np.nan, 0.0]))
         if k == 120:
             obs = dataclasses.replace(obs, defenders=obs.defenders[:2])
-        result = estimator.update(obs)
-        assert np.all(np.isfinite(result.intent)) and np.isfinite(result.gain) and np.isfinite(result.residual)
+        result = updated.update(obs)
+        model = result.model
+        assert np.all(np.isfinite(model.intent)) and np.isfinite(model.gain) and np.isfinite(result.residual)
     assert result.samples == 28                 # the window restarted when the team changed at k = 120
     assert result.identified and max(errors(result, truth)) < 1e-6
 
@@ -240,21 +249,22 @@ def test_non_finite_observations_and_a_new_team_are_skipped():
 def test_any_track_gives_a_finite_estimate_within_the_bounds(data, steps, defenders):
     """Arbitrary positions, jumps and coincidences: never NaN, never outside the searched ranges."""
     coordinate = st.floats(-5.0, 5.0)
-    estimator, previous = AttackerEstimator(PRIOR), None
+    updated, previous = estimator(PRIOR), None
     for k in range(steps):
         p_a = np.array(data.draw(st.tuples(coordinate, coordinate)))
         p_d = p_a + np.array(data.draw(st.lists(st.tuples(coordinate, coordinate), min_size=defenders,
                                                 max_size=defenders))) * data.draw(st.sampled_from([0.0, 0.1, 1.0]))
-        result = estimator.update(Observation(0.1 * k, p_a, previous, p_d))
+        result = updated.update(Observation(0.1 * k, p_a, previous, p_d))
         previous = p_a
-        values = np.r_[result.intent, result.gain, result.perception_radius, result.residual, result.solve_time]
-        assert np.all(np.isfinite(values)) and norm(result.intent) <= TOP * (1 + 1e-12)
-        assert 1e-3 <= result.gain <= 1e3 and 1 / 3 <= result.perception_radius <= 3
+        model = result.model
+        values = np.r_[model.intent, model.gain, model.perception_radius, result.residual, result.solve_time]
+        assert np.all(np.isfinite(values)) and norm(np.array(model.intent)) <= TOP * (1 + 1e-12)
+        assert 1e-3 <= model.gain <= 1e3 and 1 / 3 <= model.perception_radius <= 3
 
 
 def test_an_update_is_cheap():
-    estimator = AttackerEstimator(believed(world(**MODERATE)))
-    times = [estimator.update(obs).solve_time for obs in observations(world(**MODERATE), steps=300)]
+    updated = estimator(believed(world(**MODERATE)))
+    times = [updated.update(obs).solve_time for obs in observations(world(**MODERATE), steps=300)]
     # Measured (docs/estimation.md): median 0.8 ms, mean 1.3 ms, a search (one update in ten) 4.3 ms. A loose
     # bound, to catch an order of magnitude, not to time the machine.
     assert np.median(times[estimation.MIN_SAMPLES:]) < 0.02
@@ -273,8 +283,8 @@ if __name__ == "__main__":      # the measurements quoted in docs/estimation.md
         result = estimate(truth, prior, **hunt)
         intent, gain, radius = errors(result, truth)
         print(f"{name}: {intent:.1e}, {gain:.1e}, {radius:.1e}, {result.identified}")
-    estimator = AttackerEstimator(believed(world(**MODERATE)))
-    times = 1e3 * np.array([estimator.update(obs).solve_time for obs in observations(world(**MODERATE), steps=600)])
+    updated = estimator(believed(world(**MODERATE)))
+    times = 1e3 * np.array([updated.update(obs).solve_time for obs in observations(world(**MODERATE), steps=600)])
     times = times[estimation.MIN_SAMPLES:]
     print(f"per update (ms): median {np.median(times):.2f}, mean {times.mean():.2f}, "
           f"p90 {np.percentile(times, 90):.2f}, max {times.max():.2f}")
