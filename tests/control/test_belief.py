@@ -12,7 +12,7 @@ from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, make_controller
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.world.belief import Belief, believed, parse_belief
+from mpc_hunt.world.belief import AttackerModel, Belief, belief_rng, believed, parse_belief
 from mpc_hunt.world.scenario_io import builtin_scenario
 
 OPTIONS = {"formulation": "rti", "backend": "hpipm", "horizon": 5}
@@ -31,6 +31,26 @@ def test_the_believed_scenario_is_the_papers_attacker_with_the_believed_paramete
     assert model.hunt.eta == pytest.approx(world.hunt.eta / 3.0, rel=1e-15)
     assert model.attacker.nominal_velocity == world.attacker.nominal_velocity
     assert (model.defenders, model.obstacles, model.arena) == (world.defenders, world.obstacles, world.arena)
+
+
+def test_the_model_built_from_a_belief_carries_the_believed_parameters_not_the_worlds():
+    world = _with(builtin_scenario("paper-obstacles"), "gap", sensing_radius=3.0)
+    world = dataclasses.replace(world, hunt=dataclasses.replace(world.hunt, eta=2.0, k_d=0.5))
+    model = AttackerModel.believed(world, Belief(perception_radius=1.3, eta=4.0, intent_heading=60.0),
+                                   np.random.default_rng(2))
+    assert model.perception_radius == world.attacker.perception_radius / 1.3
+    assert (model.eta, model.k_d, model.gain) == (0.5, 0.5, 0.25)
+    assert model.max_speed == world.attacker.max_speed and model.LAW == "apf"
+    assert model.intent != pytest.approx(world.attacker.nominal_velocity, abs=1e-3)
+    assert math.hypot(*model.intent) == pytest.approx(math.hypot(*world.attacker.nominal_velocity), rel=1e-12)
+    # The one place a believed scenario is made: the world's hunt with the model's attacker.
+    posed = model.scenario(world)
+    assert AttackerModel.of(posed) == model and (posed.attacker.behaviour, posed.attacker.sensing_radius) == \
+        ("apf", None)
+    assert dataclasses.replace(posed, attacker=world.attacker, hunt=world.hunt) == world
+    assert believed(world, Belief(perception_radius=1.3, eta=4.0, intent_heading=60.0),
+                    np.random.default_rng(2)) == posed
+    assert AttackerModel.of(world) == AttackerModel.believed(world)
 
 
 def test_the_intent_heading_error_is_drawn_within_its_bound_by_the_passed_in_generator():
@@ -109,3 +129,30 @@ def test_the_worlds_behaviour_changes_the_hunt():
 def test_an_observation_carries_no_behaviour():
     assert {f.name for f in dataclasses.fields(Observation)} == {"time", "attacker", "previous_attacker",
                                                                   "defenders", "failed"}
+
+
+def test_the_cli_and_the_sweep_draw_the_belief_from_the_one_function_with_todays_streams(monkeypatch):
+    """``mpc-hunt simulate --seed S``: child 0 of SeedSequence(S); sweep hunt (seed, index, member): child 1 of
+    its node (index, member), beside the world's child 0. Both from :func:`belief_rng`."""
+    import argparse
+
+    from mpc_hunt.cli import commands
+    from mpc_hunt.sweep import runner
+
+    assert belief_rng(5).bit_generator.state == \
+        np.random.default_rng(np.random.SeedSequence(5).spawn(1)[0]).bit_generator.state
+    node = np.random.SeedSequence(7).spawn(4)[3].spawn(3)[2]
+    assert belief_rng(7, 3, 2).bit_generator.state == np.random.default_rng(node.spawn(2)[1]).bit_generator.state
+    asked = []
+
+    def spy(*args):
+        asked.append(args)
+        return belief_rng(*args)
+
+    monkeypatch.setattr(commands, "belief_rng", spy)
+    monkeypatch.setattr(runner, "belief_rng", spy)
+    _, world, drawn = commands._world(argparse.Namespace(attacker=None, seed=5), builtin_scenario("paper-open"))
+    assert drawn.bit_generator.state == belief_rng(5).bit_generator.state
+    assert world.bit_generator.state == np.random.default_rng(5).bit_generator.state
+    assert runner.hunt_rngs(7, 3, 2)[1].bit_generator.state == belief_rng(7, 3, 2).bit_generator.state
+    assert asked == [(5,), (7, 3, 2)]
