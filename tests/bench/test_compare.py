@@ -128,7 +128,7 @@ def test_bad_arguments_are_one_line(capsys, argv, message):
 
 
 def test_the_score_and_the_accuracy_table_are_documented_as_the_code_has_them():
-    formulations = (ROOT / "docs" / "mpc_hunt.formulations.md").read_text(encoding="utf-8")
+    formulations = (ROOT / "docs" / "formulations.md").read_text(encoding="utf-8")
     benchmarks = (ROOT / "docs" / "benchmarks.md").read_text(encoding="utf-8")
     assert OBJECTIVE in formulations
     assert accuracy_table() in benchmarks
