@@ -3,18 +3,14 @@
 Each defender is in the approaching stage (|r_ai| ≥ R_agg: Eq. 6 towards the
 predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions
 come from the capture-stage problem, Eqs. 12–15, solved over a receding
-horizon). The strategy keeps the one memory of the previous plan: the plan it
-applied, handed to the solver, shifted one step, as the next warm start while
-the same defenders are controlled. ``CaptureSolver`` runs a stage-form pair
-that closes into one Function (``rti``, ``stage-sqp`` on ``hpipm``,
-``hpipm-codegen``) as a control loop; for every pair the evaluator scores a
-successful plan only with ``score=True``, a failed one always. When a solve
-fails, the fallback (counted) is, in order: the solver's last iterate if the shared evaluator scored it
-feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
-stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not
-differentiable); else the applied plan shifted one step; else holding position,
-which the problem's constraints always allow. The approaching defenders'
-commands pass the safety-distance filter (:mod:`mpc_hunt.world.safety`), then the
+horizon). The receding-horizon memory is one
+:class:`~mpc_hunt.solving.mpc.CaptureMPC`'s (``mpc``; ``mpc.solver`` is its
+:class:`~mpc_hunt.solving.solver.CaptureSolver`): the plan applied, shifted one
+step, as the next warm start while the same defenders are controlled, and the
+fallback when a solve fails (counted; the order is in :mod:`mpc_hunt.solving.mpc`).
+The evaluator scores a successful plan only with ``score=True``, a failed one
+always. The approaching defenders' commands pass the safety-distance filter
+(:mod:`mpc_hunt.world.safety`), then the
 separation filter (:mod:`mpc_hunt.world.separation`) against the capture-stage
 defenders' next positions and each other.
 """
@@ -34,14 +30,10 @@ from mpc_hunt.control.trap import Trap
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
-from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
-from mpc_hunt.capture.solution import Solution
-from mpc_hunt.solving.solver import CaptureSolver
-
-FEASIBLE_TOLERANCE = 1e-6
+from mpc_hunt.solving.mpc import CaptureMPC
 
 
 def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndarray,
@@ -61,22 +53,6 @@ def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndar
             obs.defenders[i], approach_velocity(scenario, obs.defenders[i], target, speeds[i], others),
             scenario.obstacle_centres, scenario.obstacle_radii, hunt.safety_distance, hunt.time_step, speeds[i])
     return velocities, intercepts
-
-
-def warm_plan(applied: tuple[tuple, np.ndarray] | None, problem: CaptureProblem) -> np.ndarray | None:
-    """The warm start: the plan applied last step, shifted one step, while the same defenders are controlled."""
-    if applied is not None and applied[0] == problem.signature:
-        return shift_plan(applied[1])
-    return None
-
-
-def applied_plan(problem: CaptureProblem, solution: Solution, warm: np.ndarray | None) -> tuple[np.ndarray, bool]:
-    """The plan applied after a solve, and whether it is a fallback (the order in the module's docstring)."""
-    if solution.success:
-        return solution.plan, False
-    if solution.plan is not None and solution.violation is not None and solution.max_violation <= FEASIBLE_TOLERANCE:
-        return solution.plan, True
-    return (warm if warm is not None else problem.held_plan()), True
 
 
 class HuntingStrategy:
@@ -101,17 +77,17 @@ class HuntingStrategy:
         self.prediction = prediction
         self.horizon = checked_horizon(horizon)
         self.objective = objective
-        self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
-        if objective not in self.solver.formulation.objectives:      # every solve would fail: refuse at once
-            raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(self.solver.formulation.objectives)}"
+        self.mpc = CaptureMPC(formulation, backend, time_limit=time_limit, score=score, **solver_options)
+        posed = self.mpc.solver.formulation.objectives
+        if objective not in posed:      # every solve would fail: refuse at once
+            raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(posed)}"
                                f" objective, not this controller's {objective!r} (use a controller with that "
                                f"objective, or another formulation)")
         self.enclosure = Enclosure(scenario, horizon) if objective == "enclose" else None
-        self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
 
     def describe(self) -> dict:
         return {"controller": "enclose" if self.enclosure else "paper", "prediction": self.prediction,
-                "formulation": self.solver.formulation.name, "backend": self.solver.backend.name,
+                "formulation": self.mpc.solver.formulation.name, "backend": self.mpc.solver.backend.name,
                 "horizon": self.horizon, "objective": self.objective}
 
     def command(self, obs: Observation) -> Command:
@@ -127,7 +103,7 @@ class HuntingStrategy:
             velocities[capture] = (plan[0][capture] - obs.defenders[capture]) / s.hunt.time_step
             planned_next = plan[0]
         else:
-            self._applied = None
+            self.mpc.reset()
         velocities = keep_separation(obs.defenders, velocities, ~capture & obs.active, planned_next, s.hunt.time_step,
                                      s.defender_max_speeds, s.hunt.min_separation)
         return Command(velocities, capture, intercepts, solution, fallback)
@@ -147,11 +123,8 @@ class HuntingStrategy:
 
     def _capture(self, problem: CaptureProblem):
         """Solve the capture problem; returns (solution, the plan applied, whether it is a fallback)."""
-        warm = warm_plan(self._applied, problem)
-        solution = self.solver.solve(problem, warm)
-        plan, fallback = applied_plan(problem, solution, warm)
-        self._applied = (problem.signature, plan)
-        return solution, plan, fallback
+        step = self.mpc.step(problem)
+        return step.solution, step.plan, step.fallback is not None
 
 
 class EnclosingStrategy(HuntingStrategy):
