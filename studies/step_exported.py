@@ -6,7 +6,7 @@ first state's structure, built with its Makefile at ``-O2`` against HPIPM and
 BLASFEO from CasADi's wheel (BLASFEO's generic target) and, given ``blasfeo``
 (a folder holding a BLASFEO of the same version built for this CPU), against
 that BLASFEO too; run on the latency states of that structure, each with the
-inputs the reference Python run (``CaptureSolver`` on ``hpipm`` in the same
+inputs the reference Python run (a ``CaptureMPC`` on ``hpipm`` in the same
 mode, the formulation's path, warm-started as the controller does) used: the median time a step in C,
 and how far its plans are from Python's.
 """

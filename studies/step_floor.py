@@ -24,9 +24,8 @@ import numpy as np
 
 from mpc_hunt.formulations.capture_model import parameter_vector
 from mpc_hunt.formulations.qp import linearised_capture
-from mpc_hunt import CaptureProblem, CaptureSolver
+from mpc_hunt import CaptureMPC, CaptureProblem
 from mpc_hunt.solving import registry
-from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.capture.solution import WarmStart
 
 from studies.step_profile import rti_profile
@@ -36,13 +35,13 @@ def perfect_warm_start(problems: list) -> dict | None:
     """DAQP on ``qp``'s QP at each warm-started state of ``problems`` (callables posing each), the first (cold,
     set-up) excluded: median solve ms and iterations cold and from the solution's own working set, the sizes, and
     the largest difference between the two solutions; None if no state was solved both ways."""
-    solver, backend = CaptureSolver("rti", "hpipm"), registry.backend_class("daqp")()
-    rows, applied = [], None
+    mpc, backend = CaptureMPC("rti", "hpipm"), registry.backend_class("daqp")()
+    rows = []
     for k, make in enumerate(problems):
         problem: CaptureProblem = make()
-        warm = warm_plan(applied, problem)
+        start = mpc.step(problem).start
         if k:
-            reference = problem.held_plan() if warm is None else warm
+            reference = problem.held_plan() if start is None else start
             data = linearised_capture(problem.structure).data(("qp", problem.structure), parameter_vector(problem),
                                                               problem.x_from_plan(reference))
             cold = backend.run(backend.setup(data), data, WarmStart(None, None))
@@ -51,7 +50,6 @@ def perfect_warm_start(problems: list) -> dict | None:
                 rows.append((cold.extras["reported_solve_time_s"], cold.iterations,
                              again.extras["reported_solve_time_s"], again.iterations,
                              int(np.count_nonzero(cold.duals.y)), float(np.max(np.abs(cold.x - again.x)))))
-        applied = (problem.signature, applied_plan(problem, solver.solve(problem, warm), warm)[0])
     if not rows:
         return None
     r = np.array(rows)

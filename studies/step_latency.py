@@ -48,13 +48,12 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
-from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, evaluate
+from mpc_hunt import CaptureMPC, CaptureProblem, builtin_scenario, evaluate
 
 from mpc_hunt.solving import registry
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
@@ -99,14 +98,12 @@ class Sequence:
     def __init__(self, formulation: str, backend: str):
         # The formulation's own path (posing θ, the backend's solve, the read-back), as the latency table has
         # always timed it; the control loop's step is step_loop's.
-        self.solver, self.applied, self.rows = CaptureSolver(formulation, backend, loop=False), None, []
+        self.mpc, self.rows = CaptureMPC(formulation, backend, loop=False), []
 
     def step(self, make) -> None:
         """Pose the state (``make()``), solve it, and keep its times and figures."""
         t0 = time.perf_counter()
-        problem = make()
-        warm = warm_plan(self.applied, problem)
-        solution = self.solver.solve(problem, warm)
+        solution = self.mpc.step(make()).solution
         all_in = time.perf_counter() - t0
         self.rows.append({"step_s": all_in - solution.score_time, "all_in_s": all_in,
                           "solver_s": solution.solver_time, "setup_s": solution.setup_time,
@@ -115,7 +112,6 @@ class Sequence:
                           "obstacle_violation": None if solution.violation is None
                           else solution.violation["obstacle_safety"],
                           "max_violation": solution.max_violation})
-        self.applied = (problem.signature, applied_plan(problem, solution, warm)[0])
 
 
 class PeerSequence:
@@ -223,14 +219,11 @@ def growth(problem_set: ProblemSet, pairs: list[tuple[str, str]]) -> dict:
 
 def _team_sequence(scenario, attacker, defenders) -> list:
     """GROWTH_STATES consecutive states of a capture stage driven by ``rti``/``hpipm`` (the same for every pair)."""
-    solver = CaptureSolver("rti", "hpipm")
-    states, applied = [], None
+    mpc, states = CaptureMPC("rti", "hpipm"), []
     for _ in range(GROWTH_STATES):
         states.append((attacker.copy(), defenders.copy()))
         problem = CaptureProblem.at_state(scenario, attacker, defenders, HORIZON)
-        warm = warm_plan(applied, problem)
-        plan = applied_plan(problem, solver.solve(problem, warm), warm)[0]
-        applied = (problem.signature, plan)
+        plan = mpc.step(problem).plan
         attacker = problem.attacker_step(attacker, defenders)
         defenders = plan[0]
     return [lambda a=a, d=d: CaptureProblem.at_state(scenario, a, d, HORIZON) for a, d in states]

@@ -1,6 +1,6 @@
 """The control loop's step (``CaptureSolver.loop``) timed on the latency states, beside the formulation's path.
 
-For each stage-form pair, ``CaptureSolver(..., loop=False)`` (the formulation's
+For each stage-form pair, ``CaptureMPC(..., loop=False)`` (the formulation's
 own path) runs the warm-started sequence as the latency table does; the inputs it
 used at each state (θ and the reference) are kept. The pair's control-loop step
 (:class:`~mpc_hunt.solving.loop.CaptureLoop`, from ``CaptureSolver.loop``) then
@@ -16,26 +16,23 @@ import time
 
 import numpy as np
 
-from mpc_hunt import CaptureSolver
+from mpc_hunt import CaptureMPC, CaptureSolver
 from mpc_hunt.solving import registry
-from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 LOOP_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen"))
 
 
 def reference_run(formulation: str, backend: str, problems: list, **options) -> tuple[list, list]:
-    """``CaptureSolver``'s warm-started run over ``problems`` (as the latency table's; ``options`` are the
-    backend's): at each state of the first one's structure, the step's inputs (θ, reference) and the solver's x
-    (None where it gave none)."""
+    """``CaptureMPC``'s run over ``problems`` on the formulation's own path (as the latency table's; ``options``
+    are the backend's): at each state of the first one's structure, the step's inputs (θ, reference) and the
+    solver's x (None where it gave none)."""
     stage = registry.formulation_class(formulation)()
-    solver, applied, inputs, plans = CaptureSolver(formulation, backend, loop=False, **options), None, [], []
+    mpc, inputs, plans = CaptureMPC(formulation, backend, loop=False, **options), [], []
     for problem in problems:
-        warm = warm_plan(applied, problem)
-        solution = solver.solve(problem, warm)
+        step = mpc.step(problem)
         if problem.structure == problems[0].structure:
-            inputs.append(stage.step_inputs(problem, warm))
-            plans.append(solution.x)
-        applied = (problem.signature, applied_plan(problem, solution, warm)[0])
+            inputs.append(stage.step_inputs(problem, step.start))
+            plans.append(step.solution.x)
     return inputs, plans
 
 

@@ -19,10 +19,9 @@ import numpy as np
 from mpc_hunt.formulations.capture_model import parameter_vector
 from mpc_hunt.formulations.rti import linearised_stages
 from mpc_hunt.formulations.stage_model import SMOOTHING
-from mpc_hunt import CaptureProblem, CaptureSolver
+from mpc_hunt import CaptureMPC, CaptureProblem
 from mpc_hunt.solving.backends.conic_step import QP_KEYS
 from mpc_hunt.solving.backends.hpipm import HpipmBackend
-from mpc_hunt.control.strategy import applied_plan, warm_plan
 
 REPEATS = 5     # each piece is timed this many times per state; the fastest counts (the least disturbed)
 
@@ -39,15 +38,15 @@ def _fastest(call) -> tuple[float, object]:
 def rti_profile(problems: list) -> dict:
     """Median ms of the linearisation and of HPIPM alone, and HPIPM's median iterations, over the warm-started
     states ``problems`` (callables that pose each state), the first (set-up) excluded."""
-    solver = CaptureSolver("rti", "hpipm")
-    graph = linearise = hpipm = applied = None
+    mpc = CaptureMPC("rti", "hpipm")
+    graph = linearise = hpipm = None
     pieces = {"linearise_ms": [], "hpipm_ms": [], "hpipm_iterations": []}
     for make in problems:
         problem: CaptureProblem = make()
-        warm = warm_plan(applied, problem)
+        start = mpc.step(problem).start          # the controller's step; its start is the one taken apart
         if graph is not None:
             theta = np.append(parameter_vector(problem), SMOOTHING)
-            reference = problem.x_from_plan(problem.held_plan() if warm is None else warm)
+            reference = problem.x_from_plan(problem.held_plan() if start is None else start)
             seconds, qp = _fastest(lambda: linearise(theta, reference))
             pieces["linearise_ms"].append(1e3 * seconds)
             data = dict(zip(QP_KEYS, qp))
@@ -60,5 +59,4 @@ def rti_profile(problems: list) -> dict:
             linearise = ca.Function("linearise", graph.inputs, qp)
             hpipm = ca.conic("capture", "hpipm", {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
                              {"error_on_fail": False, **HpipmBackend().conic_options(graph)})
-        applied = (problem.signature, applied_plan(problem, solver.solve(problem, warm), warm)[0])
     return {"repeats": REPEATS, **{k: float(np.median(v)) for k, v in pieces.items()}}

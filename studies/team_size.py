@@ -8,9 +8,9 @@ defender pushes the attacker (is within its perception radius) on are posed as
 the ``enclose`` capture problem (``posed_problem``). One run, side
 by side on one machine, the steps taking turns on each state:
 
-* **centralised**: ``CaptureSolver("rti", "hpipm-codegen").loop(problem)``, the
-  state loaded and one ``step()``: the team's QP, one call;
-* **distributed** (one Jacobi round): ``CaptureSolver("distributed").loop(problem)`` (a
+* **centralised**: ``CaptureMPC("rti", "hpipm-codegen").loop_step(problem)`` on its
+  :class:`~mpc_hunt.solving.loop.CaptureLoop`, the state loaded and one step: the team's QP, one call;
+* **distributed** (one Jacobi round): ``CaptureMPC("distributed").loop_step(problem)`` (on a
   :class:`~mpc_hunt.solving.team_loop.TeamLoop`, on the formulation's default backend ``daqp-condensed``: each
   robot's QP condensed to its 2N controls, DAQP from its last active set): the state loaded, the round's
   broadcast, and each robot's step (its inputs from the broadcast, its QP on its own loop) timed apart by the
@@ -29,8 +29,9 @@ by side on one machine, the steps taking turns on each state:
   convergence: the team problem's local optimum), relative, and the largest
   distance between the two plans; ``rti`` (one centralised QP) beside it.
 
-Each solver is warm-started from its own previous plan, shifted, as the
-controller does. Exponents: the least-squares slope of log(time) on log(N_d).
+Each step is a :class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, warm-started from the plan it applied, shifted,
+as the controller does; the ones compared on the same starts (HPIPM's robot step, the rounds) follow the
+default's or the optimum's closed loop (``CaptureMPC.follow``). Exponents: the least-squares slope of log(time) on log(N_d).
 
     python studies/team_size.py [--out studies/team_size] [--sizes 3 6 …] [--states 20] [--reuse-states]
     python studies/team_size.py --check     # the rounds table and the plans agreement, on the committed states
@@ -55,11 +56,10 @@ import casadi as ca
 import numpy as np
 
 from mpc_hunt.formulations.rti import linearised_stages
-from mpc_hunt import CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
+from mpc_hunt import CaptureMPC, CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.control.posing import posed_problem
-from mpc_hunt.control.strategy import applied_plan, warm_plan
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.solving.backends.conic_step import QP_KEYS
 from mpc_hunt.solving.backends.hpipm import HpipmBackend
@@ -148,40 +148,34 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
     rows, robots = [], {}
     for size, hunt in states.items():
         problems = problems_of(size, hunt)
-        central = CaptureSolver("rti", "hpipm-codegen", score=False)
-        c_loop = central.loop(problems[0])
-        d_loops = {b: CaptureSolver("distributed", b, score=False).loop(problems[0]) for b in ROBOT_BACKENDS}
-        d_loop = d_loops[ROBOT_BACKENDS[0]]
-        applied = {"c": None, "d": None}
+        central = CaptureMPC("rti", "hpipm-codegen", score=False)
+        c_loop = central.solver.loop(problems[0])
+        d_mpcs = {b: CaptureMPC("distributed", b, score=False) for b in ROBOT_BACKENDS}
+        d_loops = {b: mpc.solver.loop(problems[0]) for b, mpc in d_mpcs.items()}
+        leader, d_loop = d_mpcs[ROBOT_BACKENDS[0]], d_loops[ROBOT_BACKENDS[0]]
         alone = {"central": HpipmAlone(problems[0].structure), "robot": HpipmAlone(d_loop.team.robot)}
         times = {k: [] for k in ("central", "team", "broadcast", "central_hpipm", "robot_hpipm",
                                  *(f"robot {b}" for b in ROBOT_BACKENDS))}
         inputs, plans, failed, unseen, difference = [], {b: [] for b in ROBOT_BACKENDS}, 0, 0, 0.0
         for problem in problems:
-            warm = warm_plan(applied["c"], problem)
             start = time.perf_counter()
-            c_loop.load(problem, warm)
-            status = c_loop.step()
+            central.loop_step(problem)
             times["central"].append(time.perf_counter() - start)
             times["central_hpipm"].append(alone["central"].time(c_loop.theta, c_loop.reference.reshape(-1)))
-            plan = problem.plan_with(c_loop.plan)
-            applied["c"] = (problem.signature, plan if status.usable else (warm if warm is not None
-                                                                           else problem.held_plan()))
             # Each robot backend's step from the same plans (the default's closed loop): the same inputs, so
             # their plans compare.
-            warm = warm_plan(applied["d"], problem)
             for backend in reversed(ROBOT_BACKENDS):            # the default last: the team's numbers are its
-                loop = d_loops[backend]
+                mpc = d_mpcs[backend]
+                if mpc is not leader:
+                    mpc.follow(leader)
                 start = time.perf_counter()
-                loop.load(problem, warm)
-                loaded = time.perf_counter()
-                loop.step()
+                mpc.loop_step(problem)
                 stepped = time.perf_counter()
-                times[f"robot {backend}"] += loop.robot_times
+                times[f"robot {backend}"] += d_loops[backend].robot_times
             # The step ran each robot's inputs and QP one after another, timing each (``robot_times``); the rest of
             # the step is the broadcast. On the robots: the load, the broadcast and the slowest robot.
             robot_times = d_loop.robot_times
-            times["broadcast"].append(stepped - loaded - sum(robot_times))
+            times["broadcast"].append(d_loop.broadcast_time)
             times["team"].append(stepped - start - sum(robot_times) + max(robot_times))
             failed += d_loop.extras["failed_robot_qps"]
             unseen = max(unseen, d_loop.unseen_neighbours)
@@ -191,7 +185,6 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
                 for backend in ROBOT_BACKENDS:
                     plans[backend].append(d_loops[backend].robots[i].plan.reshape(-1).copy())
                 times["robot_hpipm"].append(alone["robot"].time(loop.theta, loop.reference.reshape(-1)))
-            applied["d"] = (problem.signature, problem.plan_with(d_loop.plan.reshape(-1)))
         first = len(d_loop.robots)            # the first state, which builds, excluded
         row = {"size": size, "states": len(problems), "central_ms": _median(times["central"][1:]),
                "central_hpipm_ms": _median(times["central_hpipm"][1:]),
@@ -326,39 +319,31 @@ def rounds_table(states: dict[int, list[HuntState]]) -> list[dict]:
     rows = []
     for size in [s for s in ROUND_SIZES if s in states]:
         problems = problems_of(size, states[size])
-        optimum = _closed_loop(CaptureSolver("stage-sqp", "hpipm"), problems)
-        solvers = {("rti", 1): CaptureSolver("rti", "hpipm")}
+        optimum = CaptureMPC("stage-sqp", "hpipm")
+        mpcs = {("rti", 1): CaptureMPC("rti", "hpipm")}
         for scheme in ("jacobi", "gauss-seidel"):
             for k in ROUNDS:
-                solvers[(scheme, k)] = CaptureSolver("distributed", "hpipm",
-                                                     formulation_options={"rounds": k, "scheme": scheme})
-        for (scheme, k), solver in solvers.items():
-            gaps, distances, failed = [], [], 0
-            for problem, warm, best in list(zip(problems, *optimum))[1:]:    # the first, cold, excluded
-                solution = solver.solve(problem, warm)
-                failed += not solution.success
-                plan = applied_plan(problem, solution, warm)[0]
-                gaps.append((evaluate(problem, plan).objective - best[1]) / abs(best[1]))
-                distances.append(float(np.max(np.abs(plan - best[0]))))
+                mpcs[(scheme, k)] = CaptureMPC("distributed", "hpipm",
+                                               formulation_options={"rounds": k, "scheme": scheme})
+        steps, best = {key: [] for key in mpcs}, []
+        for index, problem in enumerate(problems):
+            for key, mpc in mpcs.items():
+                if index:                                     # the first, cold, excluded
+                    mpc.follow(optimum)                       # from the optimum's closed loop's start
+                    steps[key].append(mpc.step(problem))
+            plan = optimum.step(problem).plan
+            best.append((plan, evaluate(problem, plan).objective))
+        for (scheme, k), taken in steps.items():
+            gaps, distances = [], []
+            for problem, step, (plan, objective) in zip(problems[1:], taken, best[1:]):
+                gaps.append((evaluate(problem, step.plan).objective - objective) / abs(objective))
+                distances.append(float(np.max(np.abs(step.plan - plan))))
             rows.append({"size": size, "scheme": scheme, "rounds": k, "median_gap": float(np.median(gaps)),
                          "max_gap": float(np.max(gaps)), "max_distance_m": float(np.max(distances)),
-                         "failed": failed})
+                         "failed": sum(not step.solution.success for step in taken)})
             print(f"N_d = {size} {scheme} {k}: gap median {rows[-1]['median_gap']:.2e}", file=sys.stderr,
                   flush=True)
     return rows
-
-
-def _closed_loop(solver: CaptureSolver, problems: list) -> tuple[list, list]:
-    """The warm starts ``solver``'s own closed loop hands each state, and (its plan, objective) there."""
-    applied, warms, best = None, [], []
-    for problem in problems:
-        warm = warm_plan(applied, problem)
-        solution = solver.solve(problem, warm)
-        plan = applied_plan(problem, solution, warm)[0]
-        applied = (problem.signature, plan)
-        warms.append(warm)
-        best.append((plan, evaluate(problem, plan).objective))
-    return warms, best
 
 
 def exponent(sizes: list[int], values: list[float]) -> float:
@@ -558,15 +543,14 @@ def plan_agreement(states: dict[int, list[HuntState]]) -> dict[int, float]:
     out = {}
     for size, hunt in states.items():
         problems = problems_of(size, hunt)
-        loops = [CaptureSolver("distributed", b, score=False).loop(problems[0]) for b in (ROBOT_BACKENDS[0], "hpipm")]
-        applied, difference = None, 0.0
+        mpcs = [CaptureMPC("distributed", b, score=False) for b in (ROBOT_BACKENDS[0], "hpipm")]
+        loops = [mpc.solver.loop(problems[0]) for mpc in mpcs]
+        difference = 0.0
         for problem in problems:
-            warm = warm_plan(applied, problem)
-            for loop in loops:
-                loop.load(problem, warm)
-                loop.step()
+            mpcs[1].follow(mpcs[0])                     # the same plans to start from: the default's closed loop
+            for mpc in mpcs:
+                mpc.loop_step(problem)
             difference = max(difference, float(np.max(np.abs(loops[0].plan - loops[1].plan))))
-            applied = (problem.signature, problem.plan_with(loops[0].plan.reshape(-1)))
         out[size] = difference
     return out
 

@@ -49,7 +49,6 @@ class ActivityProbe:
 
     def optimum(self, problem: CaptureProblem) -> np.ndarray | None:
         """The optimal plan, or None if the solve fails."""
-        self.solver.reset()
         solution = self.solver.solve(problem)
         return solution.plan if solution.success else None
 
@@ -65,7 +64,6 @@ class ActivityProbe:
         optimum = evaluate(problem, plan)
         active = set(active_inequalities(optimum))
         if problem.controlled.sum() > 1:
-            self.solver.reset()
             free = self.solver.solve(replace(problem, weights=replace(problem.weights, equal_distance=0.0)))
             if free.plan is not None and binds(problem, optimum, evaluate(problem, free.plan)):
                 active.add("equal_distance")

@@ -30,7 +30,7 @@ def random_plan(problem: CaptureProblem, rng: np.random.Generator) -> np.ndarray
 
 
 class MultiStartNLP:
-    """The reference solver; one persistent IPOPT, its duals forgotten between starts."""
+    """The reference solver; one persistent IPOPT, each start a one-shot solve (no duals)."""
 
     def __init__(self, starts: int, tolerance: float):
         self.starts = starts
@@ -42,7 +42,6 @@ class MultiStartNLP:
         best = None
         plans = [problem.held_plan()] + [random_plan(problem, rng) for _ in range(self.starts - 1)]
         for plan in plans:
-            self.solver.reset()
             solution = self.solver.solve(problem, plan)
             if is_success(solution.success, solution.violation, self.tolerance):
                 best = solution.objective if best is None else min(best, solution.objective)

@@ -1,13 +1,12 @@
 """``mpc-hunt compare``: every (formulation, backend) pair over a problem set, scored like a solver benchmark.
 
-Two modes. ``cold``: each problem alone, with a fresh solver. ``closed-loop``:
-each sequence of consecutive states in order, with one solver, warm-started as
-the controller does (the plan it applied, shifted one step, while the same
-defenders are controlled: :func:`mpc_hunt.control.strategy.warm_plan` and
-:func:`~mpc_hunt.control.strategy.applied_plan`). Pairs take turns on each problem (or
+Two modes, each a :class:`~mpc_hunt.solving.mpc.CaptureMPC` stepping, as a
+controller does. ``cold``: each problem alone, a fresh one's first step.
+``closed-loop``: each sequence of consecutive states in order with one, its
+memory warm-starting each step (the plan it applied, shifted one step, and the
+duals, while the same defenders are controlled). Pairs take turns on each problem (or
 sequence), so that load on the machine falls on all of them alike. Each pair
-runs as a controller runs it (:class:`~mpc_hunt.solving.solver.CaptureSolver`:
-the stage-form steps as a control loop). A solve's all-in time runs from the
+runs as a controller runs it (the stage-form steps as a control loop). A solve's all-in time runs from the
 state handed over to the plan returned, as the controller waits for it (posing
 the problem, the solver, our overhead), with any set-up it did and the
 evaluator's scoring taken out and reported apart. Every plan is scored by the
@@ -30,8 +29,7 @@ from mpc_hunt.bench.best_known import MultiStartNLP
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
-from mpc_hunt.solving.solver import CaptureSolver
-from mpc_hunt.control.strategy import applied_plan, warm_plan
+from mpc_hunt.solving.mpc import CaptureMPC
 
 MODES = ("cold", "closed-loop")
 
@@ -109,25 +107,21 @@ def check_pairs(asked: list[str] | None, objective: str = "paper") -> list[tuple
     return out
 
 
-def _solve(run: CompareRun, solver: CaptureSolver, mode: str, entry: ProblemEntry, horizon: int,
-           applied: tuple | None) -> tuple[SolveRecord, tuple]:
+def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, horizon: int) -> SolveRecord:
     t0 = time.perf_counter()
     problem = run.problem_set.problem(entry, horizon, run.objective)
-    warm = warm_plan(applied, problem) if mode == "closed-loop" else None
-    solution = solver.solve(problem, warm)
+    solution = mpc.step(problem).solution
     elapsed = time.perf_counter() - t0
-    plan, _ = applied_plan(problem, solution, warm)
     all_in = max(elapsed - solution.setup_time - solution.score_time, 0.0)
-    record = SolveRecord(solver.formulation.name, solver.backend.name, mode, horizon, entry.id,
-                         solution.status.value, is_success(solution.success, solution.violation, run.tolerance),
-                         solution.objective, solution.violation, all_in, solution.solver_time,
-                         max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.score_time,
-                         solution.iterations, solution.warm_started)
-    return record, (problem.signature, plan)
+    return SolveRecord(mpc.solver.formulation.name, mpc.solver.backend.name, mode, horizon, entry.id,
+                       solution.status.value, is_success(solution.success, solution.violation, run.tolerance),
+                       solution.objective, solution.violation, all_in, solution.solver_time,
+                       max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.score_time,
+                       solution.iterations, solution.warm_started)
 
 
-def _new_solver(run: CompareRun, pair: tuple[str, str]) -> CaptureSolver:
-    return CaptureSolver(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True)
+def _new_mpc(run: CompareRun, pair: tuple[str, str]) -> CaptureMPC:
+    return CaptureMPC(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True)
 
 
 def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:
@@ -137,15 +131,14 @@ def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Call
     if "cold" in run.modes:
         for entry in run.problem_set.problems:
             for pair in run.pairs:
-                run.records.append(_solve(run, _new_solver(run, pair), "cold", entry, horizon, None)[0])
+                run.records.append(_solve(run, _new_mpc(run, pair), "cold", entry, horizon))
                 tick()
     if "closed-loop" in run.modes:
         for sequence in run.problem_set.sequences().values():
             for pair in run.pairs:
-                solver, applied = _new_solver(run, pair), None
+                mpc = _new_mpc(run, pair)
                 for entry in sequence:
-                    record, applied = _solve(run, solver, "closed-loop", entry, horizon, applied)
-                    run.records.append(record)
+                    run.records.append(_solve(run, mpc, "closed-loop", entry, horizon))
                     tick()
 
 

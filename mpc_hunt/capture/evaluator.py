@@ -90,7 +90,7 @@ def score_plan(problem: CaptureProblem, plan: np.ndarray) -> dict:
 
 def solve_scores(problem: CaptureProblem, plan: np.ndarray | None, status: Status, score: bool) -> dict:
     """What a solver scores of its answer: with ``score`` every finite plan, else only a failed solve's (the plan a
-    controller's fallback reads, :func:`mpc_hunt.control.strategy.applied_plan`); ``{}`` for none."""
+    controller's fallback reads, :class:`mpc_hunt.solving.mpc.CaptureMPC`); ``{}`` for none."""
     if plan is None or not np.all(np.isfinite(plan)) or (status.usable and not score):
         return {}
     return score_plan(problem, plan)

@@ -106,7 +106,8 @@ def checked_controller(name: str, scenario, *, argument: str = "options", belief
         controller = make_controller(name, scenario, belief=belief, rng=np.random.default_rng(0), **options)
     except MpcHuntError as exc:
         raise OptionError(f"{argument}: {exc}") from None
-    solver = getattr(controller, "solver", None)
+    mpc = getattr(controller, "mpc", None)
+    solver = None if mpc is None else mpc.solver
     passed = [k for k in options if solver is not None and k in solver.backend.options]
     if passed:
         problem = posed_problem(controller.scenario, _ring(controller.scenario), controller.horizon,

@@ -1,22 +1,16 @@
 """The paper's hunting strategy as a controller (it never sees how the world is simulated).
 
-Each defender is in the approaching stage (|r_ai| ≥ R_agg: Eq. 6 towards the
-predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions
-come from the capture-stage problem, Eqs. 12–15, solved over a receding
-horizon). The strategy keeps the one memory of the previous plan: the plan it
-applied, handed to the solver, shifted one step, as the next warm start while
-the same defenders are controlled. ``CaptureSolver`` runs a stage-form pair
-that closes into one Function (``rti``, ``stage-sqp`` on ``hpipm``,
-``hpipm-codegen``) as a control loop; for every pair the evaluator scores a
-successful plan only with ``score=True``, a failed one always. When a solve
-fails, the fallback (counted) is, in order: the solver's last iterate if the shared evaluator scored it
-feasible (violations ≤ ``FEASIBLE_TOLERANCE``; the common case of IPOPT
-stalling on the field's kink at |r_ai| = R_agg, where H is continuous but not
-differentiable); else the applied plan shifted one step; else holding position,
-which the problem's constraints always allow. The approaching defenders'
-commands pass the safety-distance filter (:mod:`mpc_hunt.world.safety`), then the
-separation filter (:mod:`mpc_hunt.world.separation`) against the capture-stage
-defenders' next positions and each other.
+A solving controller is a reference (:mod:`mpc_hunt.control.reference`) × the capture stage solved over a
+receding horizon. With the paper's reference, each defender is in the approaching stage (|r_ai| ≥ R_agg: Eq. 6
+towards the predicted intercept) or the capture stage (|r_ai| < R_agg: its next positions come from the
+capture-stage problem, Eqs. 12–15); with a reference of places, every active defender is in the capture stage.
+The receding-horizon memory is one :class:`~mpc_hunt.solving.mpc.CaptureMPC`'s (``mpc``; ``mpc.solver`` is its
+:class:`~mpc_hunt.solving.solver.CaptureSolver`): the plan applied, shifted one step, as the next warm start
+while the same defenders are controlled, and the fallback when a solve fails (counted; the order is in
+:mod:`mpc_hunt.solving.mpc`). The evaluator scores a successful plan only with ``score=True``, a failed one
+always. The approaching defenders' commands pass the safety-distance filter (:mod:`mpc_hunt.world.safety`),
+then the separation filter (:mod:`mpc_hunt.world.separation`) against the capture-stage defenders' next
+positions and each other.
 """
 
 from __future__ import annotations
@@ -32,15 +26,11 @@ from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.reference import CaptureReference, PaperObjective
-from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.world.belief import AttackerModel
 from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
-from mpc_hunt.capture.solution import Solution
-from mpc_hunt.solving.solver import CaptureSolver
-
-FEASIBLE_TOLERANCE = 1e-6
+from mpc_hunt.solving.mpc import CaptureMPC
 
 
 def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndarray,
@@ -62,22 +52,6 @@ def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndar
     return velocities, intercepts
 
 
-def warm_plan(applied: tuple[tuple, np.ndarray] | None, problem: CaptureProblem) -> np.ndarray | None:
-    """The warm start: the plan applied last step, shifted one step, while the same defenders are controlled."""
-    if applied is not None and applied[0] == problem.signature:
-        return shift_plan(applied[1])
-    return None
-
-
-def applied_plan(problem: CaptureProblem, solution: Solution, warm: np.ndarray | None) -> tuple[np.ndarray, bool]:
-    """The plan applied after a solve, and whether it is a fallback (the order in the module's docstring)."""
-    if solution.success:
-        return solution.plan, False
-    if solution.plan is not None and solution.violation is not None and solution.max_violation <= FEASIBLE_TOLERANCE:
-        return solution.plan, True
-    return (warm if warm is not None else problem.held_plan()), True
-
-
 class HuntingStrategy:
     """A solving controller: a reference (:mod:`mpc_hunt.control.reference`) × the capture stage, solved over a
     receding horizon by any formulation and backend.
@@ -96,22 +70,26 @@ class HuntingStrategy:
         self.horizon = checked_horizon(horizon)
         self.reference = reference(scenario, self.horizon)
         self.objective = reference.OBJECTIVE
-        self.solver = CaptureSolver(formulation, backend, time_limit=time_limit, score=score, **solver_options)
-        if self.objective not in self.solver.formulation.objectives:      # every solve would fail: refuse at once
-            raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(self.solver.formulation.objectives)}"
-                               f" objective, not this controller's {self.objective!r} (use a controller with that "
-                               f"objective, or another formulation)")
-        self._applied: tuple[tuple, np.ndarray] | None = None   # (signature, plan) applied last step
+        self.mpc = CaptureMPC(formulation, backend, time_limit=time_limit, score=score, **solver_options)
+        posed = self.mpc.solver.formulation.objectives
+        if self.objective not in posed:      # every solve would fail: refuse at once
+            raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(posed)} objective, not this "
+                               f"controller's {self.objective!r} (use a controller with that objective, or another "
+                               f"formulation)")
 
     def describe(self) -> dict:
         return {"controller": self.reference.NAME, "prediction": self.prediction,
-                "formulation": self.solver.formulation.name, "backend": self.solver.backend.name,
+                "formulation": self.mpc.solver.formulation.name, "backend": self.mpc.solver.backend.name,
                 "horizon": self.horizon, "objective": self.objective}
+
+    def posed(self) -> Scenario:
+        """The believed scenario this step is posed on: the one the controller was built on."""
+        return self.scenario
 
     def command(self, obs: Observation) -> Command:
         """The capture stage's plan for the defenders it holds (the reference's places tracked, or Eq. 12 within
         R_agg); Eq. 6 for the other active ones, filtered against the plan's next positions."""
-        s = self.scenario
+        s = self.posed()
         capture = self.reference.capture_stage(obs)
         velocities, intercepts = approach_commands(s, obs, ~capture & obs.active, self.prediction)
         solution, fallback, planned_next = None, False, obs.defenders
@@ -124,18 +102,15 @@ class HuntingStrategy:
             velocities[capture] = (plan[0][capture] - obs.defenders[capture]) / s.hunt.time_step
             planned_next = plan[0]
         else:
-            self._applied = None
+            self.mpc.reset()
         velocities = keep_separation(obs.defenders, velocities, ~capture & obs.active, planned_next, s.hunt.time_step,
                                      s.defender_max_speeds, s.hunt.min_separation)
         return Command(velocities, capture, intercepts, solution, fallback)
 
     def _capture(self, problem: CaptureProblem):
         """Solve the capture problem; returns (solution, the plan applied, whether it is a fallback)."""
-        warm = warm_plan(self._applied, problem)
-        solution = self.solver.solve(problem, warm)
-        plan, fallback = applied_plan(problem, solution, warm)
-        self._applied = (problem.signature, plan)
-        return solution, plan, fallback
+        step = self.mpc.step(problem)
+        return step.solution, step.plan, step.fallback is not None
 
 
 class AdaptiveStrategy(HuntingStrategy):
@@ -143,17 +118,20 @@ class AdaptiveStrategy(HuntingStrategy):
     (CLI ``--controller adapt``): a prior :class:`~mpc_hunt.world.belief.AttackerModel`, the belief's, and an
     :class:`~mpc_hunt.control.estimation.AttackerEstimator` beside the controller that updates it; the capture
     problem and the enclose reference predict the attacker with the current model (its intent, gain and
-    perception radius). ``scenario`` is the hunt it was built on (arena, defenders, obstacles, parameters) posed
-    with that model (:meth:`AttackerModel.scenario <mpc_hunt.world.belief.AttackerModel.scenario>`)."""
+    perception radius). ``scenario`` is the hunt it was built on (arena, defenders, obstacles, parameters);
+    :meth:`posed` is that hunt with the current model's attacker
+    (:meth:`AttackerModel.scenario <mpc_hunt.world.belief.AttackerModel.scenario>`)."""
 
     OBJECTIVE = "enclose"
     SUMMARY = "enclose with the attacker's model re-estimated online from its observed track"
 
     def __init__(self, scenario: Scenario, **options):
-        self.estimate: Estimate | None = None
         super().__init__(scenario, Enclosure, **options)
+        self.prior = AttackerModel.of(scenario)
+        self.estimate: Estimate | None = None
         self.estimator = AttackerEstimator(scenario, self.prior)
         self.reference = Enclosure(scenario, self.horizon, posed=self.posed)
+        self._posed = (self.prior, scenario)       # the last model and the hunt posed with it
 
     @property
     def model(self) -> AttackerModel:
@@ -163,15 +141,8 @@ class AdaptiveStrategy(HuntingStrategy):
     def posed(self) -> Scenario:
         """The hunt with the current model's attacker, made once per model."""
         if self._posed[0] is not self.model:
-            self._posed = (self.model, self.model.scenario(self.hunt))
+            self._posed = (self.model, self.model.scenario(self.scenario))
         return self._posed[1]
-
-    def _given(self, hunt: Scenario) -> None:
-        """The hunt the controller is built on; its attacker is the prior model."""
-        self.hunt, self.prior = hunt, AttackerModel.of(hunt)
-        self._posed = (self.prior, hunt)
-
-    scenario = property(posed, _given)
 
     def describe(self) -> dict:
         return super().describe() | {"controller": "adapt"}

@@ -15,13 +15,13 @@ Function (``hpipm``, ``hpipm-codegen``). :class:`~mpc_hunt.solving.solver.Captur
 builds one per structure for such a pair and solves on it; its plans are the
 formulation's own (``CaptureSolver(..., loop=False)``) to the last bit from the
 same inputs (a test holds it): no duals are handed over, which HPIPM does not read.
+The loop keeps no memory between steps beyond its arrays: the reference each step
+starts from (the plan applied last step, shifted one step) and the fallback are
+:class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, whose ``loop_step`` drives it.
 
-    loop = CaptureSolver("rti", "hpipm-codegen").loop(problem)
+    mpc = CaptureMPC("rti", "hpipm-codegen")
     for each control step:
-        loop.parts["attacker"][:] = attacker_position
-        loop.parts["controlled"][:] = defender_positions.ravel()
-        loop.shift()                 # the reference: the last plan one step on (hold() at a new start)
-        status = loop.step()         # loop.plan[0]: every controlled defender's next position
+        status = mpc.loop_step(problem)   # the problem and its start written in, one step; mpc.plan applied
 """
 
 from __future__ import annotations
@@ -80,15 +80,6 @@ class CaptureLoop:
         theta, reference = self.formulation.step_inputs(problem, warm_plan)
         self.theta[:] = theta
         self.reference.reshape(-1)[:] = reference
-
-    def hold(self) -> None:
-        """The reference: every controlled defender held where ``parts["controlled"]`` puts it."""
-        self.reference[:] = self.parts["controlled"].reshape(1, -1, 2)
-
-    def shift(self) -> None:
-        """The reference: the last plan moved one step on, its last step repeated (the receding-horizon start)."""
-        self.reference[:-1] = self.plan[1:]
-        self.reference[-1] = self.plan[-1]
 
     def step(self) -> Status:
         """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan

@@ -2,10 +2,11 @@
 
 ``CaptureSolver`` pairs a formulation with a persistent backend, both found by
 name in :mod:`mpc_hunt.solving.registry` once, when it is made. It keeps only
-solver state: the backend's set-up structures and the duals of its last usable
-solve. The plan to start from is the caller's (a controller hands over the plan
-it applied, shifted one step); the duals are reused only with such a plan, and
-only when the same defenders are controlled.
+solver state: the backend's set-up structures and the loops it built. A solve
+is one-shot: the plan and the duals to start from are the caller's. The
+receding-horizon memory (the plan applied, shifted one step, and the duals of a
+usable solve, while the same defenders are controlled) is
+:class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, which a controller holds.
 
 A stage-form pair (kind ``ocp-qp``: ``rti`` or ``stage-sqp`` on ``hpipm`` or
 ``hpipm-codegen``), whose backend closes the step into one Function, is solved
@@ -14,7 +15,7 @@ problem is written into the loop's arrays, the loop steps, the plan is read
 back. Its plans are the formulation's own path's (``loop=False``) to the bit.
 The same solver hands a control loop that step (:meth:`CaptureSolver.loop`) and
 writes it as C for a robot's board (:meth:`CaptureSolver.export`).
-``solve`` is the one-shot, cold form.
+``solve`` is the one-shot, cold form with a fresh solver.
 """
 
 from __future__ import annotations
@@ -65,13 +66,8 @@ class CaptureSolver:
         self.on_loops = self.stage_form if loop is None else loop
         self.raise_on_failure = raise_on_failure
         self.score = score
-        self._duals: tuple[tuple, WarmStart] | None = None   # (signature, duals) of the last usable solve
         self._prepared: set[Structure] = set()                 # structures whose model this solver has built
         self._loops: dict[Structure, CaptureLoop] = {}
-
-    def reset(self) -> None:
-        """Forget the last duals: the next solve starts cold even when handed a plan."""
-        self._duals = None
 
     def loop(self, problem: CaptureProblem) -> CaptureLoop | TeamLoop:
         """The control loop's step for ``problem``'s structure, built on its first problem and kept: a
@@ -86,17 +82,17 @@ class CaptureSolver:
             loop = self._loops[problem.structure] = kind(problem, self.formulation, self.backend)
         return loop
 
-    def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> Solution:
-        """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held."""
+    def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None,
+              duals: WarmStart | None = None) -> Solution:
+        """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held, and from
+        ``duals`` (an earlier solution's of a problem with the same signature) if given; a stage-form pair on its
+        loop reads no duals."""
         if not self._poses(problem):
             return self._finish(Solution(status=Status.ERROR, formulation=self.formulation.name,
                                          backend=self.backend.name, message=self._objective_message(problem)))
         if self.on_loops:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
-        duals = None
-        if warm_plan is not None and self._duals is not None and self._duals[0] == problem.signature:
-            duals = self._duals[1]
         names = dict(formulation=self.formulation.name, backend=self.backend.name)
         try:
             build_time = 0.0
@@ -113,7 +109,6 @@ class CaptureSolver:
         if result.plan is not None and not np.all(np.isfinite(result.plan)):
             result = replace(result, status=Status.ERROR, plan=None, message=f"{result.message} (non-finite plan)")
         scores = solve_scores(problem, result.plan, result.status, self.score)
-        self._duals = (problem.signature, result.duals) if result.status.usable else None
         setup_time = result.setup_time + build_time
         overhead = time.perf_counter() - t0 - result.solver_time - setup_time - scores.get("score_time", 0.0)
         return self._finish(replace(result, **names, **scores, setup_time=setup_time,

@@ -7,16 +7,20 @@ robot, each with its own arrays, and runs the formulation's rounds on them:
 each round broadcasts the team's plans (what the UAV, or every robot, computes),
 then each robot writes its inputs into its loop's arrays and steps. On the
 robots, each runs :meth:`robot_step` for itself on its own board; here they run
-one after another, and each robot's time is kept (``robot_times``): the team's
-step, the robots in parallel, is the broadcast plus the slowest robot.
+one after another, and each robot's time is kept (``robot_times``), and the
+rest of the step's (``broadcast_time``): the team's step, the robots in
+parallel, is the broadcast plus the slowest robot. The plans each step starts
+from are :class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, whose ``loop_step``
+drives it as it drives a centralised loop.
 
-    team = CaptureSolver("distributed", "hpipm-codegen").loop(problem)
+    mpc = CaptureMPC("distributed", "hpipm-codegen")
     for each control step:
-        team.load(problem, warm_plan)     # the state, and the plans to start from
-        status = team.step()              # team.plan: every planned defender's positions, steps 1..N
+        status = mpc.loop_step(problem)   # the state and the plans to start from loaded, the rounds run
 """
 
 from __future__ import annotations
+
+import time
 
 import numpy as np
 
@@ -45,6 +49,7 @@ class TeamLoop:
         self.iterations = self.qps = 0
         self.message = ""
         self.robot_times: list[float] = []
+        self.broadcast_time = 0.0                  # the last step's time outside the robots' QPs (s)
         self.unseen_neighbours = 0
         self.extras: dict = {}
 
@@ -76,7 +81,9 @@ class TeamLoop:
 
     def step(self) -> Status:
         """The formulation's rounds from ``plan``; the team's new plans go into ``plan``."""
+        start = time.perf_counter()
         out = self.formulation.run(self.team, self.plan, self.robot_step)
+        self.broadcast_time = time.perf_counter() - start - sum(out.robot_times)
         self.plan = out.plans
         self.iterations, self.qps, self.message = out.iterations, out.qps, out.message
         self.robot_times, self.unseen_neighbours = out.robot_times, out.unseen_neighbours

@@ -348,7 +348,7 @@ def test_the_paper_objective_is_refused_everywhere():
         Strategy.parse("paper:distributed:hpipm:5")
     for controller in ("enclose", "contain", "adapt"):
         assert Strategy.parse(f"{controller}:distributed:hpipm:5").formulation == "distributed"
-        assert make_controller(controller, _scenario(4), formulation="distributed").solver.formulation.per_robot
+        assert make_controller(controller, _scenario(4), formulation="distributed").mpc.solver.formulation.per_robot
 
 
 @pytest.mark.parametrize("options, name", [({"rounds": 0}, "rounds"), ({"rounds": 1.5}, "rounds"),

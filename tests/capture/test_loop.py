@@ -46,28 +46,10 @@ def test_the_loops_plans_are_the_solvers_to_the_bit(formulation, backend):
         assert loop.objective[0] == solution.formulation_objective
 
 
-def test_state_written_into_the_parts_and_the_shifted_plan_is_what_load_writes():
-    runs = list(_closed_loop("rti", "hpipm", steps=3))
-    loop = CaptureSolver("rti", "hpipm").loop(runs[0][0])
-    loop.step()
-    for problem, warm, solution in runs[1:]:
-        loop.parts["attacker"][:] = problem.attacker_position
-        loop.parts["controlled"][:] = problem.defender_positions[problem.controlled].ravel()
-        loop.parts["desired"][:] = problem.desired_velocity
-        loop.parts["nominal"][:] = problem.nominal_velocity
-        loop.shift()
-        np.testing.assert_array_equal(loop.reference, warm[:, problem.controlled])
-        loop.step()
-        np.testing.assert_array_equal(loop.plan, solution.plan[:, problem.controlled])
-    loop.hold()
-    np.testing.assert_array_equal(loop.reference, runs[-1][0].held_plan()[:, runs[-1][0].controlled])
-
-
-def test_before_any_step_the_plan_is_the_held_reference_so_a_shift_keeps_it():
+def test_before_any_step_the_plan_is_the_held_reference():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
     loop = CaptureSolver("rti", "hpipm").loop(problem)
-    loop.shift()
-    np.testing.assert_array_equal(loop.reference, np.broadcast_to(DEFENDERS, loop.reference.shape))
+    np.testing.assert_array_equal(loop.plan, np.broadcast_to(DEFENDERS, loop.plan.shape))
     assert loop.step() is Status.OPTIMAL
 
 

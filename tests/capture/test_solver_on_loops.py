@@ -8,10 +8,9 @@ import numpy as np
 import pytest
 
 from conftest import ATTACKER, DEFENDERS, small_scenario
-from mpc_hunt import CaptureProblem, CaptureSolver, HuntingStrategy, Solution, Status, shift_plan, simulate
+from mpc_hunt import CaptureProblem, CaptureSolver, HuntingStrategy, Status, shift_plan, simulate
 from mpc_hunt.formulations.stage_sqp import StageSQPFormulation
 from mpc_hunt.capture.iteration import QPIteration
-from mpc_hunt.control.strategy import applied_plan
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.errors import MpcHuntError, SolverError
 
@@ -100,23 +99,12 @@ def test_a_hunt_on_the_loop_is_the_hunt_on_the_capture_solver():
     scenario = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=40.0))
     options = dict(reference=Enclosure, formulation="rti", backend="hpipm", horizon=5)
     looped, solved = HuntingStrategy(scenario, **options), HuntingStrategy(scenario, **options)
-    solved.solver = CaptureSolver("rti", "hpipm", score=False, loop=False)
-    assert looped.solver.on_loops
+    solved.mpc.solver = CaptureSolver("rti", "hpipm", score=False, loop=False)
+    assert looped.mpc.solver.on_loops
     a, b = simulate(scenario, looped), simulate(scenario, solved)
     assert len(a.solve_times) > 100
     np.testing.assert_array_equal(a.defenders, b.defenders)
     np.testing.assert_array_equal(a.solve_iterations, b.solve_iterations)
-
-
-def test_a_failed_plan_is_applied_only_when_the_evaluator_scored_it_feasible():
-    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    plan, warm = problem.held_plan() + 0.01, problem.held_plan() - 0.01
-    failed = Solution(status=Status.ITERATION_LIMIT, plan=plan)
-    assert applied_plan(problem, failed, warm)[0] is warm                        # not scored: not applied
-    scored = dataclasses.replace(failed, violation={"separation": 0.0})
-    assert applied_plan(problem, scored, warm) == (plan, True)
-    infeasible = dataclasses.replace(failed, violation={"separation": 1e-3})
-    assert applied_plan(problem, infeasible, warm)[0] is warm
 
 
 def test_the_step_a_solver_set_up_is_the_one_it_exports_and_its_loop_runs(tmp_path):

@@ -8,7 +8,7 @@ import pytest
 from conftest import ATTACKER, DEFENDERS, problem_at, small_scenario
 from mpc_hunt.formulations.capture_model import decision_point, parameter_vector
 from mpc_hunt.formulations.qp import linearised_capture
-from mpc_hunt import (CaptureProblem, CaptureSolver, SolverError, Status, UnknownNameError, evaluate, pairs,
+from mpc_hunt import (CaptureMPC, CaptureProblem, CaptureSolver, SolverError, Status, UnknownNameError, evaluate, pairs,
                       shift_plan, solve)
 from mpc_hunt.solving import registry
 
@@ -103,20 +103,21 @@ def test_qp_linearisation_matches_finite_differences_of_the_numpy_model(scenario
 
 
 def _closed_loop_iterations(formulation, backend, warm, steps=8):
+    """Iterations along a short closed loop: a ``CaptureMPC``'s steps (warm: its plan shifted, its duals), or its
+    solver's one-shot solves (cold)."""
     scenario = small_scenario()
-    solver = CaptureSolver(formulation, backend)
+    mpc = CaptureMPC(formulation, backend)
     attacker, defenders = ATTACKER.copy(), DEFENDERS.copy()
-    total, plan = 0, None
-    for _ in range(steps):
+    total = 0
+    for k in range(steps):
         problem = CaptureProblem.at_state(scenario, attacker, defenders, 4)
-        solution = solver.solve(problem, shift_plan(plan) if warm and plan is not None else None)
+        solution = mpc.step(problem).solution if warm else mpc.solver.solve(problem)
         assert solution.success, solution.message
-        assert solution.warm_started == (warm and plan is not None)
-        plan = solution.plan
+        assert solution.warm_started == (warm and k > 0)
         total += solution.iterations
         attacker = problem.attacker_step(attacker, defenders)
         defenders = solution.plan[0]
-    assert solver.backend.setups == 1  # set up once; every later step only updated numbers
+    assert mpc.solver.backend.setups == 1  # set up once; every later step only updated numbers
     return total
 
 

@@ -182,21 +182,19 @@ def _robot_inputs(size: int, states: int) -> tuple:
     closed loop), the first problem, and Python's plans."""
     from pathlib import Path
 
-    from mpc_hunt import CaptureSolver
-    from mpc_hunt.control.strategy import warm_plan
+    from mpc_hunt import CaptureMPC
     from studies.team_size import load_states, problems_of
 
     committed = load_states(Path(__file__).resolve().parents[2] / "studies" / "team_size" / "states.json")
     problems = problems_of(size, committed[size][:states])
-    team = CaptureSolver("distributed", score=False).loop(problems[0])
-    inputs, plans, applied = [], [], None
+    mpc = CaptureMPC("distributed", score=False)
+    team = mpc.solver.loop(problems[0])
+    inputs, plans = [], []
     for problem in problems:
-        team.load(problem, warm_plan(applied, problem))
-        assert team.step().usable
+        assert mpc.loop_step(problem).usable
         for robot in team.robots:
             inputs.append(np.concatenate([robot.theta, robot.reference.reshape(-1)]))
             plans.append(robot.plan.reshape(-1).copy())
-        applied = (problem.signature, problem.plan_with(team.plan.reshape(-1)))
     return problems[0], inputs, plans
 
 

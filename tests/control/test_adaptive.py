@@ -17,7 +17,7 @@ def test_a_wrong_belief_is_corrected_from_the_track_and_the_hunt_is_captured():
     controller = make_controller("adapt", world, belief=Belief(perception_radius=1.3, eta=3.0), formulation="rti",
                                  backend="hpipm", horizon=10)
     assert controller.prior.perception_radius == pytest.approx(1 / 1.3) and controller.model is controller.prior
-    hunt = controller.hunt
+    hunt = controller.scenario
     result = simulate(world, controller)
     assert result.captured
     estimate, model = controller.estimate, controller.model
@@ -28,6 +28,6 @@ def test_a_wrong_belief_is_corrected_from_the_track_and_the_hunt_is_captured():
     assert model.intent == pytest.approx((0.0212132, -0.0212132), abs=1e-6)
     # The capture problem and the enclose reference are posed with the model on the hunt the controller was
     # built on, which stays as given.
-    assert controller.hunt is hunt and controller.reference.scenario is controller.scenario
-    assert controller.scenario == model.scenario(hunt) != hunt
+    assert controller.scenario is hunt and controller.reference.scenario is controller.posed()
+    assert controller.posed() == model.scenario(hunt) != hunt
     assert controller.describe()["controller"] == "adapt"
