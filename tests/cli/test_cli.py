@@ -217,7 +217,7 @@ def test_the_apf_baseline_runs_without_optimisation(capsys):
     report = json.loads(out)
     assert report["controller"] == "apf" and report["solve_time"]["count"] == 0
     code, _, err = run(capsys, "simulate", "--controller", "apf", "--horizon", "3")
-    assert code == 2 and "--horizon: only with --controller paper" in err
+    assert code == 2 and "--horizon: controller 'apf' solves no capture problem" in err
 
 
 def test_solve_defaults_use_the_shipped_state(capsys):
