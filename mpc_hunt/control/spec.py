@@ -72,7 +72,7 @@ class ControllerSpec:
            stage: Mapping[str, Any] | None = None) -> ControllerSpec:
         """The spec of ``controller`` with ``settings``, :func:`make_controller`'s keywords (its capture stage's
         fields and its options)."""
-        rest = dict(_options(settings or {}))
+        rest = _mapping(settings or {})
         return cls(controller, *(rest.pop(key, None) for key in STAGE), options=rest, stage=stage)
 
     @classmethod
@@ -112,15 +112,21 @@ class ControllerSpec:
         return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng, **self.settings)
 
 
-def _options(options: object) -> dict[str, Any]:
-    """``options`` as a dict of a controller's options, none of them a field of the spec."""
+def _mapping(options: object) -> dict[str, Any]:
+    """``options`` as a dict of settings by name."""
     if not isinstance(options, Mapping) or not all(isinstance(key, str) for key in options):
         raise SettingError("options", f"a dict of the controller's options by name, got {type(options).__name__}")
+    return dict(options)
+
+
+def _options(options: object) -> dict[str, Any]:
+    """``options`` as a dict of a controller's options, none of them a field of the spec."""
+    options = _mapping(options)
     fields = [key for key in options if key in ("controller",) + STAGE]
     if fields:
         raise SettingError(fields, "a field of the spec, not an option: give it as a field "
                                    f"(ControllerSpec({', '.join(f'{key}=...' for key in fields)}))")
-    return dict(options)
+    return options
 
 
 def _refuse_settings(name: str, given: list[str] | tuple[str, ...]) -> None:

@@ -95,7 +95,7 @@ def test_simulate_scores_the_control_loops_plans_only_when_asked(capsys, tmp_pat
         reports.append(json.loads(out) | {"solve_time": None})
     assert reports[0] == reports[1]                 # no failed step: the evaluator changes no decision
     code, _, err = run(capsys, "simulate", "--controller", "voronoi", "--score")
-    assert code == 2 and "--score: only with --controller paper" in err
+    assert code == 2 and "--score: controller 'voronoi' solves no capture problem" in err
 
 
 def test_simulate_summary_with_qp_and_plot(capsys, tmp_path):
