@@ -6,6 +6,7 @@ from __future__ import annotations
 import pickle
 import re
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -75,6 +76,22 @@ def test_unset_fields_take_the_defaults_defined_once():
         spec = ControllerSpec(controller, options={"prediction": False})
         assert (spec.formulation, spec.backend, spec.horizon) == (None, None, None)
         assert spec.settings == {"prediction": False}
+
+
+def test_a_numpy_horizon_is_kept_as_an_int():
+    spec = ControllerSpec(horizon=np.int64(7))
+    assert type(spec.horizon) is int and spec.label == "enclose:rti:hpipm:7"
+
+
+@pytest.mark.parametrize("argv, flags", [
+    (["--controller", "apf", "--time-limit", "0.5", "--score"], "--time-limit, --score"),
+    (["--controller", "voronoi", "--horizon", "3"], "--horizon"),
+    (["--formulation", "distributed", "--controller", "paper"], "--formulation"),
+    (["--formulation", "qp", "--backend", "hpipm"], "--backend"),
+])
+def test_simulate_names_the_flags_of_the_refused_fields(capsys, argv, flags):
+    err = _one_line_error(capsys, ["simulate", *argv])
+    assert err.startswith(f"mpc-hunt simulate: error: {flags}: ")
 
 
 def test_of_splits_make_controllers_keywords_into_fields_and_options():
