@@ -8,6 +8,7 @@ for more memory than a machine has, or overflows a results file.
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import tempfile
 from pathlib import Path
@@ -34,36 +35,56 @@ def shown(text: str) -> str:
     return repr(text) if len(text) <= SHOWN else f"{text[:SHOWN]!r}... ({len(text)} characters)"
 
 
-def _whole(text: str, least: int, most: int, rule: str) -> int:
+def out_of_range(value: int, least: int, most: int) -> str | None:
+    """Why the whole number ``value`` is not from ``least`` to ``most``, in the words of every count's refusal, or
+    None."""
+    if value < least:
+        return f"{_below(least)}, got {_number(value)}"
+    if value > most:
+        return f"at most {most} (docs/robustness.md, Limits), got {_number(value)}"
+    return None
+
+
+def _below(least: int) -> str:
+    return "must not be negative" if least == 0 else f"must be at least {least}"
+
+
+def _number(value: int) -> str:
+    """``value`` for a message: its digits, or about how many for a number too long to show."""
+    if abs(value) < 10**SHOWN:
+        return str(value)
+    return f"a number of about {int(abs(value).bit_length() * math.log10(2)) + 1} digits"
+
+
+def _whole(text: str, least: int, most: int) -> int:
     match = _WHOLE.fullmatch(text)
     if match is None:
         raise argparse.ArgumentTypeError(f"expected a whole number from {least} to {most}, got {shown(text)}")
     sign, digits = match.groups()
     if len(digits) > len(str(max(abs(least), abs(most)))):    # far out of range: no int() of thousands of digits
         if sign == "-":
-            raise argparse.ArgumentTypeError(f"{rule}, got a number of {len(digits)} digits")
+            raise argparse.ArgumentTypeError(f"{_below(least)}, got a number of {len(digits)} digits")
         raise argparse.ArgumentTypeError(f"at most {most} (docs/robustness.md, Limits), got a number of "
                                          f"{len(digits)} digits")
     value = int(sign + digits)
-    if value < least:
-        raise argparse.ArgumentTypeError(f"{rule}, got {value}")
-    if value > most:
-        raise argparse.ArgumentTypeError(f"at most {most} (docs/robustness.md, Limits), got {value}")
+    why = out_of_range(value, least, most)
+    if why:
+        raise argparse.ArgumentTypeError(why)
     return value
 
 
 def count(most: int):
     """An argument type: a whole number from 1 to ``most``."""
-    return lambda text: _whole(text, 1, most, "must be at least 1")
+    return lambda text: _whole(text, 1, most)
 
 
 def non_negative(most: int):
     """An argument type: a whole number from 0 to ``most``."""
-    return lambda text: _whole(text, 0, most, "must not be negative")
+    return lambda text: _whole(text, 0, most)
 
 
 def seed(text: str) -> int:
-    return _whole(text, 0, MAX_SEED, "must not be negative")
+    return _whole(text, 0, MAX_SEED)
 
 
 def positive_float(text: str) -> float:

@@ -31,6 +31,20 @@ class OptionError(MpcHuntError, ValueError):
     message names it."""
 
 
+class SettingError(OptionError):
+    """A controller's settings are refused (:class:`mpc_hunt.control.spec.ControllerSpec`): ``fields`` names them
+    (``horizon``, ``time_limit``, ...), ``reason`` says why and how to fix it; each caller names them its own way
+    (a flag, an argument)."""
+
+    def __init__(self, fields: str | tuple[str, ...] | list[str], reason: str):
+        self.fields = (fields,) if isinstance(fields, str) else tuple(fields)
+        self.reason = reason
+        super().__init__(f"{', '.join(self.fields)}: {reason}")
+
+    def __reduce__(self):     # to pickle across processes (a sweep's workers)
+        return type(self), (self.fields, self.reason)
+
+
 class ActionError(MpcHuntError, ValueError):
     """An agent's action cannot be stepped with (not its space's shape, not finite numbers); the message names the
     agent."""

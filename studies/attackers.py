@@ -27,13 +27,13 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.interrupt import stop_at_once
-from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.plots.capture_region import plot_capture_regions
 from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.reachability import reachable
-from mpc_hunt.sweep.runner import Hunt, Strategy
+from mpc_hunt.sweep.runner import Hunt
 from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
@@ -46,8 +46,7 @@ OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
 HUNTS, SEED = 20, 1
 MAX_HUNTS = 1000
-RECOMMENDED_LABEL = f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:" \
-                    f"{RECOMMENDED['horizon']}"
+RECOMMENDED_LABEL = ControllerSpec().label
 FOCUS = "trap:rti:hpipm:10"          # the controller built on the attacker's reachable set (docs/model.md, E16)
 STRATEGIES = tuple(dict.fromkeys((RECOMMENDED_LABEL, FOCUS, "contain:rti:hpipm:10", "voronoi", "apf",
                                   "paper:rti:hpipm:5")))
@@ -73,7 +72,7 @@ def todo(indices: list[int], seed: int) -> list[Hunt]:
 
 
 def arguments(hunts: int, seed: int) -> dict:
-    return {"strategies": [Strategy.parse(s).label for s in STRATEGIES], "attackers": list(BEHAVIOURS),
+    return {"strategies": [ControllerSpec.parse(s).label for s in STRATEGIES], "attackers": list(BEHAVIOURS),
             "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed, "ranges": ranges_to_dict(ScenarioRanges())}
 
 
@@ -123,7 +122,7 @@ def verdicts(rows: list[dict]) -> list[str]:
     exact = [r for r in rows if r["belief"] == EXACT and r["comfortable"]]
 
     def won(strategy: str, attacker: str) -> dict:
-        return {r["index"]: r["capture_time_s"] for r in exact if r["strategy"] == Strategy.parse(strategy).label
+        return {r["index"]: r["capture_time_s"] for r in exact if r["strategy"] == ControllerSpec.parse(strategy).label
                 and r["attacker"] == attacker and r["outcome"] == "captured"}
 
     lines = ["| attacker | comfortable | `trap` captured | `voronoi` captured | at least as many | median capture time "

@@ -28,7 +28,7 @@ from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
 
 from mpc_hunt.solving import registry
 from mpc_hunt.arguments import CommandParser
-from mpc_hunt.control.recommended import horizon_argument
+from mpc_hunt.control.spec import horizon_argument
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 

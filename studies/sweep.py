@@ -34,10 +34,10 @@ from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, widened
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
-from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.plots.typical_hunts import plot_typical_hunts
-from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, Strategy, run_hunt, run_local, tasks
+from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, run_hunt, run_local, tasks
 from mpc_hunt.sweep.store import SweepStore, self_contained, stored_rows
 from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.sweep.summary import best_strategy, summarise, table
@@ -63,7 +63,7 @@ WIDEN, FLOOR_RTOL, FLOOR_ATOL = 0.5, 1e-6, 1e-9    # as studies/reproduce_paper.
 
 def arguments() -> dict:
     """What the sweep runs, as its results file stores it."""
-    return {"strategies": [Strategy.parse(s).label for s in DEFAULT_STRATEGIES], "hunts": HUNTS, "seed": SEED,
+    return {"strategies": [ControllerSpec.parse(s).label for s in DEFAULT_STRATEGIES], "hunts": HUNTS, "seed": SEED,
             "ranges": ranges_to_dict(ScenarioRanges())}
 
 
@@ -144,7 +144,7 @@ def headline(summaries: list[dict]) -> str:
 
 
 def recommended_label() -> str:
-    return f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:{RECOMMENDED['horizon']}"
+    return ControllerSpec().label
 
 
 def write(machine: dict) -> None:

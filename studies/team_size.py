@@ -56,7 +56,7 @@ import casadi as ca
 import numpy as np
 
 from mpc_hunt.formulations.rti import linearised_stages
-from mpc_hunt import CaptureMPC, CaptureSolver, builtin_scenario, evaluate, make_controller, simulate
+from mpc_hunt import CaptureMPC, CaptureSolver, ControllerSpec, builtin_scenario, evaluate, simulate
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.control.posing import posed_problem
@@ -102,7 +102,7 @@ def hunt_states(size: int, states: int) -> list[HuntState]:
     """The recommended controller's states from the first in which a defender pushes the attacker (within its
     perception radius) on, ``states`` of them (fewer if the hunt ends first)."""
     scenario = team_scenario(size)
-    controller = make_controller("enclose", scenario, formulation="rti", backend="hpipm", horizon=HORIZON)
+    controller = ControllerSpec("enclose", "rti", "hpipm", HORIZON).build(scenario)
     first = []
 
     def until(obs) -> bool:

@@ -35,7 +35,8 @@ from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
-from mpc_hunt.sweep.runner import Hunt, Strategy
+from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.sweep.runner import Hunt
 from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
@@ -57,7 +58,7 @@ def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list
     """Per file: its arguments and every hunt of it."""
     default = ranges_to_dict(ScenarioRanges())
     teams = ranges_to_dict(replace(ScenarioRanges(), n_defenders=TEAMS))
-    labels = [Strategy.parse(s).label for s in STRATEGIES]
+    labels = [ControllerSpec.parse(s).label for s in STRATEGIES]
     return {
         "attackers.db": ({"strategies": labels, "attackers": list(BEHAVIOURS), "hunts": hunts, "seed": seed,
                           "ranges": default},

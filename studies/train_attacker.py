@@ -38,8 +38,7 @@ import numpy as np
 
 from mpc_hunt.arguments import CommandParser, count, output_file, output_folder
 from mpc_hunt.bench.machine import describe_machine, machine_lines
-from mpc_hunt.control.controllers import make_controller
-from mpc_hunt.control.recommended import RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
@@ -75,7 +74,7 @@ class Trial:
 def episode(task: Trial) -> dict:
     """The candidate's attacker against the recommended controller on the task's hunt; its fitness."""
     scenario = task.scenario
-    controller = make_controller(RECOMMENDED_CONTROLLER, scenario, **RECOMMENDED)
+    controller = ControllerSpec().build(scenario)
     attacker = LearnedAttacker(scenario, np.random.default_rng(0), np.array(task.weights))
     result = simulate(scenario, controller, behaviour=attacker)
     limit = scenario.hunt.time_limit
@@ -244,8 +243,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--population: at least 4, got {args.population}")
     settings = {"generations": args.generations, "population": args.population, "episodes": args.episodes,
                 "elite": ELITE, "sigma_floor": SIGMA_FLOOR, "train_seed": TRAIN_SEED,
-                "against": f"{RECOMMENDED_CONTROLLER}:{RECOMMENDED['formulation']}:{RECOMMENDED['backend']}:"
-                           f"{RECOMMENDED['horizon']}",
+                "against": ControllerSpec().label,
                 "ranges": "the sweep's defaults"}
     progress = args.output / PROGRESS
     try:

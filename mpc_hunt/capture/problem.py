@@ -13,6 +13,7 @@ from functools import cached_property
 
 import numpy as np
 
+from mpc_hunt.arguments import out_of_range, shown
 from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world import attacker
@@ -28,11 +29,21 @@ class ProblemError(MpcHuntError, ValueError):
 MAX_HORIZON = 200
 
 
+def horizon_error(horizon: object) -> str | None:
+    """Why ``horizon`` is not a horizon, a whole number of steps from 1 to :data:`MAX_HORIZON`, or None: the one
+    rule of a horizon's bounds (a problem's, a controller's, a command line's), in the words of every count's
+    refusal (:func:`mpc_hunt.arguments.out_of_range`)."""
+    if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)):
+        return (f"expected a whole number from 1 to {MAX_HORIZON}, got "
+                f"{shown(horizon) if isinstance(horizon, str) else repr(horizon)}")
+    return out_of_range(int(horizon), 1, MAX_HORIZON)
+
+
 def checked_horizon(horizon: object) -> int:
-    """``horizon`` as a whole number of steps from 1 to :data:`MAX_HORIZON`, else a :class:`ProblemError` naming
-    it: the one check of a horizon's bounds (a problem's, a controller's; the command lines' types share the bound)."""
-    if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)) or not 1 <= horizon <= MAX_HORIZON:
-        raise ProblemError(f"horizon: must be a whole number from 1 to {MAX_HORIZON}, got {horizon!r}")
+    """``horizon`` as an int, else a :class:`ProblemError` naming it (:func:`horizon_error`)."""
+    why = horizon_error(horizon)
+    if why:
+        raise ProblemError(f"horizon: {why}")
     return int(horizon)
 
 

@@ -23,15 +23,14 @@ from mpc_hunt.solving.backends.hpipm import MODES as HPIPM_MODES
 from mpc_hunt.solving.export import TARGETS as EXPORT_TARGETS
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
-from mpc_hunt.capture.problem import MAX_HORIZON
 from mpc_hunt.world.scenario import MAX_DEFENDERS
 from mpc_hunt.arguments import CommandParser, count, non_negative, positive_float, seed
 from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
                                  check_writable, messages, quiet_solvers)
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.errors import MpcHuntError, SettingError
 from mpc_hunt.interrupt import stop_at_once
-from mpc_hunt.control.recommended import (PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER, capture_settings,
-                                          horizon_argument, solver_settings)
+from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.spec import ControllerSpec, horizon_argument
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
 from mpc_hunt.world.belief import Belief, belief_rng
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_names, builtin_scenario,
@@ -61,10 +60,18 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
     p.set_defaults(solver_default=default)
 
 
-def _solver_choice(args) -> dict:
-    """The capture stage (formulation, backend, horizon) the flags name, the command's default where they name none
-    (:func:`mpc_hunt.control.recommended.capture_settings`)."""
-    return capture_settings(args.formulation, args.backend, args.horizon, args.solver_default)
+FLAGS = {"prediction": "--no-prediction"}      # a spec's setting and its flag, where that is not --setting
+
+
+def _spec(args, controller: str, options: dict | None = None) -> ControllerSpec:
+    """The controller spec the flags name (--formulation, --backend, --horizon; the command's default stage where
+    they name none) with ``options``, checked before any work; a refusal names the flags."""
+    try:
+        return ControllerSpec(controller, args.formulation, args.backend, args.horizon, options=options or {},
+                              stage=args.solver_default)
+    except SettingError as exc:
+        flags = ", ".join(FLAGS.get(name, "--" + name.replace("_", "-")) for name in exc.fields)
+        raise MpcHuntError(f"{flags}: {exc.reason}") from None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -132,7 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
     exp.add_argument("--scenario", default=DEFAULT_SCENARIO, metavar="NAME_OR_FILE",
                      help=f"built-in name or a TOML file (default: {DEFAULT_SCENARIO})")
     exp.add_argument("--state", type=Path, metavar="FILE", help="JSON state to pose the problem at (as solve)")
-    exp.add_argument("--horizon", type=count(MAX_HORIZON), default=10, metavar="N", help="default: 10")
+    exp.add_argument("--horizon", type=horizon_argument, default=10, metavar="N", help="default: 10")
     exp.add_argument("--objective", choices=OBJECTIVES, default="paper", help="default: paper")
     exp.add_argument("--formulation", default="rti", metavar="NAME",
                      help="a stage-form step: rti (one QP a step, the default), stage-sqp (QPs to convergence) or "
@@ -257,27 +264,14 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
     check_writable(path.parent, option, path)
 
 
-def _controller_settings(args) -> dict:
-    """The solver settings of --controller (:func:`mpc_hunt.control.recommended.solver_settings`: the same as the
-    sweep's strategy of that name), checked before any work."""
-    if args.controller not in controllers.SOLVING:
-        given = [flag for flag, value in (("--formulation", args.formulation), ("--backend", args.backend),
-                                          ("--horizon", args.horizon), ("--time-limit", args.time_limit),
-                                          ("--score", args.score or None))
-                 if value is not None]
-        if given:
-            raise MpcHuntError(f"{', '.join(given)}: only with --controller {', '.join(controllers.SOLVING)} "
-                               f"(controller {args.controller!r} solves no capture problem)")
-        return {}
-    return solver_settings(args.controller, args.formulation, args.backend, args.horizon, args.solver_default) | \
-        {"time_limit": args.time_limit, "score": args.score}
-
-
-def _controller(args, scenario, drawn, settings: dict):
-    """The controller the flags name with ``settings`` (:func:`_controller_settings`), built on the belief of
-    --belief (``drawn``, the belief's generator, draws its errors)."""
-    return controllers.make_controller(args.controller, scenario, prediction=not args.no_prediction,
-                                       belief=args.belief, rng=drawn, **settings)
+def _controller_spec(args) -> ControllerSpec:
+    """--controller with the flags' settings (:func:`_spec`: the same as the sweep's strategy of that name)."""
+    options = {"prediction": not args.no_prediction}
+    if args.time_limit is not None:
+        options["time_limit"] = args.time_limit
+    if args.score:
+        options["score"] = True
+    return _spec(args, args.controller, options)
 
 
 def _world(args, scenario):
@@ -299,11 +293,11 @@ def _world(args, scenario):
 def _simulate(args) -> int:
     from mpc_hunt.sim.simulator import simulate
 
-    settings = _controller_settings(args)
+    spec = _controller_spec(args)
     check_output(args.plot, FIGURE_SUFFIXES, "--plot")
     check_output(args.animate, ANIMATION_SUFFIXES, "--animate")
     scenario, world, drawn = _world(args, resolve_scenario(args.scenario))
-    controller = _controller(args, scenario, drawn, settings)
+    controller = spec.build(scenario, belief=args.belief, rng=drawn)
     with stop_at_once("simulate"), Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
         result = simulate(scenario, controller, progress=update, rng=world)
     report = result.to_dict()
@@ -370,8 +364,8 @@ def _solve(args) -> int:
     from mpc_hunt.world.hunt_state import save_state
     from mpc_hunt.solving.solver import CaptureSolver
 
-    stage = _solver_choice(args)
-    formulation, backend, horizon = stage["formulation"], stage["backend"], stage["horizon"]
+    stage = _spec(args, args.objective)          # the controller of each objective's name poses that objective
+    formulation, backend, horizon = stage.formulation, stage.backend, stage.horizon
     if args.save_state:
         check_output(args.save_state, (".json",), "--save-state")
     solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from mpc_hunt.arguments import count, seed
+from mpc_hunt.arguments import count, seed, shown
 from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count, messages
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.behaviours import BEHAVIOURS, DEFAULT_BEHAVIOUR
@@ -20,9 +20,10 @@ def add_parsers(sub) -> None:
         description="Run --hunts random hunts (mpc_hunt.sweep.random_scenario; ranges from --ranges FILE and --set) "
                     "for each strategy against each attacker with each belief, on local worker processes or a Dask "
                     "cluster, streaming one row per hunt into an SQLite file; then print the summary per strategy, "
-                    "attacker and belief. A strategy is controller[:formulation[:backend[:horizon]]], e.g. "
-                    "paper:nlp:ipopt:1 (the paper's), paper:qp:daqp:5, apf; a field left out is what simulate --controller "
-                    "takes for it (enclose is enclose:rti:hpipm:10). "
+                    "attacker and belief. A strategy is a controller spec, "
+                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
+                    "paper:qp:daqp:5, apf; a field left out is what simulate --controller takes for it (enclose is "
+                    "enclose:rti:hpipm:10). "
                     "Failure causes and the file's columns: docs/robustness.md.")
     sw.add_argument("--strategy", action="append", metavar="SPEC",
                     help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
@@ -57,6 +58,17 @@ def add_parsers(sub) -> None:
     rep.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
+def _strategy(text: str):
+    """The controller spec ``--strategy`` writes (:meth:`~mpc_hunt.control.spec.ControllerSpec.parse`), a refusal
+    naming it."""
+    from mpc_hunt.control.spec import ControllerSpec
+
+    try:
+        return ControllerSpec.parse(text)
+    except MpcHuntError as exc:
+        raise MpcHuntError(f"--strategy {shown(text)}: {exc}") from None
+
+
 def _ranges(args):
     import tomllib
 
@@ -76,12 +88,12 @@ def _ranges(args):
 
 
 def sweep(args) -> int:
-    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Strategy, connect_dask, tasks, total_tasks
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, connect_dask, tasks, total_tasks
     from mpc_hunt.sweep.store import SweepStore
     from mpc_hunt.sweep.stored_run import run_into
     from mpc_hunt.sweep.random_scenario import ranges_to_dict
 
-    strategies = [Strategy.parse(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
+    strategies = [_strategy(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
     attackers = list(dict.fromkeys(args.attacker or [DEFAULT_BEHAVIOUR]))
     beliefs = list(dict.fromkeys(b.label() for b in (args.belief or [Belief()])))   # eta=3 and eta=3x are one
     total_tasks(strategies, args.hunts, attackers, beliefs)      # bounded, before any file is written

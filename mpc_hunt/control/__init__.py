@@ -5,7 +5,8 @@ from mpc_hunt.control.controller import Command, Controller, Observation
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.control.strategy import HuntingStrategy
 
-__all__ = ["Command", "Controller", "EncirclingController", "HuntingStrategy", "Observation", "PAPER",
+__all__ = ["Command", "Controller", "ControllerSpec", "EncirclingController", "HuntingStrategy", "Observation", "PAPER",
            "RECOMMENDED", "RECOMMENDED_CONTROLLER", "make_controller"]

@@ -14,34 +14,52 @@ from typing import Callable
 import numpy as np
 
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import checked_controller, make_controller
-from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER, solver_settings
+from mpc_hunt.control.controllers import checked_controller
+from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.envs.episode import attacker_move
 from mpc_hunt.envs.observation import observe
-from mpc_hunt.errors import OptionError
+from mpc_hunt.errors import OptionError, SettingError
 from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario import Scenario
 
 
-class ControllerPolicy:
-    """``policy(observation) → the team's velocities`` by ``controller`` for the hunt ``env`` plays, built anew
-    for each hunt the environment starts."""
-
-    def __init__(self, env, controller: str = RECOMMENDED_CONTROLLER, options: dict | None = None,
-                 belief: Belief = Belief(), seed: int = 0):
+def controller_spec(controller: str | ControllerSpec, options: dict | None, argument: str, probe: Scenario,
+                    belief: Belief) -> ControllerSpec:
+    """An environment's controller: a spec, or a name with ``options`` (:meth:`ControllerSpec.of`; a field not given
+    takes its default), checked once on the hunt ``probe`` (:func:`checked_controller`); a refusal is an
+    :class:`OptionError` naming the environment's argument (``controller`` or ``argument``)."""
+    if isinstance(controller, ControllerSpec):
+        if options is not None:
+            raise OptionError(f"{argument}: the spec {controller.label!r} holds its options: give them in it "
+                              f"(ControllerSpec(..., options=...)), or give the controller by name")
+        spec = controller
+    else:
         if options is not None and not isinstance(options, dict):
-            raise OptionError(f"options: a dict of the controller's options or None, got {type(options).__name__}")
-        self.env, self.name, self.belief = env, controller, belief
-        self.options = solver_settings(controller) if options is None else dict(options)
-        checked_controller(controller, env.hunts.probe(), argument="options", belief=belief, **self.options)
+            raise OptionError(f"{argument}: a dict of the controller's options or None, got {type(options).__name__}")
+        try:
+            spec = ControllerSpec.of(controller, options)
+        except SettingError as exc:
+            raise (exc if exc.fields == ("controller",) else OptionError(f"{argument}: {exc}")) from None
+    checked_controller(spec.controller, probe, argument=argument, belief=belief, **spec.settings)
+    return spec
+
+
+class ControllerPolicy:
+    """``policy(observation) → the team's velocities`` by ``controller`` (a name with ``options``, or a
+    :class:`ControllerSpec`) for the hunt ``env`` plays, built anew for each hunt the environment starts."""
+
+    def __init__(self, env, controller: str | ControllerSpec = RECOMMENDED_CONTROLLER, options: dict | None = None,
+                 belief: Belief = Belief(), seed: int = 0):
+        self.env, self.belief = env, belief
+        self.spec = controller_spec(controller, options, "options", env.hunts.probe(), belief)
         self.rng = np.random.default_rng(seed)
         self.episode = self.controller = None
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
         if self.episode is not self.env.episode:          # a new hunt: a new controller (it keeps memory)
             self.episode = self.env.episode
-            self.controller = make_controller(self.name, self.episode.scenario, belief=self.belief, rng=self.rng,
-                                              **self.options)
+            self.controller = self.spec.build(self.episode.scenario, belief=self.belief, rng=self.rng)
         return self.controller.command(self.episode.controller_observation()).velocities
 
 

@@ -2,9 +2,9 @@
 the failure taxonomy and the summary."""
 
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
-from mpc_hunt.sweep.runner import Hunt, Strategy, run_hunt, run_local
+from mpc_hunt.sweep.runner import Hunt, run_hunt, run_local
 from mpc_hunt.sweep.store import SweepStore
 from mpc_hunt.sweep.summary import summarise
 
-__all__ = ["Hunt", "ScenarioRanges", "Strategy", "SweepStore", "run_hunt", "run_local", "summarise",
+__all__ = ["Hunt", "ScenarioRanges", "SweepStore", "run_hunt", "run_local", "summarise",
            "sweep_scenario"]

@@ -1,10 +1,10 @@
 """Monte Carlo sweeps: many random hunts for one or more strategies, on local processes or a Dask cluster.
 
-A strategy is written ``controller[:formulation[:backend[:horizon]]]``, e.g.
-``paper:nlp:ipopt:1`` (the paper's), ``paper:qp:daqp:5`` or ``apf``; a field
-left out is what ``mpc-hunt simulate --controller`` takes for it
-(:func:`mpc_hunt.control.recommended.solver_settings`: ``enclose`` is
-``enclose:rti:hpipm:10``). Every
+A strategy is a controller spec written ``controller[:formulation[:backend[:horizon]]]``
+(:class:`mpc_hunt.control.spec.ControllerSpec`), e.g. ``paper:nlp:ipopt:1`` (the
+paper's), ``paper:qp:daqp:5`` or ``apf``; a field left out is what ``mpc-hunt
+simulate --controller`` takes for it (``enclose`` is ``enclose:rti:hpipm:10``),
+and a sweep stores it as its :attr:`~mpc_hunt.control.spec.ControllerSpec.label`. Every
 strategy runs against every attacker behaviour
 (:data:`mpc_hunt.world.behaviours.BEHAVIOURS`) with every belief of the
 defenders (:mod:`mpc_hunt.world.belief`, written as its label). Hunt i of a
@@ -38,9 +38,7 @@ from typing import Any, Callable, Generator, Iterable, Iterator, Sequence
 
 import numpy as np
 
-from mpc_hunt.control import controllers
-from mpc_hunt.arguments import shown
-from mpc_hunt.control.recommended import parse_horizon, solver_settings
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.errors import MpcHuntError, SweepStopped
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
@@ -61,49 +59,6 @@ DASK_IN_FLIGHT = 1_000   # hunts handed to a Dask cluster at once (more are hand
 PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
 EXACT = Belief().label()
 _END = object()          # the end of a task iterator
-
-
-@dataclass(frozen=True)
-class Strategy:
-    """A controller and, for the paper's, its capture-stage solver."""
-
-    controller: str
-    formulation: str | None = None
-    backend: str | None = None
-    horizon: int | None = None
-
-    @classmethod
-    def parse(cls, text: str) -> "Strategy":
-        parts = text.split(":")
-        if len(parts) > 4 or not parts[0]:
-            raise MpcHuntError(f"--strategy {shown(text)}: expected controller[:formulation[:backend[:horizon]]]")
-        controller = parts[0]
-        if controller not in controllers.CONTROLLERS:
-            raise MpcHuntError(f"--strategy {shown(text)}: unknown controller {controller!r} "
-                               f"(available: {', '.join(controllers.CONTROLLERS)})")
-        if controller not in controllers.SOLVING and len(parts) > 1:
-            raise MpcHuntError(f"--strategy {shown(text)}: controller {controller!r} takes no solver settings")
-        given = [part or None for part in parts[1:]]
-        try:      # the settings of simulate --controller with the same fields (control.recommended)
-            horizon = parse_horizon(given[2]) if len(given) > 2 and given[2] is not None else None
-            settings = solver_settings(controller, *given[:2], horizon)
-        except MpcHuntError as exc:
-            raise MpcHuntError(f"--strategy {shown(text)}: {exc}") from None
-        return cls(controller, **settings)
-
-    @property
-    def label(self) -> str:
-        if self.controller not in controllers.SOLVING:
-            return self.controller
-        return f"{self.controller}:{self.formulation}:{self.backend}:{self.horizon}"
-
-    def controller_for(self, scenario, belief: Belief = Belief(), rng: np.random.Generator | None = None):
-        """The strategy's controller, built on the defenders' ``belief`` of the attacker (``rng`` draws its
-        errors), never on the world's behaviour."""
-        if self.controller not in controllers.SOLVING:
-            return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng)
-        return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng,
-                                           formulation=self.formulation, backend=self.backend, horizon=self.horizon)
 
 
 def hunt_rngs(seed: int, index: int, member: int = 0) -> tuple[np.random.Generator, np.random.Generator]:
@@ -141,13 +96,13 @@ class Hunt:
 
 def run_hunt(task: Hunt) -> dict:
     """Run one hunt; its row (plain data). An unexpected exception is a row with cause ``error``."""
-    strategy = Strategy.parse(task.strategy)
+    spec = ControllerSpec.parse(task.strategy)
     belief = parse_belief(task.belief)
     scenario, row = _drawn(task)
     world, belief_rng = hunt_rngs(task.seed, task.index, task.member)
     start = time.perf_counter()
     try:
-        result = simulate(scenario, strategy.controller_for(scenario, belief, belief_rng), rng=world)
+        result = simulate(scenario, spec.build(scenario, belief=belief, rng=belief_rng), rng=world)
     except Exception as exc:  # noqa: BLE001 - one hunt's crash is its row, never the sweep's end
         return row | _error(exc, time.perf_counter() - start)
     cause = failure_cause(result, scenario)

@@ -14,9 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.sweep.runner import Strategy, hunt_rngs
+from mpc_hunt.sweep.runner import hunt_rngs
 from mpc_hunt.sweep.summary import best_strategy
 from mpc_hunt.world.behaviours import with_behaviour
 from mpc_hunt.world.belief import parse_belief
@@ -49,7 +50,8 @@ def rerun(row: dict) -> tuple[Scenario, HuntResult]:
     random generators the sweep gave it (:func:`mpc_hunt.sweep.runner.hunt_rngs`)."""
     scenario = with_behaviour(loads_scenario(row["scenario_toml"], row["name"]), row["attacker"])
     world, belief_rng = hunt_rngs(row["seed"], row["index"])
-    controller = Strategy.parse(row["strategy"]).controller_for(scenario, parse_belief(row["belief"]), belief_rng)
+    controller = ControllerSpec.parse(row["strategy"]).build(scenario, belief=parse_belief(row["belief"]),
+                                                             rng=belief_rng)
     return scenario, simulate(scenario, controller, rng=world)
 
 

@@ -21,7 +21,7 @@ from mpc_hunt import (Attacker, CaptureProblem, CaptureSolver, Defender, HuntPar
                       shift_plan)
 from mpc_hunt.bench.compare import check_pairs
 from mpc_hunt.control.controllers import make_controller
-from mpc_hunt.sweep.runner import Strategy
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.capture.problem import Reference
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.field import repulsion
@@ -345,9 +345,9 @@ def test_the_paper_objective_is_refused_everywhere():
     with pytest.raises(MpcHuntError, match="distributed poses the enclose objective, not this controller's 'paper'"):
         make_controller("paper", _scenario(4), formulation="distributed")
     with pytest.raises(MpcHuntError, match="not the paper objective of controller 'paper'"):
-        Strategy.parse("paper:distributed:hpipm:5")
+        ControllerSpec.parse("paper:distributed:hpipm:5")
     for controller in ("enclose", "contain", "adapt"):
-        assert Strategy.parse(f"{controller}:distributed:hpipm:5").formulation == "distributed"
+        assert ControllerSpec.parse(f"{controller}:distributed:hpipm:5").formulation == "distributed"
         assert make_controller(controller, _scenario(4), formulation="distributed").mpc.solver.formulation.per_robot
 
 

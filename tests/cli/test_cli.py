@@ -95,7 +95,7 @@ def test_simulate_scores_the_control_loops_plans_only_when_asked(capsys, tmp_pat
         reports.append(json.loads(out) | {"solve_time": None})
     assert reports[0] == reports[1]                 # no failed step: the evaluator changes no decision
     code, _, err = run(capsys, "simulate", "--controller", "voronoi", "--score")
-    assert code == 2 and "--score: only with --controller paper" in err
+    assert code == 2 and "--score: controller 'voronoi' solves no capture problem" in err
 
 
 def test_simulate_summary_with_qp_and_plot(capsys, tmp_path):
@@ -217,7 +217,7 @@ def test_the_apf_baseline_runs_without_optimisation(capsys):
     report = json.loads(out)
     assert report["controller"] == "apf" and report["solve_time"]["count"] == 0
     code, _, err = run(capsys, "simulate", "--controller", "apf", "--horizon", "3")
-    assert code == 2 and "--horizon: only with --controller paper" in err
+    assert code == 2 and "--horizon: controller 'apf' solves no capture problem" in err
 
 
 def test_solve_defaults_use_the_shipped_state(capsys):

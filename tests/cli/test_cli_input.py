@@ -18,7 +18,8 @@ from mpc_hunt.control.controllers import SOLVING
 from mpc_hunt.control.recommended import RECOMMENDED
 from mpc_hunt.errors import DataFileError, MpcHuntError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
-from mpc_hunt.sweep.runner import MAX_TASKS, Strategy, run_local, tasks
+from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.sweep.runner import MAX_TASKS, run_local, tasks
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, learned
 from mpc_hunt.world.belief import parse_belief
 from scenario_text import scenario_toml
@@ -79,7 +80,8 @@ def test_solver_chatter_reaches_stderr_only_with_verbose(capsys, monkeypatch):
 
 def _simulate_settings(*flags: str) -> dict:
     args = build_parser().parse_args(["simulate", *flags])
-    return {k: v for k, v in commands._controller_settings(args).items() if k in ("formulation", "backend", "horizon")}
+    spec = commands._controller_spec(args)
+    return {"formulation": spec.formulation, "backend": spec.backend, "horizon": spec.horizon}
 
 
 @pytest.mark.parametrize("controller", SOLVING)
@@ -88,7 +90,7 @@ def _simulate_settings(*flags: str) -> dict:
     (":::3", ["--horizon", "3"]), (":qp:daqp", ["--formulation", "qp", "--backend", "daqp"]),
 ])
 def test_a_sweep_strategy_runs_what_simulate_runs_for_the_same_controller(controller, fields, flags):
-    strategy = Strategy.parse(controller + fields)
+    strategy = ControllerSpec.parse(controller + fields)
     settings = _simulate_settings("--controller", controller, *flags)
     assert {"formulation": strategy.formulation, "backend": strategy.backend, "horizon": strategy.horizon} == settings
     if not fields:
@@ -98,7 +100,7 @@ def test_a_sweep_strategy_runs_what_simulate_runs_for_the_same_controller(contro
 def test_a_sweep_strategy_horizon_has_the_command_lines_bounds(capsys):
     for bad in ("0", "201", "x", "9" * 5000):
         with pytest.raises(MpcHuntError) as exc:
-            Strategy.parse(f"enclose:rti:hpipm:{bad}")
+            ControllerSpec.parse(f"enclose:rti:hpipm:{bad}")
         simulate = one_line_error(capsys, ["simulate", "--horizon", bad])
         assert str(exc.value).split("horizon: ", 1)[1] in simulate and len(str(exc.value)) < 300
 

@@ -11,7 +11,7 @@ from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.voronoi_cell import attacker_cell
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.sweep.runner import Strategy
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.world.geometry import norm
 
 ARENA = (0.0, 0.0, 20.0, 20.0)
@@ -91,7 +91,7 @@ def test_by_name_on_the_command_line_and_as_a_sweep_strategy():
     s = hunt((10.0, 10.0), (0.02, 0.0), [(7.0, 10.0), (12.0, 12.5), (12.0, 7.5)])
     assert isinstance(make_controller("voronoi", s, prediction=False), VoronoiController)
     assert make_controller("voronoi", s).describe() == {"controller": "voronoi", "prediction": True}
-    strategy = Strategy.parse("voronoi")
-    assert strategy.label == "voronoi" and isinstance(strategy.controller_for(s), VoronoiController)
-    with pytest.raises(MpcHuntError, match="takes no solver settings"):
-        Strategy.parse("voronoi:nlp")
+    strategy = ControllerSpec.parse("voronoi")
+    assert strategy.label == "voronoi" and isinstance(strategy.build(s), VoronoiController)
+    with pytest.raises(MpcHuntError, match="^formulation: controller 'voronoi' solves no capture problem"):
+        ControllerSpec.parse("voronoi:nlp")

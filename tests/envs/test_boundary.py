@@ -23,6 +23,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from conftest import small_scenario
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.envs import AttackerEnv, ControllerPolicy, DefenderEnv, HuntParallelEnv
 from mpc_hunt.envs.observation import velocity_bound
 from mpc_hunt.errors import ActionError, MpcHuntError, OptionError
@@ -371,12 +372,13 @@ def test_the_parallel_step_names_missing_and_unknown_agents():
     (lambda: AttackerEnv(controller_options={"formulation": "qp", "backend": "osqp", "time_limit": -1}),
      "^controller_options: time_limit: "),
     (lambda: AttackerEnv(controller="voronoi", controller_options={"horizon": 5}),
-     "^controller_options: controller 'voronoi' takes no 'horizon'"),
+     "^controller_options: horizon: controller 'voronoi' solves no capture problem"),
     (lambda: AttackerEnv(controller_options={"formulation": "rti", "backend": "hpipm", "horizn": 10}),
      "^controller_options: hpipm refused its options 'horizn'"),
     (lambda: AttackerEnv(controller="enclos"), "^controller: unknown controller 'enclos'"),
     (lambda: AttackerEnv(controller="voronoi", belief="honest"), "^belief: a Belief"),
-    (lambda: ControllerPolicy(DefenderEnv(SHORT), "voronoi", {"horizon": 3}), "^options: controller 'voronoi'"),
+    (lambda: ControllerPolicy(DefenderEnv(SHORT), "voronoi", {"horizon": 3}), "^options: horizon: controller 'voronoi'"),
+    (lambda: ControllerPolicy(DefenderEnv(SHORT), ControllerSpec("apf"), {}), "^options: the spec 'apf' holds its"),
     (lambda: AttackerEnv(render_mode="human"), "^render_mode: "),
 ])
 def test_a_bad_argument_is_refused_when_the_environment_is_built_naming_it(build, argument):

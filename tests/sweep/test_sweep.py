@@ -23,9 +23,10 @@ from conftest import small_scenario
 from mpc_hunt import Attacker, Command, Defender, HuntParameters, Obstacle, Scenario, Solution, Status, simulate
 from mpc_hunt.cli.commands import main
 from mpc_hunt.control.encircling import EncirclingController
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
-from mpc_hunt.sweep.runner import Hunt, Strategy, connect_dask, run_dask, run_hunt, run_local, tasks
+from mpc_hunt.sweep.runner import Hunt, connect_dask, run_dask, run_hunt, run_local, tasks
 from mpc_hunt.sweep.outcome import FAILURE_STREAK, failure_cause, safety_breaches
 from mpc_hunt.sweep.random_scenario import sweep_scenario
 from mpc_hunt.sweep.reachability import comfortable
@@ -231,13 +232,15 @@ def test_a_hunt_ends_when_the_attacker_leaves_the_arena():
     assert failure_cause(dataclasses.replace(result, min_arena_margin=0.0), scenario) == "attacker_escaped"
 
 
-def test_strategy_specs():
-    assert Strategy.parse("paper:qp:daqp:5").label == "paper:qp:daqp:5"
-    assert Strategy.parse("paper").label == "paper:rti:hpipm:10" and Strategy.parse("apf").label == "apf"
+def test_a_strategy_is_a_controller_spec_named_by_its_label(capsys, tmp_path):
+    assert ControllerSpec.parse("paper:qp:daqp:5").label == "paper:qp:daqp:5"
+    assert ControllerSpec.parse("paper").label == "paper:rti:hpipm:10" and ControllerSpec.parse("apf").label == "apf"
     for bad in ("paper:qp:ipopt", "apf:qp", "paper:qp:daqp:0", "nobody", "a:b:c:d:e"):
-        with pytest.raises(Exception) as exc:
-            Strategy.parse(bad)
-        assert type(exc.value).__name__ in ("MpcHuntError", "UnknownNameError")
+        with pytest.raises(OptionError):
+            ControllerSpec.parse(bad)
+        assert main(["sweep", "--strategy", bad, "--output", str(tmp_path / "s.db")]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"mpc-hunt sweep: error: --strategy {bad!r}: ") and err.count("\n") == 1
 
 
 SMALL = ["--hunts", "3", "--seed", "1", "--strategy", "apf", "--strategy", "paper:qp:daqp:1", "--set", "time_limit=30"]
