@@ -17,13 +17,18 @@ from dataclasses import InitVar, dataclass, field
 from types import MappingProxyType
 from typing import Any, Mapping
 
+import numpy as np
+
 from mpc_hunt.arguments import count, shown
-from mpc_hunt.capture.problem import MAX_HORIZON, OBJECTIVES, horizon_error
+from mpc_hunt.capture.solution import Status
+from mpc_hunt.capture.problem import MAX_HORIZON, horizon_error
 from mpc_hunt.control import controllers
+from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.control.recommended import OTHER_HORIZON, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.errors import MpcHuntError, OptionError, SettingError
 from mpc_hunt.solving import registry
 from mpc_hunt.world.belief import Belief
+from mpc_hunt.world.hunt_state import HuntState
 
 STAGE = ("formulation", "backend", "horizon")      # a solving controller's capture stage, in the label's order
 FORM = "controller[:formulation[:backend[:horizon]]]"
@@ -56,10 +61,7 @@ class ControllerSpec:
                                              f"{', '.join(controllers.CONTROLLERS)})")
         options = _options(self.options)
         if name in controllers.SOLVING:
-            objective = options.get("objective") or controllers.controller_objective(name)
-            if objective not in OBJECTIVES:
-                raise SettingError("objective", f"unknown objective {objective!r} (available: {', '.join(OBJECTIVES)})")
-            settled = _stage(name, objective, self.formulation, self.backend, self.horizon, stage or RECOMMENDED)
+            settled = _stage(name, controllers.controller_objective(name), self.formulation, self.backend, self.horizon, stage or RECOMMENDED)
         else:
             _refuse_settings(name, [f for f in STAGE if getattr(self, f) is not None] + list(options))
             settled = dict.fromkeys(STAGE)
@@ -110,6 +112,37 @@ class ControllerSpec:
         """A fresh controller for ``scenario``, on the defenders' ``belief`` of the attacker (``rng`` draws its
         errors): :func:`~mpc_hunt.control.controllers.make_controller`'s."""
         return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng, **self.settings)
+
+    def probed(self, scenario, *, belief: Belief = Belief(), argument: str = "options"):
+        """:meth:`build`'s controller, built now rather than at a hunt's first step, each refusal one
+        :class:`~mpc_hunt.errors.OptionError` naming ``argument`` (the caller's name for the options).
+
+        Beyond the spec's own checks: what the controller's classes check (a positive time limit, say), and the
+        options passed through to the solver as they are (a solving controller's other keywords): with any, the
+        problem the controller poses with its team round the attacker's start (:func:`_ring`) is solved once, and a
+        solve that errs (the solver refused an option's name or value) is refused."""
+        if not isinstance(belief, Belief):
+            raise OptionError(f"belief: a Belief (mpc_hunt.world.belief), got {type(belief).__name__}")
+        try:
+            controller = self.build(scenario, belief=belief, rng=np.random.default_rng(0))
+        except MpcHuntError as exc:
+            raise OptionError(f"{argument}: {exc}") from None
+        mpc = getattr(controller, "mpc", None)
+        passed = [k for k in self.options if mpc is not None and k in mpc.solver.backend.options]
+        if passed:
+            solver, keys = mpc.solver, ", ".join(map(repr, passed))
+            problem = posed_problem(controller.scenario, _ring(controller.scenario), controller.horizon,
+                                    controller.objective)
+            try:
+                solution = solver.solve(problem)
+            except Exception as exc:  # noqa: BLE001 - a solver library's own exception types (OSQPException, ...)
+                first = str(exc).splitlines()[0] if str(exc) else ""
+                raise OptionError(f"{argument}: {solver.backend.name} refused its options {keys} "
+                                  f"({type(exc).__name__}: {first}); check their names and values") from None
+            if solution.status is Status.ERROR:
+                raise OptionError(f"{argument}: {solver.backend.name} erred with its options {keys} "
+                                  f"({solution.message}); check their names and values")
+        return controller
 
 
 def _mapping(options: object) -> dict[str, Any]:
@@ -163,3 +196,12 @@ def _stage(name: str, objective: str, formulation: str | None, backend: str | No
         raise SettingError("formulation", f"{formulation} poses the {' or '.join(posed)} objective, not the "
                                           f"{objective} objective of controller {name!r}: use another formulation")
     return {"formulation": formulation, "backend": backend, "horizon": int(horizon)}
+
+
+def _ring(scenario):
+    """The attacker at its start, every defender within its perception radius (0.7 R_agg, evenly round it): a
+    state at which both objectives plan the whole team."""
+    p_a = np.array(scenario.attacker.start, dtype=float)
+    angles = 2 * np.pi * np.arange(len(scenario.defenders)) / len(scenario.defenders)
+    ring = p_a + 0.7 * scenario.attacker.perception_radius * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    return HuntState(0.0, p_a, ring)

@@ -13,8 +13,6 @@ from typing import Callable
 
 import numpy as np
 
-from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import checked_controller
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.envs.episode import attacker_move
@@ -27,7 +25,7 @@ from mpc_hunt.world.scenario import Scenario
 def controller_spec(controller: str | ControllerSpec, options: dict | None, argument: str, probe: Scenario,
                     belief: Belief) -> ControllerSpec:
     """An environment's controller: a spec, or a name with ``options`` (:meth:`ControllerSpec.of`; a field not given
-    takes its default), checked once on the hunt ``probe`` (:func:`checked_controller`); a refusal is an
+    takes its default), checked once on the hunt ``probe`` (:meth:`ControllerSpec.probed`); a refusal is an
     :class:`OptionError` naming the environment's argument (``controller`` or ``argument``)."""
     if isinstance(controller, ControllerSpec):
         if options is not None:
@@ -41,7 +39,7 @@ def controller_spec(controller: str | ControllerSpec, options: dict | None, argu
             spec = ControllerSpec.of(controller, options)
         except SettingError as exc:
             raise (exc if exc.fields == ("controller",) else OptionError(f"{argument}: {exc}")) from None
-    checked_controller(spec.controller, probe, argument=argument, belief=belief, **spec.settings)
+    spec.probed(probe, belief=belief, argument=argument)
     return spec
 
 

@@ -133,7 +133,6 @@ def test_every_invalid_field_is_refused_naming_it(bad):
     (lambda: ControllerSpec.parse("voronoi:nlp"), ("formulation",), "solves no capture problem"),
     (lambda: ControllerSpec.parse("apf:"), ("formulation",), "solves no capture problem"),
     (lambda: ControllerSpec("enclose", options={"horizon": 3}), ("horizon",), "a field of the spec, not an option"),
-    (lambda: ControllerSpec.of("enclose", {"objective": "nearest"}), ("objective",), "unknown objective"),
     (lambda: ControllerSpec.of("enclose", ["horizon"]), ("options",), "a dict of the controller's options"),
     (lambda: ControllerSpec.parse("enclose:rti:hpipm:x"), ("horizon",), "expected a whole number from 1 to 200"),
 ])
