@@ -137,3 +137,14 @@ def test_the_formulations_folder_documents_every_registered_formulation_and_inst
     rows = {line.split("|")[1].strip().strip("`") for line in table.splitlines() if line.startswith("| `")}
     assert rows == set(registry.FORMULATIONS)
     assert not list((ROOT / "formulations").glob("*.py"))      # the code is mpc_hunt.formulations
+
+
+def test_the_package_installs_no_top_level_name_but_its_own():
+    import tomllib
+
+    from setuptools import find_packages
+
+    found = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["setuptools"]["packages"]["find"]
+    packages = find_packages(str(ROOT), include=found["include"])
+    assert "mpc_hunt.formulations" in packages
+    assert {p.split(".")[0] for p in packages} == {"mpc_hunt"}
