@@ -31,8 +31,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
 from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
-from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.spec import ControllerSpec
@@ -42,7 +41,7 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, run_study
-from studies.sweep_study import NOTHING_RAN, keys, missing, quickest_captures, run_file, still_captured
+from studies.sweep_study import keys, measured_run, missing, quickest_captures, run_file, still_captured, stop_status
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
@@ -200,23 +199,11 @@ def main(argv: list[str] | None = None) -> int:
     if args.check:
         with stop_at_once("team sweep study"):
             return check_result(check(args.output), "studies/team_sweep", COMMAND)
-    args.output.mkdir(parents=True, exist_ok=True)
-    machine = describe_machine()
-    try:
-        stopped = run(args.output, args.hunts, args.team_hunts, args.seed)
-    except MpcHuntError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    if stopped == NOTHING_RAN:
-        print(f"team_sweep.py: error: {stopped}", file=sys.stderr)
-        return 2
-    if stopped:
-        print(f"{stopped}: finished hunts are in {args.output}; rerun to continue", file=sys.stderr)
-        return 130 if stopped == "interrupted" else 2
-    machine["load_average_end"] = load_average()
-    write(args.output, machine, args.hunts, args.team_hunts, args.seed)
-    print(f"wrote {args.output / 'README.md'}")
-    return 0
+    return measured_run(args.output,
+                        lambda: stop_status(run(args.output, args.hunts, args.team_hunts, args.seed), "team_sweep.py",
+                                            args.output),
+                        lambda machine: write(args.output, machine, args.hunts, args.team_hunts, args.seed),
+                        args.output / "README.md")
 
 
 if __name__ == "__main__":
