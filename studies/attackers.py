@@ -24,7 +24,7 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
-from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
+from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.spec import ControllerSpec
@@ -40,7 +40,8 @@ from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, run_study
-from studies.sweep_study import keys, measured_run, missing, quickest_captures, run_file, still_captured, stop_status
+from studies.sweep_study import (add_study_options, keys, measured_run, missing, quickest_captures, run_file,
+                                 still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
@@ -206,9 +207,7 @@ def check(folder: Path) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"draws to pick from (default {HUNTS})")
-    parser.add_argument("--seed", type=seed_number, default=SEED, help=f"the sweep's seed (default {SEED})")
-    parser.add_argument("--output", type=output_folder, default=OUT, help="the folder to write (default studies/attackers)")
-    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    add_study_options(parser, SEED, OUT)
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("attackers study"):

@@ -1,6 +1,6 @@
-"""What the sweep studies (``attackers.py``, ``team_sweep.py``) share: running hunts into a results file, the end of
-a run (a stop's exit status, or the report with the machine: ``sweep.py``'s too), and the hunts their --check
-reruns."""
+"""What the sweep studies (``attackers.py``, ``team_sweep.py``) share: their common options, running hunts into a
+results file, the end of a run (a stop's exit status, or the report with the machine: ``sweep.py``'s too), and the
+hunts their --check reruns."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
+from mpc_hunt.arguments import CommandParser, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Hunt, run_hunt
@@ -17,6 +18,14 @@ from mpc_hunt.world.behaviours import BEHAVIOURS
 
 PROGRESS_EVERY = 20     # hunts between two progress lines
 NOTHING_RAN = "no hunt ran: nothing to report"      # why a study whose results file stays empty stops
+
+
+def add_study_options(parser: CommandParser, seed: int, out: Path) -> None:
+    """A sweep study's --seed (default ``seed``), --output (default ``out``, a folder of studies/) and --check."""
+    parser.add_argument("--seed", type=seed_number, default=seed, help=f"the sweep's seed (default {seed})")
+    parser.add_argument("--output", type=output_folder, default=out,
+                        help=f"the folder to write (default studies/{out.name})")
+    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
 
 
 def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
