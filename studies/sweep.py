@@ -32,7 +32,7 @@ from mpc_hunt.arguments import CommandParser
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, widened
-from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
+from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.plots.sweep import write_plots
@@ -45,6 +45,7 @@ from mpc_hunt.sweep.typical import typical_hunts
 
 from studies.docs_block import read_block, write_block
 from studies.study_check import check_result, run_study
+from studies.sweep_study import measured_run
 
 OUT = Path(__file__).resolve().parent / "sweep"
 DB = OUT / "sweep.db"
@@ -320,19 +321,8 @@ def main(argv: list[str] | None = None) -> int:
         except MpcHuntError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2
-    OUT.mkdir(parents=True, exist_ok=True)
-    machine = describe_machine()
-    try:
-        code = run_sweep()
-    except MpcHuntError as exc:
-        print(f"mpc-hunt sweep: error: {exc}", file=sys.stderr)
-        return 2
-    if code:
-        return code
-    machine["load_average_end"] = load_average()
-    write(machine)
-    print(f"wrote {OUT / 'README.md'} and the results table of docs/robustness.md")
-    return 0
+    return measured_run(OUT, run_sweep, write, f"{OUT / 'README.md'} and the results table of docs/robustness.md",
+                        error="mpc-hunt sweep: error")
 
 
 if __name__ == "__main__":

@@ -1,11 +1,16 @@
-"""What the sweep studies (``attackers.py``, ``team_sweep.py``) share: running hunts into a results file, and the
+"""What the sweep studies (``attackers.py``, ``team_sweep.py``) share: their common options, running hunts into a
+results file, the end of a run (a stop's exit status, or the report with the machine: ``sweep.py``'s too), and the
 hunts their --check reruns."""
 
 from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import Callable
 
+from mpc_hunt.arguments import CommandParser, output_folder, seed as seed_number
+from mpc_hunt.bench.machine import describe_machine, load_average
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Hunt, run_hunt
 from mpc_hunt.sweep.store import SweepStore, self_contained
 from mpc_hunt.sweep.stored_run import run_into
@@ -13,6 +18,14 @@ from mpc_hunt.world.behaviours import BEHAVIOURS
 
 PROGRESS_EVERY = 20     # hunts between two progress lines
 NOTHING_RAN = "no hunt ran: nothing to report"      # why a study whose results file stays empty stops
+
+
+def add_study_options(parser: CommandParser, seed: int, out: Path) -> None:
+    """A sweep study's --seed (default ``seed``), --output (default ``out``, a folder of studies/) and --check."""
+    parser.add_argument("--seed", type=seed_number, default=seed, help=f"the sweep's seed (default {seed})")
+    parser.add_argument("--output", type=output_folder, default=out,
+                        help=f"the folder to write (default studies/{out.name})")
+    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
 
 
 def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
@@ -36,6 +49,40 @@ def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
         store.close()
     self_contained(db)
     return stopped
+
+
+def measured_run(output: Path, run: Callable[[], int], write: Callable[[dict], None], wrote: str | Path,
+                 error: str = "error") -> int:
+    """A sweep study's run and report into the folder ``output`` (made if need be): ``run()`` gives an exit status
+    (0: every hunt finished); on 0, ``write(machine)`` of the report, the machine described before the run and its
+    load average after, then "wrote ``wrote``". An error of the toolkit's in the run is one line on stderr
+    ("``error``: the message"), status 2."""
+    output.mkdir(parents=True, exist_ok=True)
+    machine = describe_machine()
+    try:
+        code = run()
+    except MpcHuntError as exc:
+        print(f"{error}: {exc}", file=sys.stderr)
+        return 2
+    if code:
+        return code
+    machine["load_average_end"] = load_average()
+    write(machine)
+    print(f"wrote {wrote}")
+    return 0
+
+
+def stop_status(stopped: str | None, script: str, where: Path) -> int:
+    """The exit status of a run that stopped for ``stopped`` (:func:`run_file`'s; None: every hunt finished, 0).
+    No hunt ran: one line on stderr, ``script`` naming the study, 2; else one line saying the finished hunts are in
+    ``where``, 130 when interrupted, else 2."""
+    if stopped == NOTHING_RAN:
+        print(f"{script}: error: {stopped}", file=sys.stderr)
+        return 2
+    if stopped:
+        print(f"{stopped}: finished hunts are in {where}; rerun to continue", file=sys.stderr)
+        return 130 if stopped == "interrupted" else 2
+    return 0
 
 
 def missing(hunts: list[Hunt], done: set[tuple]) -> list[Hunt]:

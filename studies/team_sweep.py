@@ -30,9 +30,8 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
-from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
-from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.arguments import CommandParser, count
+from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.spec import ControllerSpec
@@ -42,7 +41,8 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, run_study
-from studies.sweep_study import NOTHING_RAN, keys, missing, quickest_captures, run_file, still_captured
+from studies.sweep_study import (add_study_options, keys, measured_run, missing, quickest_captures, run_file,
+                                 still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
@@ -193,30 +193,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"hunts per attacker (default {HUNTS})")
     parser.add_argument("--team-hunts", type=count(MAX_HUNTS), default=TEAM_HUNTS,
                         help=f"hunts with {TEAMS[0]}–{TEAMS[1]} defenders (default {TEAM_HUNTS})")
-    parser.add_argument("--seed", type=seed_number, default=SEED, help=f"the sweep's seed (default {SEED})")
-    parser.add_argument("--output", type=output_folder, default=OUT, help="the folder to write (default studies/team_sweep)")
-    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    add_study_options(parser, SEED, OUT)
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("team sweep study"):
             return check_result(check(args.output), "studies/team_sweep", COMMAND)
-    args.output.mkdir(parents=True, exist_ok=True)
-    machine = describe_machine()
-    try:
-        stopped = run(args.output, args.hunts, args.team_hunts, args.seed)
-    except MpcHuntError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    if stopped == NOTHING_RAN:
-        print(f"team_sweep.py: error: {stopped}", file=sys.stderr)
-        return 2
-    if stopped:
-        print(f"{stopped}: finished hunts are in {args.output}; rerun to continue", file=sys.stderr)
-        return 130 if stopped == "interrupted" else 2
-    machine["load_average_end"] = load_average()
-    write(args.output, machine, args.hunts, args.team_hunts, args.seed)
-    print(f"wrote {args.output / 'README.md'}")
-    return 0
+    return measured_run(args.output,
+                        lambda: stop_status(run(args.output, args.hunts, args.team_hunts, args.seed), "team_sweep.py",
+                                            args.output),
+                        lambda machine: write(args.output, machine, args.hunts, args.team_hunts, args.seed),
+                        args.output / "README.md")
 
 
 if __name__ == "__main__":

@@ -62,18 +62,29 @@ def around(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, gua
     return route(p_d, centre, angle, max(guard, 1e-9), reach)
 
 
-class Containment(Places):
+class Unmodelled(Places):
+    """The base of a reference that assumes no model of the attacker (``contain``, ``trap``): the objective with
+    no term on its predicted position (``CONTAIN_WEIGHTS``), and its velocity as the defenders observe it
+    (``self.observed``, fed every observation by :meth:`reference`); a subclass sets ``NAME``, ``SUMMARY`` and
+    builds :meth:`reference`."""
+
+    weights = CONTAIN_WEIGHTS
+
+    def __init__(self, scenario: Scenario, horizon: int):
+        super().__init__(scenario, horizon)
+        self.observed = ObservedVelocity(scenario)
+
+
+class Containment(Unmodelled):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``contain`` controller."""
 
     NAME = "contain"
     SUMMARY = ("the capture problem tracking the Voronoi rule's places, moved with the attacker's observed "
                "velocity (no model of the attacker)")
-    weights = CONTAIN_WEIGHTS
 
     def __init__(self, scenario: Scenario, horizon: int):
         super().__init__(scenario, horizon)
         self.rule = VoronoiController(scenario)
-        self.observed = ObservedVelocity(scenario)
 
     def reference(self, obs: Observation) -> Reference:
         """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""

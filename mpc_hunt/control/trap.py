@@ -57,11 +57,9 @@ from __future__ import annotations
 import numpy as np
 
 from mpc_hunt.capture.problem import Reference
-from mpc_hunt.control.containment import CONTAIN_WEIGHTS
+from mpc_hunt.control.containment import Unmodelled
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.reference import Places
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
-from mpc_hunt.control.observed import ObservedVelocity
 from mpc_hunt.control.voronoi import ring_bearings, route
 from mpc_hunt.world.arena import kept_clear
 from mpc_hunt.world.geometry import direction, encloses, norm
@@ -85,17 +83,15 @@ def wrap(angle):
     return (np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi
 
 
-class Trap(Places):
+class Trap(Unmodelled):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``trap`` controller."""
 
     NAME = "trap"
     SUMMARY = ("the capture problem tracking a minimum-time shrink of the attacker's reachable set (no model of "
                "the attacker)")
-    weights = CONTAIN_WEIGHTS
 
     def __init__(self, scenario: Scenario, horizon: int):
         super().__init__(scenario, horizon)
-        self.observed = ObservedVelocity(scenario)
         self.rays = ray_directions()
         self.phase = "shrink"
 

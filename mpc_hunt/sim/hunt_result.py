@@ -7,6 +7,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def _described(key: str) -> property:
+    """A read-only attribute: the controller's ``key`` (of its describe()), None for a controller without one."""
+    return property(lambda self: self.controller.get(key), doc=f"The controller's {key}, if it has one.")
+
+
 @dataclass
 class HuntResult:
     """Every trajectory of one hunt, and the figures computed from them."""
@@ -36,21 +41,10 @@ class HuntResult:
     fallbacks: int = 0
     longest_failure_streak: int = 0   # most consecutive failed capture-stage solves
 
-    @property
-    def formulation(self) -> str | None:
-        return self.controller.get("formulation")
-
-    @property
-    def backend(self) -> str | None:
-        return self.controller.get("backend")
-
-    @property
-    def horizon(self) -> int | None:
-        return self.controller.get("horizon")
-
-    @property
-    def prediction(self) -> bool | None:
-        return self.controller.get("prediction")
+    formulation = _described("formulation")     # str | None
+    backend = _described("backend")             # str | None
+    horizon = _described("horizon")             # int | None
+    prediction = _described("prediction")       # bool | None
 
     @property
     def steps(self) -> int:

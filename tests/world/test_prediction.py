@@ -24,14 +24,22 @@ def gap(t, p_a, v_a, p_d, speed):
     return np.linalg.norm(pos - p_d[None, :], axis=1) - speed * t
 
 
+@st.composite
+def chases(draw, speeds, apart: float):
+    """(p_a, p_d, v_speed, v_a): an attacker at p_a and a defender at p_d more than ``apart`` from it, the
+    attacker's velocity v_a of speed v_speed (drawn from ``speeds``) at any heading."""
+    p_a, p_d = draw(points), draw(points)
+    assume(np.linalg.norm(p_a - p_d) > apart)
+    v_speed = draw(speeds)
+    return p_a, p_d, v_speed, polar(v_speed, draw(angles))
+
+
 # --- intercept_time / intercept_point -----------------------------------------------------------
 
 @FAST
-@given(p_a=points, p_d=points, v_speed=floats(0.0, 1.0), v_angle=angles,
-       ratio=floats(1.05, 20.0))
-def test_faster_defender_always_intercepts_with_equal_arrival_times(p_a, p_d, v_speed, v_angle, ratio):
-    assume(np.linalg.norm(p_a - p_d) > 1e-3)
-    v_a = polar(v_speed, v_angle)
+@given(chase=chases(floats(0.0, 1.0), apart=1e-3), ratio=floats(1.05, 20.0))
+def test_faster_defender_always_intercepts_with_equal_arrival_times(chase, ratio):
+    p_a, p_d, v_speed, v_a = chase
     speed = max(v_speed * ratio, 1e-3)
     t = intercept_time(p_a, v_a, p_d, speed)
     assert t is not None and t >= 0
@@ -52,12 +60,10 @@ def test_faster_defender_always_intercepts_with_equal_arrival_times(p_a, p_d, v_
 
 
 @FAST
-@given(p_a=points, p_d=points, v_speed=floats(0.0, 2.0), v_angle=angles,
-       speed=floats(0.05, 1.0))
-def test_intercept_is_the_earliest_meeting_time(p_a, p_d, v_speed, v_angle, speed):
+@given(chase=chases(floats(0.0, 2.0), apart=1e-2), speed=floats(0.05, 1.0))
+def test_intercept_is_the_earliest_meeting_time(chase, speed):
     """Brute force: the gap |p_a + v t − p_d| − s t stays positive before t* (any speeds)."""
-    assume(np.linalg.norm(p_a - p_d) > 1e-2)
-    v_a = polar(v_speed, v_angle)
+    p_a, p_d, v_speed, v_a = chase
     t = intercept_time(p_a, v_a, p_d, speed)
     if t is None:
         # No intercept: the defender can never be where the attacker is (scan a long horizon).
@@ -123,11 +129,10 @@ def test_equal_speeds(v_a, expected):
 
 
 @FAST
-@given(p_a=points, p_d=points, v_speed=floats(0.01, 1.0), v_angle=angles)
-def test_equal_speeds_intercept_exists_iff_attacker_approaches(p_a, p_d, v_speed, v_angle):
+@given(chase=chases(floats(0.01, 1.0), apart=1e-2))
+def test_equal_speeds_intercept_exists_iff_attacker_approaches(chase):
+    p_a, p_d, v_speed, v_a = chase
     w = p_a - p_d
-    assume(np.linalg.norm(w) > 1e-2)
-    v_a = polar(v_speed, v_angle)
     closing = float(w @ v_a)
     assume(abs(closing) > 1e-6 * np.linalg.norm(w) * v_speed)
     speed = float(np.linalg.norm(v_a))
