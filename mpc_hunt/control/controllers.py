@@ -71,4 +71,3 @@ def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None,
     The controller is built on the defenders' ``belief`` of the attacker (:func:`mpc_hunt.world.belief.believed`;
     ``rng`` draws its heading error), never on the world's behaviour."""
     return registered(CONTROLLERS, "controller", name)(believed(scenario, belief, rng), **options)
-
