@@ -25,8 +25,11 @@ arena's edge). The reference has two phases:
   minimum-time closing, not a tracking of places. Near a slower attacker
   every ray's limit is nearly zero, and the area with it, so the gradient no
   longer spreads the team: a mover within ``NEAR`` R_hunt of the attacker
-  instead takes its place in an even spread round it on that circle, in the
-  order the movers stand, until the ring can close;
+  instead takes its place in an even spread round it on that circle (no wider
+  than the attacker's distance to the arena's edge less R_safe, so that near
+  the edge a place stands between the attacker and the way out instead of
+  being pushed onto the edge), in the order the movers stand, until the ring
+  can close;
 - **herd** (fewer robots than the three that enclose, Eqs. 4–5, so an obstacle
   must close the circle, and the attacker farther than R_hunt from the nearest
   obstacle's surface): the movers take places behind the attacker as seen from
@@ -174,7 +177,11 @@ class Trap(Unmodelled):
         """The places (N, k, 2) of movers that have come within ``NEAR`` R_hunt while the ring cannot close yet: on
         that circle round the attacker, at their places in an even spread in the order they stand (a stationary
         member first), going round the circle where the straight way would cross it, at top speed."""
-        radius = NEAR * self.scenario.hunt.hunt_radius
+        s = self.scenario
+        radius = NEAR * s.hunt.hunt_radius
+        if s.arena is not None:       # the spread inside the arena, R_safe from its edge: no place clamped onto it
+            gap = min(p_a[0] - s.arena[0], p_a[1] - s.arena[1], s.arena[2] - p_a[0], s.arena[3] - p_a[1])
+            radius = min(radius, max(0.5 * s.hunt.hunt_radius, gap - s.hunt.safety_distance))
         angles = ring_bearings(p_a, movers, stationary)
         reach = speeds[None] * steps                                                                # (N, k)
         places = np.empty((len(steps), len(movers), 2))
