@@ -153,13 +153,15 @@ class CaptureProblem:
     @classmethod
     def at_state(cls, scenario: Scenario, attacker_position, defender_positions, horizon: int = 1,
                  weights: CaptureWeights | None = None, active=None,
-                 reference: Reference | None = None) -> "CaptureProblem":
+                 reference: Reference | None = None,
+                 enclose_weights: EncloseWeights | None = None) -> "CaptureProblem":
         """The problem the strategy poses at this state (controlled set and u'_a derived).
 
         ``active`` (default: every defender) marks the robots that can move; a
         failed one is held where it stands, like a defender in the approaching stage.
         With a ``reference`` the objective is ``enclose``, which plans every active
-        defender and has no herding target (u'_a is zero).
+        defender and has no herding target (u'_a is zero); ``enclose_weights`` (default: ``EncloseWeights()``) its
+        terms' weights.
         """
         p_a = np.asarray(attacker_position, dtype=float)
         p_d = np.asarray(defender_positions, dtype=float)
@@ -172,7 +174,7 @@ class CaptureProblem:
             circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
             u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
         return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights(),
-                   "paper" if reference is None else "enclose", reference)
+                   "paper" if reference is None else "enclose", reference, enclose_weights or EncloseWeights())
 
     # Derived quantities, named as in the paper.
     @property

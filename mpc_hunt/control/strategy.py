@@ -15,8 +15,6 @@ positions and each other.
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from mpc_hunt.world.approach import approach_target, approach_velocity
@@ -95,9 +93,8 @@ class HuntingStrategy:
         solution, fallback, planned_next = None, False, obs.defenders
         if capture.any():
             problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active,
-                                              reference=self.reference.reference(obs))
-            if self.reference.weights is not None and self.reference.weights != problem.enclose_weights:
-                problem = dataclasses.replace(problem, enclose_weights=self.reference.weights)
+                                              reference=self.reference.reference(obs),
+                                              enclose_weights=self.reference.weights)
             solution, plan, fallback = self._capture(problem)
             velocities[capture] = (plan[0][capture] - obs.defenders[capture]) / s.hunt.time_step
             planned_next = plan[0]
