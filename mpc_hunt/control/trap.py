@@ -67,6 +67,7 @@ from mpc_hunt.control.voronoi import ring_bearings, route
 from mpc_hunt.world.arena import kept_clear
 from mpc_hunt.world.geometry import direction, encloses, norm
 from mpc_hunt.world.hunting_circle import MIN_MEMBERS, members
+from mpc_hunt.world.prediction import intercept_time
 from mpc_hunt.world.reachable_set import defender_reach, edge_distance, obstacle_block, ray_directions
 from mpc_hunt.world.scenario import Scenario
 
@@ -78,7 +79,11 @@ STEP = 1e-4           # m: the finite difference of the gradient
 NEAR = 3.0            # of R_hunt: a mover this near the attacker before the ring can close takes its place in a spread
 HERD_SPREAD = np.radians(50.0)    # rad: either side of the attacker's far side from the anchor, where a mover herds
 HERD_TOLERANCE = np.radians(30.0)  # rad: a mover this close to its herding bearing closes in; farther, goes round
+HOLD_BAND = 0.25      # m: the ring closes on an obstacle from this far beyond R_hunt of it, herds again from twice it
+CENTRE_SLACK = 0.5    # of the centre tolerance: the ring's members' centroid is moved no nearer the attacker than this
+HERD_DRIFT = 0.3      # of v_a: an attacker moving slower than this has no drift the herd corrects
 HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it closes in at top speed down to this)
+HERD_STEER = np.radians(60.0)     # rad: the herd's push turned at most this far past the way to the anchor
 
 
 def wrap(angle):
@@ -154,9 +159,10 @@ class Trap(Unmodelled):
         places = np.repeat(P[None], N, axis=0).astype(float)
         steps = (np.arange(1, N + 1) * T)[:, None]
         anchor = m.anchors[len(P)] if len(P) < MIN_MEMBERS and len(m.anchors) > len(P) else None
-        if len(movers) and anchor is not None and norm(anchor - p_a) > s.hunt.hunt_radius:
+        hold = (2.0 if self.phase == "close" else 1.0) * HOLD_BAND
+        if len(movers) and anchor is not None and norm(anchor - p_a) > s.hunt.hunt_radius + hold:
             self.phase = "herd"
-            places[:, movers] = self._herd(p_a, P[movers], speeds, anchor, steps) + drift[:, None]
+            places[:, movers] = self._herd(p_a, velocity, P[movers], speeds, anchor, steps)
         elif len(movers) and (anchor is not None or self.closed(p_a, P[movers], speeds, stationary)):
             self.phase = "close"
             places[:, movers] = self._ring(p_a, P[movers], speeds, stationary, steps) + drift[:, None]
@@ -192,25 +198,36 @@ class Trap(Unmodelled):
                 places[k, i] = q + way * (min(1.0, reach[k, i] / length) if length > 0 else 0.0)
         return places
 
-    def _herd(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, anchor: np.ndarray,
-              steps: np.ndarray) -> np.ndarray:
+    def _herd(self, p_a: np.ndarray, velocity: np.ndarray, movers: np.ndarray, speeds: np.ndarray,
+              anchor: np.ndarray, steps: np.ndarray) -> np.ndarray:
         """The herd phase's places (N, k, 2): behind the attacker as seen from ``anchor``, ``HERD_SPREAD`` either
-        side, closing to R_hunt / 2 at top speed; a mover not yet at its bearing goes round at its distance."""
+        side, on the circle R_hunt / 2 round where each mover meets it (its intercept with the attacker's observed
+        velocity, Eqs. 7–8 with no model, or where it stands once met), at top speed; a mover not yet on its side
+        goes round at ``HERD_ORBIT``."""
         inner = 0.5 * self.scenario.hunt.hunt_radius
-        away = np.arctan2(*(p_a - anchor)[::-1])
+        towards = np.arctan2(*(anchor - p_a)[::-1])
+        error = 0.0
+        s = self.scenario
+        if norm(velocity) > HERD_DRIFT * s.attacker.max_speed and norm(anchor - p_a) > s.hunt.protective_distance:
+            error = float(np.clip(wrap(towards - np.arctan2(velocity[1], velocity[0])), -HERD_STEER, HERD_STEER))
+        # (within the obstacle's protective distance its field, not the attacker, bends the drift: none corrected)
+        away = towards + np.pi + error        # pushed along the way to the anchor turned past the attacker's drift
         bearings = np.arctan2(movers[:, 1] - p_a[1], movers[:, 0] - p_a[0])
         side = np.where(wrap(bearings - away) >= 0, 1.0, -1.0)
         if len(movers) == 2 and side[0] == side[1]:
             side[np.argmin(wrap(bearings - away) * side[0])] *= -1.0      # one each side
         goals = away + side * HERD_SPREAD if len(movers) > 1 else np.array([away])
-        distance = norm(movers - p_a)
-        turn = wrap(goals - bearings)
-        swept = np.minimum(np.abs(turn)[None], speeds[None] * steps / np.maximum(distance, inner)[None])
-        going = np.abs(turn)[None] > HERD_TOLERANCE
-        angles = bearings[None] + np.sign(turn)[None] * swept
-        closing = distance[None] - speeds[None] * steps
-        radii = np.where(going, np.maximum(np.minimum(distance[None], HERD_ORBIT), closing), np.maximum(inner, closing))
-        return p_a + radii[:, :, None] * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+        going = np.abs(wrap(goals - bearings)) > HERD_TOLERANCE
+        places = np.empty((len(steps), len(movers), 2))
+        for i, (q, speed) in enumerate(zip(movers, speeds)):
+            far = norm(q - p_a) > 2.0 * HERD_ORBIT
+            meet = (intercept_time(p_a, velocity, q, speed) or 0.0) if far else 0.0
+            radius = HERD_ORBIT if going[i] else inner
+            for k, t in enumerate(steps[:, 0]):
+                way = route(q, p_a + velocity * max(meet, t), goals[i], radius, speed * t) - q
+                length = float(np.hypot(*way))
+                places[k, i] = q + way * (min(1.0, speed * t / length) if length > 0 else 0.0)
+        return places
 
     def _ring(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray,
               steps: np.ndarray) -> np.ndarray:
@@ -221,7 +238,9 @@ class Trap(Unmodelled):
         start = float(np.min(norm(movers - p_a)))
         radii = np.maximum(inner, start - float(np.min(speeds)) * steps)                         # (N, 1)
         places = p_a + radii[:, :, None] * direction(angles)[None]
-        near = stationary[norm(stationary - p_a) <= s.hunt.hunt_radius]
+        near = stationary[norm(stationary - p_a) <= s.hunt.hunt_radius + HOLD_BAND]
         count = len(movers) + len(near)
-        centroid = (places.sum(axis=1) + near.sum(axis=0)) / count                                # (N, 2)
-        return places + ((p_a - centroid) * count / len(movers))[:, None, :]
+        off = p_a - (places.sum(axis=1) + near.sum(axis=0)) / count                               # (N, 2)
+        size = np.maximum(norm(off), 1e-12)[:, None]
+        slack = CENTRE_SLACK * s.hunt.centre_tolerance
+        return places + (off * np.maximum(0.0, 1.0 - slack / size) * count / len(movers))[:, None, :]

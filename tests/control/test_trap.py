@@ -99,3 +99,66 @@ def test_near_the_arena_edge_the_spread_fits_inside_it_with_a_place_on_the_edge_
     radius = p_a[0] - s.hunt.safety_distance
     np.testing.assert_allclose(norm(last - p_a), radius, atol=1e-9)
     assert np.min(last[:, 0]) < p_a[0] - 0.5 * radius        # a place between the attacker and the edge
+
+
+def _herding(defenders, p_a, velocity, obstacle, phase="herd", horizon=N):
+    """A two-robot trap herding towards ``obstacle``, the attacker seen moving at ``velocity`` one step ago."""
+    s = _world(defenders, tuple(p_a), (obstacle,))
+    trap = Trap(s, horizon)
+    trap.phase = phase
+    p_a = np.asarray(p_a, dtype=float)
+    previous = p_a - np.asarray(velocity, dtype=float) * s.hunt.time_step
+    reference = trap.reference(Observation(0.0, p_a, previous, s.defender_starts))
+    return s, trap, reference
+
+
+def test_the_herd_pushes_past_the_attackers_drift_towards_the_obstacle():
+    # The obstacle 4 m north of the attacker, which drifts east: the movers take places behind it turned past that
+    # drift (their mean bearing from it south-east, so they push north-west); seen standing still, due south.
+    north = Obstacle(centre=(10.0, 15.0), radius=1.0)
+    movers = [(10.0 + 0.25 * np.cos(a), 10.0 + 0.25 * np.sin(a)) for a in np.radians([-140.0, -40.0])]
+
+    def behind(velocity):
+        _, trap, reference = _herding(movers, (10.0, 10.0), velocity, north, horizon=400)
+        assert trap.phase == "herd"
+        offsets = reference.defenders[-1] - reference.attacker[-1]
+        mean = (offsets / norm(offsets)[:, None]).sum(axis=0)
+        return np.degrees(np.arctan2(mean[1], mean[0]))
+
+    np.testing.assert_allclose(behind((0.0, 0.0)), -90.0, atol=1e-6)
+    np.testing.assert_allclose(behind((0.04, 0.0)), -30.0, atol=1e-6)      # turned the most the herd turns, 60°
+
+
+def test_a_far_mover_herds_towards_where_it_meets_the_attacker():
+    # A mover 8 m south of an attacker running east: its places lead the attacker (its intercept), not the spot
+    # where it stands now.
+    north = Obstacle(centre=(10.0, 15.0), radius=1.0)
+    s, _, reference = _herding([(10.0, 2.0), (2.0, 2.0)], (10.0, 10.0), (0.04, 0.0), north)
+    step = reference.defenders[0, 0] - np.array([10.0, 2.0])
+    assert step[0] > 0.2 * np.hypot(*step)
+
+
+def test_closing_on_an_obstacle_holds_within_its_band_and_herds_beyond_it():
+    # The obstacle's surface 0.85 m from the attacker (R_hunt + 0.35 m): herding stays herding, closing stays
+    # closing (inside twice the band); at 0.65 m herding turns to closing.
+    movers = [(10.0 + 0.3 * np.cos(a), 10.0 + 0.3 * np.sin(a)) for a in np.radians([-150.0, -30.0])]
+    for gap, before, after in ((0.85, "herd", "herd"), (0.85, "close", "close"), (0.65, "herd", "close"),
+                               (1.1, "close", "herd")):
+        obstacle = Obstacle(centre=(10.0, 10.0 + gap + 1.0), radius=1.0)
+        _, trap, _ = _herding(movers, (10.0, 10.0), (0.0, 0.0), obstacle, phase=before)
+        assert trap.phase == after, (gap, before)
+
+
+def test_closing_on_an_obstacle_the_movers_keep_pushing_within_the_centre_tolerance():
+    # Two movers closing on an attacker 0.7 m from an obstacle's surface (inside the band that counts it): the
+    # members' centroid (the movers and the obstacle's nearest point) is moved only to within half the centre
+    # tolerance of the attacker, so the movers stand nearer it, behind, than an exact centring would put them
+    # (0.41 m).
+    obstacle = Obstacle(centre=(10.0, 11.7), radius=1.0)
+    movers = [(10.0 + 0.3 * np.cos(a), 10.0 + 0.3 * np.sin(a)) for a in np.radians([-150.0, -30.0])]
+    s, trap, reference = _herding(movers, (10.0, 10.0), (0.0, 0.0), obstacle, phase="close")
+    assert trap.phase == "close"
+    last = reference.defenders[-1]
+    centroid = (last.sum(axis=0) + np.array([10.0, 10.7])) / 3
+    np.testing.assert_allclose(norm(centroid - 10.0), 0.5 * s.hunt.centre_tolerance, atol=1e-9)
+    assert np.all(norm(last - 10.0) < 0.3)
