@@ -31,12 +31,19 @@ arena's edge). The reference has two phases:
   being pushed onto the edge), in the order the movers stand, until the ring
   can close;
 - **herd** (fewer robots than the three that enclose, Eqs. 4–5, so an obstacle
-  must close the circle, and the attacker farther than R_hunt from the nearest
-  obstacle's surface): the movers take places behind the attacker as seen from
-  that obstacle, ``HERD_SPREAD`` either side, and close in at top speed (going
-  round, no nearer than ``HERD_ORBIT``, until they stand on their side), so that an attacker
-  which keeps away from defenders is pushed against the obstacle; an attacker
-  that does not react is closed on there all the same;
+  must close the circle, and the attacker farther than R_hunt + ``HOLD_BAND`` from
+  the nearest obstacle's surface, or twice the band once closing): the movers take
+  places behind the attacker as seen from that obstacle, ``HERD_SPREAD`` either
+  side, and close in at top speed (going round, no nearer than ``HERD_ORBIT``,
+  until they stand on their side), so that an attacker which keeps away from
+  defenders is pushed against the obstacle; an attacker that does not react is
+  closed on there all the same. The push is turned past the attacker's observed
+  drift (by the angle between its velocity and the way to the obstacle, at most
+  ``HERD_STEER``), as a shepherd drives a flock from behind its heading rather
+  than its position, except within the obstacle's protective distance, where the
+  drift is the obstacle's field sliding it along the surface; a mover farther
+  than twice ``HERD_ORBIT`` runs for where it meets the attacker (its intercept
+  with the observed velocity), not for where the attacker stands;
 - **close** (the attacker strictly inside the hull of the movers and the
   stationary members, and no direction open to the edge): places on an even
   spread round the attacker (:func:`~mpc_hunt.control.voronoi.ring_bearings`,
@@ -44,9 +51,13 @@ arena's edge). The reference has two phases:
   members' centroid is the attacker (Eq. 4), one radius for all, shrinking
   from the nearest mover's distance at the slowest mover's top speed to
   R_hunt / 2 (the others run to the ring at theirs), every place moving with
-  the attacker's observed velocity. With fewer than three robots, the close
-  phase starts once the attacker is within R_hunt of the obstacle's surface,
-  which holds the first place.
+  the attacker's observed velocity. The centring is taken only as far as half
+  the success test's centre tolerance: a stationary member (an obstacle, counted
+  from R_hunt + ``HOLD_BAND``) pulls the members' centroid its way, and a full
+  shift would take the movers back from the attacker, so that they no longer
+  press it towards that member. With fewer than three robots, the close phase
+  starts once the attacker is within R_hunt + ``HOLD_BAND`` of the obstacle's
+  surface, which holds the first place.
 
 Places stay in the arena and out of every obstacle's R_safe; the capture
 problem (:class:`~mpc_hunt.capture.problem.CaptureProblem`, the ``enclose``
@@ -76,7 +87,8 @@ EDGE_MARGIN = 1.0     # m: how far inside the edge the region's boundary must st
 SHARPNESS = 4.0       # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
 TINY = 1e-9           # m: a limit's floor in that minimum (a defender already within reach)
 STEP = 1e-4           # m: the finite difference of the gradient
-NEAR = 3.0            # of R_hunt: a mover this near the attacker before the ring can close takes its place in a spread
+NEAR = 5.0            # of R_hunt: a mover this near the attacker before the ring can close takes its place in a spread
+                      # (at 3, three movers came within a gap-seeker's sensing from one side and drove it out)
 HERD_SPREAD = np.radians(50.0)    # rad: either side of the attacker's far side from the anchor, where a mover herds
 HERD_TOLERANCE = np.radians(30.0)  # rad: a mover this close to its herding bearing closes in; farther, goes round
 HOLD_BAND = 0.25      # m: the ring closes on an obstacle from this far beyond R_hunt of it, herds again from twice it

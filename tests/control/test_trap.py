@@ -73,7 +73,7 @@ def test_the_trap_controller_plans_every_defender_inside_the_time_step():
 
 def test_movers_near_the_attacker_before_the_ring_can_close_spread_round_it():
     # Three defenders 1 m from the attacker, all on one side (not enclosing): each heads for its place in an even
-    # spread on the 1.5 m circle (3 R_hunt), going round, rather than pressing in from that side.
+    # spread on the 2.5 m circle (NEAR R_hunt), going round, rather than pressing in from that side.
     side = [(10.0 + np.cos(a), 10.0 + np.sin(a)) for a in np.radians([-20.0, 0.0, 20.0])]
     s = _world(side, (10.0, 10.0))
     trap = Trap(s, N)
@@ -82,13 +82,13 @@ def test_movers_near_the_attacker_before_the_ring_can_close_spread_round_it():
     last = reference.defenders[-1] - 10.0
     np.testing.assert_allclose(norm(last), 1.08, atol=1e-3)                 # outwards at top speed, to the circle
     turned = np.degrees(np.arctan2(last[:, 1], last[:, 0])) - np.array([-20.0, 0.0, 20.0])
-    assert turned[0] < -0.5 and abs(turned[1]) < 1e-6 and turned[2] > 0.5  # the outer two go round, apart
+    assert turned[0] < -0.1 and abs(turned[1]) < 1e-6 and turned[2] > 0.1  # the outer two go round, apart
 
 
 def test_near_the_arena_edge_the_spread_fits_inside_it_with_a_place_on_the_edge_side():
     # The attacker 0.8 m from the left edge, three movers 0.7 m from it to its right (not enclosing it): the spread's
     # circle shrinks to the edge's distance less R_safe, so that no place is pushed onto the edge and one mover goes
-    # between the attacker and the way out (on the 1.5 m circle that place would lie beyond the edge).
+    # between the attacker and the way out (on the 2.5 m circle that place would lie beyond the edge).
     p_a = np.array([0.8, 10.0])
     side = [tuple(p_a + 0.7 * np.array([np.cos(a), np.sin(a)])) for a in np.radians([-80.0, 0.0, 80.0])]
     s = _world(side, tuple(p_a))
