@@ -1,17 +1,19 @@
 """Attackers the defenders do not know: every strategy against every attacker behaviour, and belief errors.
 
-Runs the sweep machinery (``mpc_hunt.sweep.runner``) on the reachable hunts among the first ``--hunts`` of the
-sweep ``--seed`` (unreachable hunts are lost by any controller, whatever the attacker: docs/robustness.md):
-every strategy of ``STRATEGIES`` against every behaviour of ``mpc_hunt.world.behaviours.BEHAVIOURS`` with the
-exact belief, and the contain controller and the Voronoi baseline with each belief error of ``BELIEFS``
-(the trap controller reads nothing of the belief but the attacker's top speed, which no error changes).
+Runs the sweep machinery (``mpc_hunt.sweep.runner``) on the first ``--hunts`` reachable draws of the sweep
+``--seed`` (unreachable hunts are lost by any controller, whatever the attacker: docs/robustness.md): every
+strategy of ``STRATEGIES`` against every behaviour of ``mpc_hunt.world.behaviours.BEHAVIOURS`` with the exact
+belief; on the first ``BELIEF_HUNTS`` of them, the contain controller too, and it and the Voronoi baseline with
+each belief error of ``BELIEFS`` (the trap controller reads nothing of the belief but the attacker's top speed,
+which no error changes).
 Rows go into ``studies/attackers/sweep.db`` (resumed if it exists, so an interrupted run continues); then it
 writes ``studies/attackers/`` (README.md, summary.json with the machine, the figures).
 
     python studies/attackers.py                   # run (or resume), then write the report
-    python studies/attackers.py --hunts 200 --seed 3 --output /tmp/a   # another draw, into another folder
-    python studies/attackers.py --check           # the committed report is the committed file's summary, and the
-                                                  # contain controller's quickest capture per attacker still captures
+    python studies/attackers.py --hunts 200 --seed 3 --output /tmp/a   # other hunts, into another folder
+    python studies/attackers.py --check           # the committed report is the committed file's summary, the
+                                                  # recommended controller is the one that captures most, and its
+                                                  # quickest capture per attacker still captures
 """
 
 from __future__ import annotations
@@ -45,12 +47,16 @@ from studies.sweep_study import (add_study_options, keys, measured_run, missing,
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
-HUNTS, SEED = 20, 1
+HUNTS, SEED = 60, 1       # 60 hunts a cell: a 95 % interval of about ±12 points where 15 gave ±25
+BELIEF_HUNTS = 15         # the contain controller and the belief errors: on the first this many hunts
 MAX_HUNTS = 1000
-RECOMMENDED_LABEL = ControllerSpec().label
-FOCUS = "trap:rti:hpipm:10"          # the controller built on the attacker's reachable set (docs/model.md, E16)
-STRATEGIES = tuple(dict.fromkeys((RECOMMENDED_LABEL, FOCUS, "contain:rti:hpipm:10", "voronoi", "apf",
+DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
+FOCUS = ControllerSpec().label       # the recommended controller, measured against the Voronoi baseline
+BASELINE = "voronoi"
+STRATEGIES = tuple(dict.fromkeys((FOCUS, "trap:rti:hpipm:10", BASELINE, "enclose:rti:hpipm:10", "apf",
                                   "paper:rti:hpipm:5")))
+MARGIN_POINTS = 8         # how much more of the comfortable hunts, averaged over the attackers, the focus should take
+APF_BAR, TWO_BAR = 0.9, 0.5   # its share of the comfortable hunts against apf; of the reachable two-robot hunts
 EXACT = "exact"
 BELIEFS = ("perception_radius=1.3x", "eta=3x", "intent_heading=60")   # errors run by the BELIEF_STRATEGIES
 # The controllers that read the believed attacker beyond its top speed: contain (its floor R_agg + R_hunt / 2 while
@@ -60,21 +66,32 @@ BELIEF_STRATEGIES = ("contain:rti:hpipm:10", "voronoi")
 
 
 def hunt_indices(hunts: int, seed: int) -> list[int]:
-    """The reachable hunts among the first ``hunts`` of the sweep ``seed`` (default ranges)."""
-    return [i for i in range(hunts) if reachable(sweep_scenario(seed, i, ScenarioRanges()))]
+    """The first ``hunts`` reachable draws of the sweep ``seed`` (default ranges), searched among the first
+    ``DRAWS_PER_HUNT`` × ``hunts`` draws (fewer if that many hold fewer)."""
+    found = []
+    for i in range(DRAWS_PER_HUNT * hunts):
+        if len(found) == hunts:
+            break
+        if reachable(sweep_scenario(seed, i, ScenarioRanges())):
+            found.append(i)
+    return found
 
 
 def todo(indices: list[int], seed: int) -> list[Hunt]:
-    """Every (strategy, attacker, belief, hunt) of the study."""
+    """Every (strategy, attacker, belief, hunt) of the study: every strategy with the exact belief on every hunt;
+    the contain controller, and the belief errors, on the first ``BELIEF_HUNTS``."""
     ranges = ranges_to_dict(ScenarioRanges())
-    combos = [(s, a, EXACT) for s in STRATEGIES for a in BEHAVIOURS] + \
-             [(s, a, b) for s in BELIEF_STRATEGIES for a in BEHAVIOURS for b in BELIEFS]
-    return [Hunt(s, seed, i, ranges, attacker=a, belief=b) for i in indices for s, a, b in combos]
+    every = [(s, a, EXACT) for s in STRATEGIES for a in BEHAVIOURS]
+    first = [("contain:rti:hpipm:10", a, EXACT) for a in BEHAVIOURS] + \
+            [(s, a, b) for s in BELIEF_STRATEGIES for a in BEHAVIOURS for b in BELIEFS]
+    return [Hunt(s, seed, i, ranges, attacker=a, belief=b) for n, i in enumerate(indices)
+            for s, a, b in every + (first if n < BELIEF_HUNTS else [])]
 
 
 def arguments(hunts: int, seed: int) -> dict:
     return {"strategies": [ControllerSpec.parse(s).label for s in STRATEGIES], "attackers": list(BEHAVIOURS),
-            "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed, "ranges": ranges_to_dict(ScenarioRanges())}
+            "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed,
+            "ranges": ranges_to_dict(ScenarioRanges())}
 
 
 def run(db: Path, hunts: int, seed: int, indices: list[int] | None = None) -> str | None:
@@ -116,8 +133,64 @@ def headline(summaries: list[dict]) -> list[str]:
     return lines
 
 
+def mean_comfortable(summaries: list[dict]) -> dict[str, float]:
+    """Each strategy's share of the comfortable hunts it captures, averaged over the attackers (exact belief; the
+    strategies run on every hunt, ``STRATEGIES``)."""
+    rates: dict[str, list[float]] = {}
+    for s in summaries:
+        if s["belief"] == EXACT and s["strategy"] in STRATEGIES and s["success_rate_comfortable"] is not None:
+            rates.setdefault(s["strategy"], []).append(s["success_rate_comfortable"])
+    return {k: sum(v) / len(v) for k, v in rates.items() if len(v) == len(BEHAVIOURS)}
+
+
+def bars(rows: list[dict], summaries: list[dict]) -> list[tuple[str, str, bool]]:
+    """(what, measured, met) for each bar the recommended controller is held to against the Voronoi baseline."""
+    exact = [r for r in rows if r["belief"] == EXACT]
+
+    def mine(strategy: str, attacker: str | None = None, **where) -> list[dict]:
+        return [r for r in exact if r["strategy"] == strategy and (attacker is None or r["attacker"] == attacker)
+                and all(r[k] == v for k, v in where.items())]
+
+    def won(rs: list[dict]) -> int:
+        return sum(r["outcome"] == "captured" for r in rs)
+
+    out = []
+    behind = [a for a in BEHAVIOURS if won(mine(FOCUS, a, comfortable=1)) < won(mine(BASELINE, a, comfortable=1))]
+    out.append((f"captures at least as many comfortable hunts as `{BASELINE}` against every attacker",
+                "behind against " + ", ".join(behind) if behind else "every attacker", not behind))
+    means = mean_comfortable(summaries)
+    what = f"at least {MARGIN_POINTS} points more of the comfortable hunts, averaged over the attackers"
+    if FOCUS in means and BASELINE in means:
+        gain = 100 * (means[FOCUS] - means[BASELINE])
+        out.append((what, f"{100 * means[FOCUS]:.1f} % against {100 * means[BASELINE]:.1f} % ({gain:+.1f} points)",
+                    gain >= MARGIN_POINTS))
+    else:
+        out.append((what, "not every attacker has comfortable hunts", False))
+    apf = mine(FOCUS, "apf", comfortable=1)
+    out.append((f"at least {100 * APF_BAR:.0f} % of the comfortable hunts against `apf`",
+                f"{won(apf)} / {len(apf)}", bool(apf) and won(apf) >= APF_BAR * len(apf)))
+    for attacker in ("apf", "gap"):
+        two = mine(FOCUS, attacker, reachable=1, n_defenders=2)
+        out.append((f"at least {100 * TWO_BAR:.0f} % of the reachable two-robot hunts against `{attacker}`",
+                    f"{won(two)} / {len(two)}", bool(two) and won(two) >= TWO_BAR * len(two)))
+    times = {}
+    for strategy in (FOCUS, BASELINE):
+        times[strategy] = {(r["attacker"], r["index"]): r["capture_time_s"] for r in mine(strategy)
+                           if r["outcome"] == "captured"}
+    both = sorted(set(times[FOCUS]) & set(times[BASELINE]))
+    if both:
+        ours, theirs = (statistics.median(times[k][h] for h in both) for k in (FOCUS, BASELINE))
+        out.append((f"a median capture time no longer than `{BASELINE}`'s on the hunts both capture",
+                    f"{ours:.1f} s against {theirs:.1f} s ({len(both)} hunts)", ours <= theirs))
+    unsafe = [r for r in mine(FOCUS) if r["cause"] in ("obstacle_collision", "defender_contact", "outside_arena")]
+    late = sum(r["solves_over_time_step"] or 0 for r in mine(FOCUS))
+    out.append(("no obstacle collision, defender contact or robot outside the arena; every solve inside the time "
+                "step", f"{len(unsafe)} unsafe hunts, {late} solves over the time step", not unsafe and not late))
+    return out
+
+
 def verdicts(rows: list[dict]) -> list[str]:
-    """What the table says of the study's two questions, from the rows (exact belief): does the trap controller
+    """What the table says of the study's questions, from the rows (exact belief): does the recommended controller
     capture at least as many comfortable hunts as the Voronoi baseline against each attacker (and how fast, on the
     hunts both capture), and is the minimax attacker at least as hard for the baseline as the gap-seeker?"""
     exact = [r for r in rows if r["belief"] == EXACT and r["comfortable"]]
@@ -126,17 +199,18 @@ def verdicts(rows: list[dict]) -> list[str]:
         return {r["index"]: r["capture_time_s"] for r in exact if r["strategy"] == ControllerSpec.parse(strategy).label
                 and r["attacker"] == attacker and r["outcome"] == "captured"}
 
-    lines = ["| attacker | comfortable | `trap` captured | `voronoi` captured | at least as many | median capture time "
-             "on the hunts both capture, `trap` / `voronoi` |", "| --- | ---: | ---: | ---: | --- | --- |"]
+    lines = [f"| attacker | comfortable | `{FOCUS}` captured | `{BASELINE}` captured | at least as many | median "
+             f"capture time on the hunts both capture, `{FOCUS}` / `{BASELINE}` |",
+             "| --- | ---: | ---: | ---: | --- | --- |"]
     for attacker in BEHAVIOURS:
         total = len({r["index"] for r in exact if r["attacker"] == attacker})
-        mine, theirs = won(FOCUS, attacker), won("voronoi", attacker)
+        mine, theirs = won(FOCUS, attacker), won(BASELINE, attacker)
         both = sorted(set(mine) & set(theirs))
         times = (f"{statistics.median(mine[i] for i in both):.1f} s / {statistics.median(theirs[i] for i in both):.1f} s"
                  f" ({len(both)} hunts)" if both else "–")
         lines.append(f"| {attacker} | {total} | {len(mine)} | {len(theirs)} | "
                      f"{'yes' if len(mine) >= len(theirs) else 'no'} | {times} |")
-    gap, minimax = len(won("voronoi", "gap")), len(won("voronoi", "minimax"))
+    gap, minimax = len(won(BASELINE, "gap")), len(won(BASELINE, "minimax"))
     verdict = "at least as hard for the Voronoi baseline as" if minimax <= gap else "easier for the Voronoi baseline than"
     lines += ["", f"The minimax attacker is {verdict} the gap-seeker: the baseline captures {minimax} comfortable "
               f"hunts against `minimax`, {gap} against `gap`.", ""]
@@ -144,7 +218,7 @@ def verdicts(rows: list[dict]) -> list[str]:
 
 
 def lost_figure(rows: list[dict], folder: Path) -> list[Path]:
-    """A typical lost hunt of the contain controller per attacker (exact belief), rerun and drawn."""
+    """A typical lost hunt of the recommended controller per attacker (exact belief), rerun and drawn."""
     cases = []
     for attacker in BEHAVIOURS:
         mine = [r for r in rows if r["attacker"] == attacker and r["belief"] == EXACT]
@@ -160,17 +234,27 @@ def lost_figure(rows: list[dict], folder: Path) -> list[Path]:
 
 def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, seed: int) -> str:
     indices = sorted({r["index"] for r in rows})
+    means = mean_comfortable(summaries)
+    ranked = sorted(means, key=means.get, reverse=True)
     return "\n".join([
         "# Attackers the defenders do not know", "",
-        f"Regenerate with `{COMMAND}`. The reachable hunts among the first {hunts} of the sweep with seed {seed} "
-        f"(default ranges, docs/robustness.md; {len(indices)} hunts), each run by every strategy against every "
-        "attacker behaviour (docs/model.md, E13) with the exact belief, and by the contain controller (E15) and the "
-        "Voronoi baseline with each belief error (E14: the world's value over the believed one; the heading error "
-        "drawn per hunt; the trap controller, E16, reads nothing of the belief but the attacker's top speed, which "
-        "no error changes). Every controller is built on the belief, never on the world's behaviour. One row per "
-        "hunt is in `sweep.db` (`mpc-hunt sweep-report studies/attackers/sweep.db` recomputes the table).", "",
+        f"Regenerate with `{COMMAND}`. The first {hunts} reachable hunts of the sweep with seed {seed} (default "
+        f"ranges, docs/robustness.md; draws {indices[0]}–{indices[-1]}), each run by every strategy against every "
+        "attacker behaviour (docs/model.md, E13) with the exact belief; on the first "
+        f"{BELIEF_HUNTS} of them, the contain controller (E15) too, and it and the Voronoi baseline with each belief "
+        "error (E14: the world's value over the believed one; the heading error drawn per hunt; the trap "
+        "controller, E16, reads nothing of the belief but the attacker's top speed, which no error changes). Every "
+        "controller is built on the belief, never on the world's behaviour. One row per hunt is in `sweep.db` "
+        "(`mpc-hunt sweep-report studies/attackers/sweep.db` recomputes the table).", "",
+        "Share of the comfortable hunts captured, averaged over the attackers (exact belief): " +
+        ", ".join(f"`{k}` {100 * means[k]:.1f} %" for k in ranked) +
+        f". The recommended controller (`mpc_hunt/control/recommended.py`) is `{FOCUS}`; `--check` fails unless it "
+        "is first here.", "",
         *headline(summaries),
-        f"`{FOCUS}` beside the Voronoi baseline, comfortable hunts, exact belief:", "", *verdicts(rows),
+        f"## `{FOCUS}` against the Voronoi baseline", "",
+        "| bar | measured | |", "| --- | --- | --- |",
+        *[f"| {what} | {measured} | {'met' if met else 'missed'} |" for what, measured, met in bars(rows, summaries)],
+        "", "Per attacker, comfortable hunts, exact belief:", "", *verdicts(rows),
         "![success by attacker](success_by_attacker.png)", "",
         f"A typical lost hunt of `{FOCUS}` per attacker (`mpc_hunt/sweep/typical.py`), rerun:", "",
         "![typical lost hunts](typical_lost.png)", "", "## Every summary", "", table(summaries), "",
@@ -198,6 +282,11 @@ def check(folder: Path) -> list[str]:
     left = missing(todo(hunt_indices(hunts, seed), seed), keys(rows))
     if left:
         errors.append(f"sweep.db: {len(left)} hunts of the study are missing (resume it)")
+    means = mean_comfortable(committed["strategies"])
+    best = max(means, key=means.get) if means else None
+    if best != FOCUS:
+        errors.append(f"mpc_hunt/control/recommended.py: the recommended controller is {FOCUS}, but {best} captures "
+                      "the largest share of the comfortable hunts averaged over the attackers")
     if errors:
         return errors
     return still_captured(quickest_captures(rows, FOCUS, EXACT), seed, committed["arguments"]["ranges"],
@@ -206,7 +295,8 @@ def check(folder: Path) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"draws to pick from (default {HUNTS})")
+    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS,
+                        help=f"reachable hunts a strategy and attacker (default {HUNTS})")
     add_study_options(parser, SEED, OUT)
     args = parser.parse_args(argv)
     if args.check:
@@ -217,9 +307,8 @@ def main(argv: list[str] | None = None) -> int:
     except MpcHuntError as exc:
         parser.error(str(exc))
     if not indices:
-        parser.error(f"--hunts {args.hunts}: none of the first {args.hunts} draws of --seed {args.seed} is "
-                     "reachable by the defenders, so no hunt would run; give more hunts (the study keeps the "
-                     "reachable ones)")
+        parser.error(f"--hunts {args.hunts}: none of the first {DRAWS_PER_HUNT * args.hunts} draws of --seed "
+                     f"{args.seed} is reachable by the defenders, so no hunt would run; give another --seed")
     db = args.output / "sweep.db"
     return measured_run(args.output, lambda: stop_status(run(db, args.hunts, args.seed, indices), "attackers.py", db),
                         lambda machine: write(db, args.output, machine, args.hunts, args.seed),

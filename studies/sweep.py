@@ -40,7 +40,7 @@ from mpc_hunt.plots.typical_hunts import plot_typical_hunts
 from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, run_hunt, run_local, tasks
 from mpc_hunt.sweep.store import SweepStore, self_contained, stored_rows
 from mpc_hunt.sweep.stored_run import run_into
-from mpc_hunt.sweep.summary import best_strategy, summarise, table
+from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import typical_hunts
 
 from studies.docs_block import read_block, write_block
@@ -142,10 +142,6 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], 
 def headline(summaries: list[dict]) -> str:
     return (f"Produced by `{COMMAND}` ({HUNTS} hunts per strategy, seed {SEED}; the report, figures and every row "
             f"are in [studies/sweep/](../studies/sweep/README.md)):\n\n{table(summaries)}\n")
-
-
-def recommended_label() -> str:
-    return ControllerSpec().label
 
 
 def write(machine: dict) -> None:
@@ -258,10 +254,6 @@ def check() -> list[str]:
     if won:
         errors.append(f"sweep.db: unreachable hunts were captured ({', '.join(won[:3])}): "
                       "mpc_hunt/sweep/reachability.py is wrong")
-    best = best_strategy(summaries)
-    if best != recommended_label():
-        errors.append(f"mpc_hunt/control/recommended.py: RECOMMENDED is {recommended_label()}, but {best} captured "
-                      "most often")
     ensemble = json.loads(ENSEMBLE.read_text(encoding="utf-8"))
     if (ensemble["sample"], ensemble["members"], ensemble["scale_m"]) != (SAMPLE, MEMBERS, SCALE):
         errors.append(f"ensemble.json: {ensemble['sample']} hunts × {ensemble['members']} members, the study runs "

@@ -1,9 +1,9 @@
-"""Train the ``learned`` attacker: the cross-entropy method on its linear policy, against the recommended controller.
+"""Train the ``learned`` attacker: the cross-entropy method on its linear policy, against the enclose controller.
 
 The policy is :mod:`mpc_hunt.world.behaviours.learned`'s W (2 × 10 numbers). Each generation draws
-``--population`` candidates W ~ N(μ, σ²) (the first is μ itself), plays each against the recommended
-controller (``mpc_hunt.control.recommended``: enclose on rti/HPIPM, N = 10, built on the defenders' default
-belief) on the same ``--episodes`` random hunts (common random numbers), and moves μ and σ to the mean and
+``--population`` candidates W ~ N(μ, σ²) (the first is μ itself), plays each against ``AGAINST`` (the enclose
+controller on rti/HPIPM, N = 10, the paper's objective with its model of the attacker, built on the defenders'
+default belief: the recommended controller when the shipped weights were trained) on the same ``--episodes`` random hunts (common random numbers), and moves μ and σ to the mean and
 spread of the best quarter. A hunt scores t_capture / time limit when the attacker is captured (surviving
 longer is better), 1 when the time limit comes, and 1 + ½ (1 − t_escape / time limit) when it leaves the arena
 (escaping, and sooner, is better still: without this the many candidates that merely survive would tie, and
@@ -53,6 +53,7 @@ OUT = Path(__file__).resolve().parent / "train_attacker"
 PROGRESS = "generations.jsonl"  # in --output while training runs: the settings, then a line per finished generation
 WEIGHTS = Path(__file__).resolve().parents[1] / "mpc_hunt" / "world" / "behaviours" / PARAMETERS
 COMMAND = "python studies/train_attacker.py"
+AGAINST = "enclose:rti:hpipm:10"  # the controller the attacker is trained against
 TRAIN_SEED = 24_601          # the training hunts' own seed: no sweep or study draws from it
 RANGES = ScenarioRanges()
 GENERATIONS, POPULATION, EPISODES = 10, 10, 3
@@ -72,9 +73,9 @@ class Trial:
 
 
 def episode(task: Trial) -> dict:
-    """The candidate's attacker against the recommended controller on the task's hunt; its fitness."""
+    """The candidate's attacker against ``AGAINST`` on the task's hunt; its fitness."""
     scenario = task.scenario
-    controller = ControllerSpec().build(scenario)
+    controller = ControllerSpec.parse(AGAINST).build(scenario)
     attacker = LearnedAttacker(scenario, np.random.default_rng(0), np.array(task.weights))
     result = simulate(scenario, controller, behaviour=attacker)
     limit = scenario.hunt.time_limit
@@ -243,7 +244,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--population: at least 4, got {args.population}")
     settings = {"generations": args.generations, "population": args.population, "episodes": args.episodes,
                 "elite": ELITE, "sigma_floor": SIGMA_FLOOR, "train_seed": TRAIN_SEED,
-                "against": ControllerSpec().label,
+                "against": ControllerSpec.parse(AGAINST).label,
                 "ranges": "the sweep's defaults"}
     progress = args.output / PROGRESS
     try:

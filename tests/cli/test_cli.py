@@ -233,11 +233,11 @@ def test_solve_defaults_use_the_shipped_state(capsys):
 
 
 @pytest.mark.parametrize("flags, expected", [
-    ([], ("enclose", "rti", "hpipm", 10)),                                 # the recommended controller
+    ([], ("trap", "rti", "hpipm", 10)),                                    # the recommended controller
     (["--controller", "paper"], ("paper", "rti", "hpipm", 10)),           # the paper's strategy, one flag away
     (["--controller", "paper", "--formulation", "nlp"], ("paper", "nlp", "ipopt", 1)),   # as published
-    (["--formulation", "qp", "--backend", "daqp"], ("enclose", "qp", "daqp", 1)),
-    (["--horizon", "2"], ("enclose", "rti", "hpipm", 2)),
+    (["--formulation", "qp", "--backend", "daqp"], ("trap", "qp", "daqp", 1)),
+    (["--horizon", "2"], ("trap", "rti", "hpipm", 2)),
 ])
 def test_simulate_runs_the_recommended_controller_unless_told(capsys, tmp_path, flags, expected):
     path = tmp_path / "tiny.toml"

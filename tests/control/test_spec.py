@@ -80,7 +80,7 @@ def test_unset_fields_take_the_defaults_defined_once():
 
 def test_a_numpy_horizon_is_kept_as_an_int():
     spec = ControllerSpec(horizon=np.int64(7))
-    assert type(spec.horizon) is int and spec.label == "enclose:rti:hpipm:7"
+    assert type(spec.horizon) is int and spec.label == f"{RECOMMENDED_CONTROLLER}:rti:hpipm:7"
 
 
 @pytest.mark.parametrize("argv, flags", [

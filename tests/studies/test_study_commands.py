@@ -92,8 +92,6 @@ def test_train_attacker_refuses_a_weights_file_it_cannot_write(capsys, tmp_path)
     ("team_size", ["--states", "1"], "--states: at least 2"),
     ("step_latency", ["--states", "1"], "--states: at least 2"),
     ("train_attacker", ["--population", "3"], "--population: at least 4"),
-    ("attackers", ["--hunts", "1"], "no hunt would run"),          # the first draw of seed 1 is not reachable
-    ("attackers", ["--hunts", "3", "--seed", "4"], "no hunt would run"),
 ])
 def test_counts_that_cannot_run_are_refused_up_front(name, argv, message, capsys, tmp_path, monkeypatch):
     module = study(name)
@@ -103,6 +101,20 @@ def test_counts_that_cannot_run_are_refused_up_front(name, argv, message, capsys
     output = OUTPUTS.get(name)
     err = usage_error(capsys, name, argv + ([output, str(tmp_path / "out")] if output else []))
     assert message in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_attackers_study_takes_the_first_reachable_draws_and_refuses_a_seed_with_none(capsys, tmp_path,
+                                                                                         monkeypatch):
+    attackers = study("attackers")
+    from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
+    from mpc_hunt.sweep.reachability import reachable
+    first = [i for i in range(12) if reachable(sweep_scenario(1, i, ScenarioRanges()))][:3]
+    assert len(first) == 3 and attackers.hunt_indices(3, 1) == first
+    monkeypatch.setattr(attackers, "reachable", lambda scenario: False)
+    monkeypatch.setattr(attackers, "run", lambda *a, **k: pytest.fail("work started"))
+    err = usage_error(capsys, "attackers", ["--hunts", "2", "--output", str(tmp_path / "out")])
+    assert "none of the first 40 draws of --seed 1 is reachable" in err
     assert not (tmp_path / "out").exists()
 
 

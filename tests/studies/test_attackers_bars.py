@@ -1,0 +1,53 @@
+"""The attackers study's verdicts (studies/attackers.py): the recommended controller against the Voronoi baseline,
+and the recommended controller being the one that captures most, on rows made up for the purpose."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from mpc_hunt.world.behaviours import BEHAVIOURS  # noqa: E402
+from studies import attackers  # noqa: E402
+
+
+def _row(strategy, attacker, index, captured, *, defenders=4, time=100.0, cause=None):
+    return {"strategy": strategy, "attacker": attacker, "belief": "exact", "index": index, "comfortable": 1,
+            "reachable": 1, "n_defenders": defenders, "outcome": "captured" if captured else "failed",
+            "capture_time_s": time if captured else None, "cause": None if captured else (cause or "time_limit"),
+            "solves_over_time_step": 0}
+
+
+def _summary(strategy, attacker, rate):
+    return {"strategy": strategy, "attacker": attacker, "belief": "exact", "success_rate_comfortable": rate}
+
+
+def test_the_mean_over_attackers_ranks_only_strategies_run_on_every_attacker():
+    summaries = [_summary(attackers.FOCUS, a, 0.5) for a in BEHAVIOURS] + \
+                [_summary(attackers.BASELINE, a, 0.25) for a in BEHAVIOURS] + \
+                [_summary("contain:rti:hpipm:10", a, 1.0) for a in BEHAVIOURS] + \
+                [_summary("apf", "apf", 1.0)]
+    means = attackers.mean_comfortable(summaries)
+    assert means == {attackers.FOCUS: 0.5, attackers.BASELINE: 0.25}   # contain: not one of STRATEGIES; apf: one
+
+
+def test_the_bars_count_each_attacker_the_two_robot_hunts_the_times_and_the_unsafe_hunts():
+    focus, base = attackers.FOCUS, attackers.BASELINE
+    rows, summaries = [], []
+    for a in BEHAVIOURS:
+        rows += [_row(focus, a, 0, True, time=90.0), _row(focus, a, 1, True, defenders=2, time=150.0),
+                 _row(base, a, 0, True, time=100.0), _row(base, a, 1, False, defenders=2)]
+        summaries += [_summary(focus, a, 1.0), _summary(base, a, 0.5)]
+    rows[-4] = _row(focus, "minimax", 0, False, cause="obstacle_collision")     # unsafe, and behind against minimax:
+    rows[-1] = _row(base, "minimax", 1, True, defenders=2, time=100.0)           # the baseline takes both there
+    summaries[-2] = _summary(focus, "minimax", 0.5)
+    verdict = {what: (measured, met) for what, measured, met in attackers.bars(rows, summaries)}
+    as_many, gain, apf, two_apf, two_gap, times, safe = verdict.values()
+    assert as_many == ("behind against minimax", False)
+    assert gain[1] and "+42.9 points" in gain[0]                  # (6 × 100 % + 50 %) / 7 against 50 %
+    assert apf == ("2 / 2", True) and two_apf == ("1 / 1", True) and two_gap == ("1 / 1", True)
+    assert times == ("90.0 s against 100.0 s (7 hunts)", True)
+    assert safe == ("1 unsafe hunts, 0 solves over the time step", False)
