@@ -195,21 +195,25 @@ def verdicts(rows: list[dict]) -> list[str]:
     hunts both capture), and is the minimax attacker at least as hard for the baseline as the gap-seeker?"""
     exact = [r for r in rows if r["belief"] == EXACT and r["comfortable"]]
 
-    def won(strategy: str, attacker: str) -> dict:
-        return {r["index"]: r["capture_time_s"] for r in exact if r["strategy"] == ControllerSpec.parse(strategy).label
+    def won(strategy: str, attacker: str, column: str = "capture_time_s") -> dict:
+        return {r["index"]: r[column] for r in exact if r["strategy"] == ControllerSpec.parse(strategy).label
                 and r["attacker"] == attacker and r["outcome"] == "captured"}
 
     lines = [f"| attacker | comfortable | `{FOCUS}` captured | `{BASELINE}` captured | at least as many | median "
-             f"capture time on the hunts both capture, `{FOCUS}` / `{BASELINE}` |",
-             "| --- | ---: | ---: | ---: | --- | --- |"]
+             f"capture time on the hunts both capture, `{FOCUS}` / `{BASELINE}` | median path length there (all "
+             "defenders) |", "| --- | ---: | ---: | ---: | --- | --- | --- |"]
     for attacker in BEHAVIOURS:
         total = len({r["index"] for r in exact if r["attacker"] == attacker})
         mine, theirs = won(FOCUS, attacker), won(BASELINE, attacker)
         both = sorted(set(mine) & set(theirs))
-        times = (f"{statistics.median(mine[i] for i in both):.1f} s / {statistics.median(theirs[i] for i in both):.1f} s"
-                 f" ({len(both)} hunts)" if both else "–")
+        times = paths = "–"
+        if both:
+            times = (f"{statistics.median(mine[i] for i in both):.1f} s / "
+                     f"{statistics.median(theirs[i] for i in both):.1f} s ({len(both)} hunts)")
+            walked = [won(k, attacker, "path_length_m") for k in (FOCUS, BASELINE)]
+            paths = " / ".join(f"{statistics.median(w[i] for i in both):.1f} m" for w in walked)
         lines.append(f"| {attacker} | {total} | {len(mine)} | {len(theirs)} | "
-                     f"{'yes' if len(mine) >= len(theirs) else 'no'} | {times} |")
+                     f"{'yes' if len(mine) >= len(theirs) else 'no'} | {times} | {paths} |")
     gap, minimax = len(won(BASELINE, "gap")), len(won(BASELINE, "minimax"))
     verdict = "at least as hard for the Voronoi baseline as" if minimax <= gap else "easier for the Voronoi baseline than"
     lines += ["", f"The minimax attacker is {verdict} the gap-seeker: the baseline captures {minimax} comfortable "
