@@ -204,7 +204,7 @@ class CaptureProblem:
     @cached_property
     def signature(self) -> tuple:
         """The structure and which defenders are controlled: when two problems may share duals."""
-        return self.structure, tuple(int(i) for i in np.flatnonzero(self.controlled))
+        return self.structure, tuple(np.flatnonzero(self.controlled).tolist())
 
     def resultant(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         """The attacker's resultant (Eq. 9 plus its nominal intent) for defenders at ``p_d``."""
