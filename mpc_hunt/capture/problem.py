@@ -201,10 +201,10 @@ class CaptureProblem:
         nc = int(self.controlled.sum())
         return Structure(nc, len(self.controlled) - nc, len(self.scenario.obstacles), self.horizon, self.objective)
 
-    @property
+    @cached_property
     def signature(self) -> tuple:
         """The structure and which defenders are controlled: when two problems may share duals."""
-        return self.structure, tuple(int(i) for i in np.flatnonzero(self.controlled))
+        return self.structure, tuple(np.flatnonzero(self.controlled).tolist())
 
     def resultant(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         """The attacker's resultant (Eq. 9 plus its nominal intent) for defenders at ``p_d``."""
@@ -221,9 +221,11 @@ class CaptureProblem:
     def plan_with(self, controlled: np.ndarray) -> np.ndarray:
         """Every defender's positions (N, n, 2): the controlled defenders' from ``controlled`` (N·n_c·2 numbers,
         step by step), the others held."""
+        positions = np.asarray(controlled, dtype=float).reshape(self.horizon, self.structure.planned, 2)
+        if not self.structure.fixed:                # every defender controlled
+            return positions.copy()
         plan = self.held_plan()
-        plan[:, self.controlled] = np.asarray(controlled, dtype=float).reshape(
-            self.horizon, int(self.controlled.sum()), 2)
+        plan[:, self.controlled] = positions
         return plan
 
     def plan_from_x(self, x: np.ndarray) -> np.ndarray:

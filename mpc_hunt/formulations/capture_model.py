@@ -114,30 +114,92 @@ def stage_parameters(theta, structure: Structure, k: int):
 
 def parameter_vector(problem: CaptureProblem) -> np.ndarray:
     """θ for ``problem``, in the order of :func:`_layout`."""
-    s, hunt, w = problem.scenario, problem.scenario.hunt, problem.weights
-    c = problem.controlled
-    values = {
-        "attacker": problem.attacker_position, "controlled": problem.defender_positions[c],
-        "held": problem.defender_positions[~c], "desired": problem.desired_velocity,
-        "nominal": problem.nominal_velocity, "centres": s.obstacle_centres, "radii": s.obstacle_radii,
-        "step_limits": problem.step_limits[c],
-        "perception_radius": s.attacker.perception_radius, "eta": hunt.eta, "k_d": hunt.k_d,
-        "k_o": hunt.k_o, "attacker_max_speed": s.attacker.max_speed,
-        "protective_distance": hunt.protective_distance, "safety_distance": hunt.safety_distance,
-        "min_separation": hunt.min_separation, "min_attacker_distance": hunt.min_attacker_distance,
-        "ring_radius": problem.ring_radius, "time_step": hunt.time_step, "hunt_radius": hunt.hunt_radius,
-        "w_force": w.force, "w_ring": w.ring, "w_move": w.move, "w_equal": w.equal_distance,
-    }
-    structure = problem.structure
-    if structure.objective == "enclose":
-        e, ref = problem.enclose_weights, problem.reference
-        values.update({
-            "w_force": 0.0, "w_ring": 0.0, "w_move": e.move, "w_equal": 1.0,
-            "arena": s.arena if s.arena is not None else (-FAR, -FAR, FAR, FAR),
-            "w_attacker": e.attacker, "w_edge": e.edge, "edge_margin": e.edge_margin,
-            "reference": np.concatenate([ref.defenders[:, c].reshape(structure.horizon, -1), ref.attacker,
-                                         ref.slot_weight[:, None]], axis=1)})
-    return pack(values, structure)
+    theta = np.empty(parameter_size(problem.structure))
+    parameter_writer(problem.structure).write(problem, theta)
+    return theta
+
+
+class ParameterWriter:
+    """θ of one (team) structure's problems, written into an array in place part by part (:func:`_layout`).
+
+    What a problem's scenario alone fixes (the attacker's nominal velocity, the obstacles, the hunt's numbers,
+    each defender's step limit, the arena) is worked out once per scenario and copied in; a control step writes
+    only numbers, with no array of θ's size built. A robot's θ (``Structure.robot``) is its team's to write
+    (:mod:`mpc_hunt.formulations.team`).
+    """
+
+    def __init__(self, structure: Structure):
+        if structure.robot:
+            raise ValueError("a robot's parameters are written by its team (mpc_hunt.formulations.team)")
+        self.structure = structure
+        self.size = parameter_size(structure)
+        at, offset = {}, 0
+        for name, size in _layout(structure):
+            at[name] = slice(offset, offset + size)
+            offset += size
+        self._at = at
+        # Runs of θ written at once: the nominal velocity and the obstacles; the scenario's scalars (SCALARS up to
+        # the weights); the arena and the enclose weights.
+        self._scenario_run = slice(at["nominal"].start, at["radii"].stop)
+        self._scalars = slice(at[SCALARS[0]].start, at["hunt_radius"].stop)
+        self._weights = slice(at["w_force"].start, at["w_equal"].stop)
+        self._enclose = slice(at["arena"].start, at[ENCLOSE_SCALARS[-1]].stop) if "arena" in at else None
+        self._fixed: tuple = (None, ())    # (a scenario, its numbers): read and replaced whole
+
+    def _scenario_numbers(self, problem: CaptureProblem) -> tuple:
+        """(nominal velocity and obstacles, the scenario's scalars, every defender's step limit, the arena)."""
+        s = problem.scenario
+        scenario, numbers = self._fixed
+        if s is not scenario:               # a scenario is frozen: its numbers are too
+            hunt = s.hunt
+            run = np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in
+                                  (problem.nominal_velocity, s.obstacle_centres, s.obstacle_radii)])
+            scalars = np.array([s.attacker.perception_radius, hunt.eta, hunt.k_d, hunt.k_o, s.attacker.max_speed,
+                                hunt.protective_distance, hunt.safety_distance, hunt.min_separation,
+                                hunt.min_attacker_distance, problem.ring_radius, hunt.time_step, hunt.hunt_radius],
+                               dtype=float)
+            arena = s.arena if s.arena is not None else (-FAR, -FAR, FAR, FAR)
+            numbers = (run, scalars, np.asarray(problem.step_limits, dtype=float), tuple(arena))
+            self._fixed = (s, numbers)
+        return numbers
+
+    def write(self, problem: CaptureProblem, theta: np.ndarray) -> None:
+        """``problem``'s θ (of this structure) into ``theta[:size]``, a contiguous float array's."""
+        if not theta.flags.c_contiguous:
+            raise ValueError("θ is written into a contiguous array")
+        at, structure = self._at, self.structure
+        run, scalars, step_limits, arena = self._scenario_numbers(problem)
+        c, p_d = problem.controlled, problem.defender_positions
+        theta[at["attacker"]] = problem.attacker_position
+        if structure.fixed:
+            theta[at["controlled"]] = p_d[c].reshape(-1)
+            theta[at["held"]] = p_d[~c].reshape(-1)
+            theta[at["step_limits"]] = step_limits[c]
+        else:                               # every defender controlled
+            theta[at["controlled"]] = p_d.reshape(-1)
+            theta[at["step_limits"]] = step_limits
+        theta[at["desired"]] = problem.desired_velocity
+        theta[self._scenario_run] = run
+        theta[self._scalars] = scalars
+        if structure.objective == "enclose":
+            e, ref = problem.enclose_weights, problem.reference
+            theta[self._weights] = (0.0, 0.0, e.move, 1.0)
+            theta[self._enclose] = (*arena, e.attacker, e.edge, e.edge_margin)
+            nc, N = structure.planned, structure.horizon
+            steps = theta[at["reference"]].reshape(N, reference_size(nc))
+            places = ref.defenders[:, c] if structure.fixed else ref.defenders
+            steps[:, :2 * nc] = places.reshape(N, -1)
+            steps[:, 2 * nc:2 * nc + 2] = ref.attacker
+            steps[:, 2 * nc + 2] = ref.slot_weight
+        else:
+            w = problem.weights
+            theta[self._weights] = (w.force, w.ring, w.move, w.equal_distance)
+
+
+@lru_cache(maxsize=64)
+def parameter_writer(structure: Structure) -> ParameterWriter:
+    """The :class:`ParameterWriter` of ``structure``, one per process."""
+    return ParameterWriter(structure)
 
 
 def pack(values: dict, structure: Structure) -> np.ndarray:

@@ -70,6 +70,10 @@ class RobotStep(RTIFormulation):
     def step_inputs(self, problem: RobotProblem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
         return problem.theta, problem.reference
 
+    def write_inputs(self, problem: RobotProblem, warm_plan, theta: np.ndarray, reference: np.ndarray) -> None:
+        theta[:] = problem.theta
+        reference[:] = problem.reference
+
 
 @dataclass
 class Rounds:

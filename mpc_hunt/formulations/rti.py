@@ -29,7 +29,7 @@ import casadi as ca
 import numpy as np
 
 from mpc_hunt.formulations.base import Formulation
-from mpc_hunt.formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
+from mpc_hunt.formulations.capture_model import parameter_size, parameter_writer, stage_parameters, unpack
 from mpc_hunt.formulations.nlp import RELAXABLE
 from mpc_hunt.formulations.qp import TRUST_REGION
 from mpc_hunt.formulations.stage_linearisation import stage_linearisation
@@ -154,8 +154,20 @@ class RTIFormulation(Formulation):
     def step_inputs(self, problem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
         """The step's inputs at ``problem``: θ (the parameter vector, then the smoothing) and the reference
         (``warm_plan``'s controlled positions, else every defender held), both flat."""
-        theta = np.append(parameter_vector(problem), self.smoothing)
-        return theta, problem.x_from_plan(problem.held_plan() if warm_plan is None else warm_plan)
+        theta, reference = np.empty(parameter_size(problem.structure) + 1), np.empty(problem.structure.plan_size)
+        self.write_inputs(problem, warm_plan, theta, reference)
+        return theta, reference
+
+    def write_inputs(self, problem, warm_plan, theta: np.ndarray, reference: np.ndarray) -> None:
+        """:meth:`step_inputs` written into the flat arrays ``theta`` and ``reference`` (a control loop's)."""
+        parameter_writer(problem.structure).write(problem, theta)
+        theta[-1] = self.smoothing
+        if not reference.flags.c_contiguous:
+            raise ValueError("the reference is written into a contiguous array")
+        positions = problem.defender_positions[None] if warm_plan is None else np.asarray(warm_plan, dtype=float)
+        structure = problem.structure
+        reference.reshape(structure.horizon, structure.planned, 2)[...] = (
+            positions[:, problem.controlled] if structure.fixed else positions)
 
     def parameter_parts(self, theta: np.ndarray, structure: Structure) -> dict[str, np.ndarray]:
         """θ's named parts (the parameter vector's layout, then ``smoothing``) as views of the array ``theta``."""

@@ -54,6 +54,7 @@ class CaptureLoop:
         self.theta = np.array(theta, dtype=float)
         self.parts = self.formulation.parameter_parts(self.theta, self.structure)   # views: writes go into θ
         self.reference = np.array(reference, dtype=float).reshape(horizon, nc, 2)
+        self._reference = self.reference.reshape(-1)        # the same numbers, flat (a view)
         self.plan = self.reference.copy()        # until a step: the reference (every defender held)
         self.objective = np.zeros(1)             # the model's objective at the plan
         self.iterations = 0                      # the solver's iterations in the last step (every QP's)
@@ -63,7 +64,7 @@ class CaptureLoop:
         self._move = np.empty_like(self.plan)       # |plan − reference|, so a step allocates nothing
         self._buffer, self._evaluate = function.buffer()
         self._buffer.set_arg(0, memoryview(self.theta))
-        self._buffer.set_arg(1, memoryview(self.reference.reshape(-1)))
+        self._buffer.set_arg(1, memoryview(self._reference))
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
 
@@ -77,9 +78,7 @@ class CaptureLoop:
         if problem.structure != self.structure:
             raise MpcHuntError(f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
                                "build one loop per structure")
-        theta, reference = self.formulation.step_inputs(problem, warm_plan)
-        self.theta[:] = theta
-        self.reference.reshape(-1)[:] = reference
+        self.formulation.write_inputs(problem, warm_plan, self.theta, self._reference)
 
     def step(self) -> Status:
         """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan
