@@ -13,7 +13,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from mpc_hunt import CaptureProblem, Obstacle, Scenario, builtin_scenario
@@ -102,6 +102,8 @@ def test_recovers_intent_gain_and_perception_radius(truth):
 
 
 @settings(deadline=None, max_examples=15)
+@example(speed=0.001953125, heading=0.0, log_gain=0.0, radius=1.5625, seed=0)   # corners hypothesis found, where a
+@example(speed=0.001953125, heading=0.0, log_gain=0.0, radius=1.625, seed=0)    # 12-step search stopped short
 @given(speed=st.floats(1e-3, TOP), heading=st.floats(0.0, 2 * np.pi), log_gain=st.floats(-3.0, 0.0),
        radius=st.floats(0.6, 1.8), seed=st.integers(0, 1000))
 def test_recovers_any_attacker_the_defenders_excite(speed, heading, log_gain, radius, seed):
