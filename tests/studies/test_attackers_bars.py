@@ -51,3 +51,22 @@ def test_the_bars_count_each_attacker_the_two_robot_hunts_the_times_and_the_unsa
     assert apf == ("2 / 2", True) and two_apf == ("1 / 1", True) and two_gap == ("1 / 1", True)
     assert times == ("90.0 s against 100.0 s (7 hunts)", True)
     assert safe == ("1 unsafe hunts, 0 solves over the time step", False)
+
+
+def test_the_recommended_is_the_solving_controller_that_captures_most_then_the_quickest():
+    # trap and contain each capture one of two comfortable hunts per attacker on the hunts both ran, enclose none;
+    # the baseline (no capture stage) captures both but is no candidate; contain's extra hunt is not shared; on the
+    # tie the quicker, trap, is chosen, and a contain that captures one more is chosen instead.
+    rows = []
+    for a in BEHAVIOURS:
+        rows += [_row("trap:rti:hpipm:10", a, 0, True, time=90.0), _row("trap:rti:hpipm:10", a, 1, False),
+                 _row("contain:rti:hpipm:10", a, 0, True, time=120.0), _row("contain:rti:hpipm:10", a, 1, False),
+                 _row("contain:rti:hpipm:10", a, 2, True), _row("enclose:rti:hpipm:10", a, 0, False),
+                 _row("enclose:rti:hpipm:10", a, 1, False), _row("voronoi", a, 0, True), _row("voronoi", a, 1, True)]
+    shares, common = attackers.solving_shares(rows)
+    assert common == 2 * len(BEHAVIOURS)
+    assert shares == {"trap:rti:hpipm:10": 0.5, "contain:rti:hpipm:10": 0.5, "enclose:rti:hpipm:10": 0.0}
+    assert attackers.recommended_choice(rows) == "trap:rti:hpipm:10"
+    rows.append(_row("contain:rti:hpipm:10", "apf", 1, True))
+    rows.remove(_row("contain:rti:hpipm:10", "apf", 1, False))
+    assert attackers.recommended_choice(rows) == "contain:rti:hpipm:10"
