@@ -2,7 +2,7 @@
 
 For each team size N_d (:data:`SIZES`) the paper's second scenario with N_d
 defenders started evenly on a circle :data:`START_RADIUS` from the attacker,
-all at the paper's speed; the recommended controller (``enclose``, ``rti`` on
+all at the paper's speed; the enclose controller (``enclose``, ``rti`` on
 ``hpipm``, N = 10) hunts, and its consecutive states from the first in which a
 defender pushes the attacker (is within its perception radius) on are posed as
 the ``enclose`` capture problem (``posed_problem``). One run, side
@@ -362,7 +362,7 @@ def readme(results: dict) -> str:
              f"Python {m['python']}, CasADi {m['packages']['casadi']}. The steps took turns on each state; absolute "
              "times drift on a shared machine, the ratios are from the same run.", "",
              f"States: the paper's second scenario with N_d defenders started evenly {START_RADIUS} m from the "
-             f"attacker, hunted by the recommended controller (`enclose`, `rti`/`hpipm`, N = {HORIZON}); "
+             f"attacker, hunted by the enclose controller (`enclose`, `rti`/`hpipm`, N = {HORIZON}); "
              f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker "
              "(within its perception radius), posed as the `enclose` problem. "
              "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "

@@ -4,7 +4,7 @@ Two sweeps of the sweep machinery (``mpc_hunt.sweep.runner``), each into its own
 ``studies/team_sweep/`` (resumed if it exists, so an interrupted run continues):
 
 * ``attackers.db``: the first ``--hunts`` hunts of the sweep ``--seed`` (default ranges, docs/robustness.md),
-  each run by the recommended controller (``enclose``, ``rti`` on ``hpipm``, N = 10) and by the same
+  each run by the enclose controller (``enclose``, ``rti`` on ``hpipm``, N = 10) and by the same
   controller with its capture stage distributed (``distributed``: one QP per robot, one Jacobi round a step),
   against every attacker behaviour (docs/model.md, E13), exact belief;
 * ``teams.db``: the first ``--team-hunts`` hunts of the same seed with 6 to 12 defenders (``n_defenders`` =
@@ -144,7 +144,7 @@ def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: d
         f"Regenerate with `{COMMAND} --hunts {arguments['attackers.db']['hunts']} --team-hunts "
         f"{arguments['teams.db']['hunts']}`. The first {arguments['attackers.db']['hunts']} hunts of the sweep with "
         f"seed {arguments['attackers.db']['seed']} (default ranges, docs/robustness.md), each run by the "
-        f"recommended controller (`{CENTRAL}`) and by the same controller with its capture stage distributed "
+        f"enclose controller (`{CENTRAL}`) and by the same controller with its capture stage distributed "
         f"(`{DISTRIBUTED}`: one QP per robot, one Jacobi round a step, docs/formulations.md) against every attacker "
         f"behaviour, exact belief; and the first {arguments['teams.db']['hunts']} hunts of the same seed with "
         f"{TEAMS[0]} to {TEAMS[1]} defenders. One row per hunt in `attackers.db` and `teams.db` "
