@@ -320,8 +320,8 @@ def _summary(result, report: dict, scenario) -> str:
     stats = report["solve_time"]
     c = result.controller
     if c["controller"] in controllers.SOLVING:
-        how = (f"capture stage: {c['formulation']} on {c['backend']}, horizon {c['horizon']}, "
-               f"objective {c['objective']}")
+        how = (f"controller: {c['controller']}, its capture stage {c['formulation']} on {c['backend']}, horizon "
+               f"{c['horizon']}, objective {c['objective']}")
     else:
         how = f"controller: {c['controller']} (no capture-stage optimisation)"
     lines = [
