@@ -4,8 +4,8 @@ Runs the sweep machinery (``mpc_hunt.sweep.runner``) on the first ``--hunts`` re
 ``--seed`` (unreachable hunts are lost by any controller, whatever the attacker: docs/robustness.md): every
 strategy of ``STRATEGIES`` against every behaviour of ``mpc_hunt.world.behaviours.BEHAVIOURS`` with the exact
 belief; on the first ``BELIEF_HUNTS`` of them, the enclose and contain controllers too (``FIRST``), and contain
-and the Voronoi baseline with each belief error of ``BELIEFS`` (the trap controller reads nothing of the belief but the attacker's top speed,
-which no error changes).
+and the Voronoi baseline with each belief error of ``BELIEFS`` (the trap controller reads nothing of the belief
+but the attacker's top speed, which no error changes).
 Rows go into ``studies/attackers/sweep.db`` (resumed if it exists, so an interrupted run continues); then it
 writes ``studies/attackers/`` (README.md, summary.json with the machine, the figures).
 
@@ -48,8 +48,8 @@ from studies.sweep_study import (add_study_options, keys, measured_run, missing,
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
-HUNTS, SEED = 60, 1       # 60 hunts a cell: a 95 % interval of about ±12 points where 15 gave ±25
-BELIEF_HUNTS = 15         # the contain controller and the belief errors: on the first this many hunts
+HUNTS, SEED = 60, 1       # 60 hunts a cell (43 comfortable on seed 1): 95 % intervals of about ±13 points, not ±25
+BELIEF_HUNTS = 15         # FIRST and the belief errors: on the first this many hunts
 MAX_HUNTS = 1000
 DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
 FOCUS = ControllerSpec().label       # the recommended controller, measured against the Voronoi baseline
@@ -92,8 +92,8 @@ def todo(indices: list[int], seed: int) -> list[Hunt]:
 
 
 def arguments(hunts: int, seed: int) -> dict:
-    return {"strategies": [ControllerSpec.parse(s).label for s in STRATEGIES + FIRST], "attackers": list(BEHAVIOURS),
-            "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed,
+    return {"strategies": [ControllerSpec.parse(s).label for s in STRATEGIES + FIRST],
+            "attackers": list(BEHAVIOURS), "beliefs": [EXACT, *BELIEFS], "hunts": hunts, "seed": seed,
             "ranges": ranges_to_dict(ScenarioRanges())}
 
 
@@ -282,7 +282,8 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         f"ranges, docs/robustness.md; draws {indices[0]}–{indices[-1]}), each run by every strategy against every "
         "attacker behaviour (docs/model.md, E13) with the exact belief; on the first "
         f"{BELIEF_HUNTS} of them, the enclose controller (E12: given the paper's attacker model, the slowest a hunt) "
-        "and the contain controller (E15) too, and contain and the Voronoi baseline with each belief error (E14: the world's value over the believed one; the heading error drawn per hunt; the trap "
+        "and the contain controller (E15) too, and contain and the Voronoi baseline with each belief error (E14: "
+        "the world's value over the believed one; the heading error drawn per hunt; the trap "
         "controller, E16, reads nothing of the belief but the attacker's top speed, which no error changes). Every "
         "controller is built on the belief, never on the world's behaviour. One row per hunt is in `sweep.db` "
         "(`mpc-hunt sweep-report studies/attackers/sweep.db` recomputes the table).", "",
