@@ -98,6 +98,13 @@ HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it
 HERD_STEER = np.radians(60.0)     # rad: the herd's push turned at most this far past the way to the anchor
 
 
+def run_towards(q: np.ndarray, target: np.ndarray, reach: float) -> np.ndarray:
+    """``q`` moved straight towards ``target`` by at most ``reach``."""
+    way = target - q
+    length = float(np.hypot(*way))
+    return q + way * (min(1.0, reach / length) if length > 0 else 0.0)
+
+
 def wrap(angle):
     """``angle`` in [−π, π)."""
     return (np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi
@@ -205,9 +212,7 @@ class Trap(Unmodelled):
         places = np.empty((len(steps), len(movers), 2))
         for k, centre in enumerate(p_a + drift):
             for i, (q, angle) in enumerate(zip(movers, angles)):
-                way = route(q, centre, angle, radius, reach[k, i]) - q
-                length = float(np.hypot(*way))
-                places[k, i] = q + way * (min(1.0, reach[k, i] / length) if length > 0 else 0.0)
+                places[k, i] = run_towards(q, route(q, centre, angle, radius, reach[k, i]), reach[k, i])
         return places
 
     def _herd(self, p_a: np.ndarray, velocity: np.ndarray, movers: np.ndarray, speeds: np.ndarray,
@@ -216,10 +221,10 @@ class Trap(Unmodelled):
         side, on the circle R_hunt / 2 round where each mover meets it (its intercept with the attacker's observed
         velocity, Eqs. 7–8 with no model, or where it stands once met), at top speed; a mover not yet on its side
         goes round at ``HERD_ORBIT``."""
-        inner = 0.5 * self.scenario.hunt.hunt_radius
+        s = self.scenario
+        inner = 0.5 * s.hunt.hunt_radius
         towards = np.arctan2(*(anchor - p_a)[::-1])
         error = 0.0
-        s = self.scenario
         if norm(velocity) > HERD_DRIFT * s.attacker.max_speed and norm(anchor - p_a) > s.hunt.protective_distance:
             error = float(np.clip(wrap(towards - np.arctan2(velocity[1], velocity[0])), -HERD_STEER, HERD_STEER))
         # (within the obstacle's protective distance its field, not the attacker, bends the drift: none corrected)
@@ -236,9 +241,8 @@ class Trap(Unmodelled):
             meet = (intercept_time(p_a, velocity, q, speed) or 0.0) if far else 0.0
             radius = HERD_ORBIT if going[i] else inner
             for k, t in enumerate(steps[:, 0]):
-                way = route(q, p_a + velocity * max(meet, t), goals[i], radius, speed * t) - q
-                length = float(np.hypot(*way))
-                places[k, i] = q + way * (min(1.0, speed * t / length) if length > 0 else 0.0)
+                places[k, i] = run_towards(q, route(q, p_a + velocity * max(meet, t), goals[i], radius, speed * t),
+                                           speed * t)
         return places
 
     def _ring(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray,
