@@ -54,7 +54,8 @@ MAX_HUNTS = 1000
 DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
 FOCUS = ControllerSpec().label       # the recommended controller, measured against the Voronoi baseline
 BASELINE = "voronoi"
-STRATEGIES = tuple(dict.fromkeys((FOCUS, "trap:rti:hpipm:10", BASELINE, "apf", "paper:rti:hpipm:5")))
+LEARNED_TEAM, LEARNED_ATTACKER = "ppo", "ppo"     # the PPO team (a strategy) and the PPO attacker (a behaviour)
+STRATEGIES = tuple(dict.fromkeys((FOCUS, "trap:rti:hpipm:10", BASELINE, "apf", "paper:rti:hpipm:5", LEARNED_TEAM)))
 # On the first BELIEF_HUNTS only: enclose (given the paper's attacker model, the slowest per hunt) and contain
 # (the capture problem tracking the baseline's places), with the exact belief.
 FIRST = ("enclose:rti:hpipm:10", "contain:rti:hpipm:10")
@@ -255,6 +256,70 @@ def verdicts(rows: list[dict]) -> list[str]:
     return lines
 
 
+def paired_difference(rows: list[dict], attacker: str, other: str) -> tuple[int, float, float, float]:
+    """The recommended controller's captures minus ``other``'s on the comfortable hunts against ``attacker`` that
+    both ran (exact belief): (hunts, mean difference, its 95 % interval by the normal approximation on the paired
+    differences), as shares of those hunts."""
+    def won(strategy: str) -> dict[int, int]:
+        return {r["index"]: int(r["outcome"] == "captured") for r in rows if r["strategy"] == strategy
+                and r["attacker"] == attacker and r["belief"] == EXACT and r["comfortable"]}
+    mine, theirs = won(FOCUS), won(other)
+    common = sorted(set(mine) & set(theirs))
+    if not common:
+        return 0, 0.0, 0.0, 0.0
+    d = [mine[i] - theirs[i] for i in common]
+    mean = statistics.fmean(d)
+    half = 1.96 * (statistics.stdev(d) / len(d) ** 0.5 if len(d) > 1 else 1.0)
+    return len(common), mean, mean - half, mean + half
+
+
+def league(rows: list[dict]) -> list[str]:
+    """The learned agents against the recommended controller: per attacker, the recommended controller's captures
+    against the PPO team's and the Voronoi baseline's, paired on the same hunts."""
+    lines = [f"Per attacker, comfortable hunts captured (exact belief); the difference is `{FOCUS}`'s minus the "
+             "other's on the same hunts, with its 95 % interval (normal approximation on the paired differences): "
+             "an interval holding 0 does not tell the two apart.", "",
+             f"| attacker | `{FOCUS}` | `{LEARNED_TEAM}` team | `{BASELINE}` | `{FOCUS}` − `{LEARNED_TEAM}` | "
+             f"`{FOCUS}` − `{BASELINE}` |", "| --- | ---: | ---: | ---: | --- | --- |"]
+    for attacker in BEHAVIOURS:
+        counts = []
+        for strategy in (FOCUS, LEARNED_TEAM, BASELINE):
+            mine = [r for r in rows if r["strategy"] == strategy and r["attacker"] == attacker
+                    and r["belief"] == EXACT and r["comfortable"]]
+            counts.append(f"{sum(r['outcome'] == 'captured' for r in mine)} / {len(mine)}")
+        cells = []
+        for other in (LEARNED_TEAM, BASELINE):
+            n, mean, lo, hi = paired_difference(rows, attacker, other)
+            verdict = "ahead" if lo > 0 else "behind" if hi < 0 else "not told apart"
+            cells.append(f"{100 * mean:+.0f} points ({100 * lo:+.0f} to {100 * hi:+.0f}): {verdict}" if n else "–")
+        lines.append(f"| {attacker} | {' | '.join(counts)} | {' | '.join(cells)} |")
+    return lines + [""]
+
+
+def learned_figure(rows: list[dict], folder: Path) -> list[Path]:
+    """A typical hunt each learned side wins against the recommended controller, rerun and drawn: the PPO
+    attacker escaping it, and the PPO team capturing a comfortable hunt it loses (exact belief)."""
+    exact = [r for r in rows if r["belief"] == EXACT]
+    cases = []
+    escaped = typical_rows([r for r in exact if r["attacker"] == LEARNED_ATTACKER], FOCUS).get("lost")
+    if escaped is not None:
+        scenario, result = rerun(escaped)
+        cases.append((result, scenario, f"attacker {LEARNED_ATTACKER} escapes {FOCUS}: {escaped['name']}"))
+    lost = {(r["attacker"], r["index"]) for r in exact if r["strategy"] == FOCUS and r["comfortable"]
+            and r["outcome"] != "captured"}
+    team_wins = [r for r in exact if r["strategy"] == LEARNED_TEAM and r["outcome"] == "captured"
+                 and (r["attacker"], r["index"]) in lost]
+    if team_wins:
+        row = typical_rows(team_wins, LEARNED_TEAM)["captured"]
+        scenario, result = rerun(row)
+        cases.append((result, scenario, f"the {LEARNED_TEAM} team captures ({row['attacker']}), {FOCUS} does not: "
+                                        f"{row['name']}"))
+    if not cases:
+        return []
+    plot_capture_regions(cases, folder / "learned_wins.png")
+    return [folder / "learned_wins.png"]
+
+
 def lost_figure(rows: list[dict], folder: Path) -> list[Path]:
     """A typical lost hunt of the recommended controller per attacker (exact belief), rerun and drawn."""
     cases = []
@@ -302,7 +367,13 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         "", "Per attacker, comfortable hunts, exact belief:", "", *verdicts(rows),
         "![success by attacker](success_by_attacker.png)", "",
         f"A typical lost hunt of `{FOCUS}` per attacker (`mpc_hunt/sweep/typical.py`), rerun:", "",
-        "![typical lost hunts](typical_lost.png)", "", "## Every summary", "", table(summaries), "",
+        "![typical lost hunts](typical_lost.png)", "",
+        "## The learned agents", "",
+        f"The `{LEARNED_ATTACKER}` attacker and the `{LEARNED_TEAM}` team are PPO policies (Stable-Baselines3; "
+        "`python studies/train_ppo.py`, docs/envs.md), the attacker trained against the recommended controller, "
+        "the team against the other attackers; neither trained on these hunts.", "", *league(rows),
+        f"A typical hunt each learned side wins against `{FOCUS}`, rerun:", "",
+        "![learned sides' wins](learned_wins.png)", "", "## Every summary", "", table(summaries), "",
         "## Machine", "", *machine_lines(machine), ""])
 
 
@@ -311,6 +382,7 @@ def write(db: Path, folder: Path, machine: dict, hunts: int, seed: int) -> None:
     summaries = summarise(rows)
     write_plots(rows, folder)
     lost_figure(rows, folder)
+    learned_figure(rows, folder)
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(hunts, seed),
                                                      "strategies": summaries}, indent=1) + "\n", encoding="utf-8")
     (folder / "README.md").write_text(report(rows, summaries, machine, hunts, seed), encoding="utf-8")

@@ -483,7 +483,6 @@ def on_the_board(results: dict) -> list[str]:
     if m7:
         worst = max(r["instructions_median"] for r in m7) / M7_CLOCK_HZ
         largest = max(r["instructions_max"] for r in m7) / M7_CLOCK_HZ
-        r = m7[-1]
         lines.append(f"| Cortex-M7 bare metal, qemu mps2-an500 | instructions at {M7_CLOCK_HZ / 1e6:.0f} MHz, one a "
                      "cycle | "
                      f"{worst * 1e3:.3f} ms | {largest * 1e3:.3f} ms | {worst / CYCLE_S:.2%} | "

@@ -20,7 +20,8 @@ ROOT = Path(__file__).resolve().parents[1]
 @pytest.mark.parametrize("study", ["studies/reproduce_paper.py", "studies/default_problems.py", "studies/compare.py",
                                    "studies/realtime.py", "studies/sweep.py",
                                    "studies/step_latency.py", "studies/attackers.py", "studies/train_attacker.py",
-                                   "studies/team_size.py", "studies/team_sweep.py"])
+                                   "studies/team_size.py", "studies/team_sweep.py", "studies/train_ppo.py",
+                                   "studies/env_throughput.py"])
 def test_committed_results_match_the_code(study):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
     # The study imports this tree's code, not whichever copy of mpc_hunt is installed.

@@ -266,7 +266,8 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
 
 def _controller_spec(args) -> ControllerSpec:
     """--controller with the flags' settings (:func:`_spec`: the same as the sweep's strategy of that name)."""
-    options = {"prediction": not args.no_prediction}
+    options = {"prediction": not args.no_prediction} \
+        if args.no_prediction or controllers.takes(args.controller, "prediction") else {}
     if args.time_limit is not None:
         options["time_limit"] = args.time_limit
     if args.score:
@@ -328,7 +329,7 @@ def _summary(result, report: dict, scenario) -> str:
         f"scenario {scenario.name}: "
         + (f"captured at t = {result.capture_time:.1f} s" if result.captured
            else f"NOT captured ({result.termination.replace('_', ' ')})"),
-        f"{how}; trajectory prediction {'on' if c['prediction'] else 'off'}",
+        how + ("" if "prediction" not in c else f"; trajectory prediction {'on' if c['prediction'] else 'off'}"),
         "path lengths: " + ", ".join(f"{x:.2f} m" for x in result.path_lengths),
         f"final hunting radius: {result.final_hunting_radius:.3f} m (R_hunt {scenario.hunt.hunt_radius} m)",
         "min clearance to an obstacle surface: "

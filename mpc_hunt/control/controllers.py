@@ -3,12 +3,14 @@ reference (one file, :mod:`mpc_hunt.control.reference`) × the capture stage, re
 
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass
 
 from mpc_hunt.world.belief import Belief, believed
 from mpc_hunt.control.containment import Containment
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.control.ppo_team import PpoTeam
 from mpc_hunt.control.reference import PaperObjective
 from mpc_hunt.control.strategy import AdaptiveStrategy, HuntingStrategy
 from mpc_hunt.control.trap import Trap
@@ -42,9 +44,20 @@ CONTROLLERS = {
     "contain": Solving(Containment),
     "adapt": AdaptiveStrategy,
     "trap": Solving(Trap),
+    "ppo": PpoTeam,
 }
 # The controllers that solve a capture problem (take solver settings): those that pose an objective.
 SOLVING = tuple(name for name, entry in CONTROLLERS.items() if hasattr(entry, "OBJECTIVE"))
+
+
+def keyword_options(name: str) -> list[str]:
+    """The options the non-solving controller ``name`` takes: its class's keyword-only arguments."""
+    return [p.name for p in inspect.signature(CONTROLLERS[name]).parameters.values() if p.kind is p.KEYWORD_ONLY]
+
+
+def takes(name: str, option: str) -> bool:
+    """Whether controller ``name`` takes ``option`` (a solving controller takes the capture stage's every one)."""
+    return name in SOLVING or option in keyword_options(name)
 
 
 def described() -> str:

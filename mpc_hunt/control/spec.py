@@ -12,7 +12,6 @@ sweep's strategy: ``enclose:rti:hpipm:10``, ``paper:qp:daqp:5``, ``apf``.
 from __future__ import annotations
 
 import argparse
-import inspect
 from dataclasses import InitVar, dataclass, field
 from types import MappingProxyType
 from typing import Any, Mapping
@@ -165,8 +164,7 @@ def _options(options: object) -> dict[str, Any]:
 def _refuse_settings(name: str, given: list[str] | tuple[str, ...]) -> None:
     """Refuse what the non-solving controller ``name`` does not take: a capture stage, an option its class does not
     name."""
-    taken = [p.name for p in inspect.signature(controllers.CONTROLLERS[name]).parameters.values()
-             if p.kind is p.KEYWORD_ONLY]
+    taken = controllers.keyword_options(name)
     refused = [key for key in given if key not in taken]
     if refused:
         raise SettingError(refused, f"controller {name!r} solves no capture problem and takes only "

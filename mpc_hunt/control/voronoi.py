@@ -35,8 +35,8 @@ from mpc_hunt.control.controller import Command, Observation, attacker_velocity_
 from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target
-from mpc_hunt.world.arena import kept_clear
-from mpc_hunt.world.geometry import direction, dot2, encloses, norm, saturate, unit
+from mpc_hunt.world.arena import kept_clear, safe_velocity
+from mpc_hunt.world.geometry import direction, encloses, norm, saturate
 from mpc_hunt.world.hunting_circle import members
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
@@ -131,7 +131,7 @@ class VoronoiController:
         for i, centre, angle, radius in zip(movers, centres, angles, radii):
             target = self.allowed(route(P[i], centre, angle, radius, speeds[i] * hunt.time_step))
             intercepts[i] = target
-            velocities[i] = self._safe(P[i], saturate((target - P[i]) / hunt.time_step, speeds[i]))
+            velocities[i] = safe_velocity(s, P[i], saturate((target - P[i]) / hunt.time_step, speeds[i]))
         capture = attacker.perceives(s, p_a, P) & obs.active
         velocities = keep_separation(P, velocities, obs.active, P, hunt.time_step, speeds, hunt.min_separation)
         return Command(velocities, capture, intercepts)
@@ -161,16 +161,3 @@ class VoronoiController:
     def allowed(self, target: np.ndarray) -> np.ndarray:
         """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe."""
         return kept_clear(self.scenario, target)
-
-    def _safe(self, p_d: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """``v`` without its part into an obstacle's R_safe or out of the arena, where a step would go there."""
-        s = self.scenario
-        T = s.hunt.time_step
-        for c, r in zip(s.obstacle_centres, s.obstacle_radii):
-            inward = unit(c - p_d)
-            if norm(p_d + T * v - c) < r + s.hunt.safety_distance and dot2(v, inward) > 0:
-                v = v - dot2(v, inward) * inward
-        if s.arena is not None:
-            x_min, y_min, x_max, y_max = s.arena
-            v = (np.clip(p_d + T * v, [x_min, y_min], [x_max, y_max]) - p_d) / T
-        return v

@@ -25,8 +25,8 @@ from mpc_hunt.envs.observation import observe
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.plots.state import state_image
 from mpc_hunt.sim.world_step import moved, standing, steps
-from mpc_hunt.world.behaviours.base import keep_out
-from mpc_hunt.world.geometry import norm, saturate
+from mpc_hunt.world.behaviours.base import attacker_move
+from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Scenario
 
 OUTCOME = {"captured": -1.0, "attacker_escaped": 1.0, "time_limit": 1.0, "non_finite_state": 0.0}
@@ -42,13 +42,6 @@ class Step:
     terminated: bool
     truncated: bool
     termination: str | None
-
-
-def attacker_move(scenario: Scenario, p_a: np.ndarray, action) -> np.ndarray:
-    """An agent's velocity for the attacker at ``p_a`` as the world allows it: capped at v_a, kept out of every
-    obstacle (as every attacker behaviour's)."""
-    wish = saturate(np.asarray(action, dtype=float).reshape(2), scenario.attacker.max_speed)
-    return keep_out(scenario, p_a, wish)
 
 
 class Episode:

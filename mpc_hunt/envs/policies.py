@@ -15,9 +15,9 @@ import numpy as np
 
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec
-from mpc_hunt.envs.episode import attacker_move
 from mpc_hunt.envs.observation import observe
 from mpc_hunt.errors import OptionError, SettingError
+from mpc_hunt.world.behaviours.base import attacker_move
 from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario import Scenario
 

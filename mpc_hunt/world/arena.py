@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.geometry import norm, unit
+from mpc_hunt.world.geometry import dot2, norm, unit
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
@@ -58,3 +58,18 @@ def kept_clear(scenario: Scenario, targets: np.ndarray) -> np.ndarray:
         if np.any(inside):
             targets = np.where(np.expand_dims(inside, -1), c + (r + safe) * unit(targets - c), targets)
     return targets
+
+
+def safe_velocity(scenario: Scenario, p_d: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """A defender's velocity ``v`` at ``p_d`` without its part into an obstacle's R_safe (Eq. 15) or out of the
+    arena, where a step would go there."""
+    s = scenario
+    T = s.hunt.time_step
+    for c, r in zip(s.obstacle_centres, s.obstacle_radii):
+        inward = unit(c - p_d)
+        if norm(p_d + T * v - c) < r + s.hunt.safety_distance and dot2(v, inward) > 0:
+            v = v - dot2(v, inward) * inward
+    if s.arena is not None:
+        x_min, y_min, x_max, y_max = s.arena
+        v = (np.clip(p_d + T * v, [x_min, y_min], [x_max, y_max]) - p_d) / T
+    return v

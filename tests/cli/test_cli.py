@@ -137,7 +137,7 @@ def test_solve_at_a_state_file(capsys, tmp_path):
     (["compare", "--seed", "-1"], "--seed: must not be negative"),
     (["problems", "--build", "x.json", "--seed", "-1"], "--seed: must not be negative"),
     (["simulate", "--attacker", "nobody"], "invalid choice: 'nobody' (choose from 'apf', 'flee', 'gap', 'voronoi', "
-                                           "'noisy', 'learned', 'minimax')"),
+                                           "'noisy', 'learned', 'minimax', 'ppo')"),
     (["sweep", "--attacker", "apf", "--attacker", "gapp"], "invalid choice: 'gapp' (choose from 'apf', 'flee', "),
     (["simulate", "--belief", "colour=2x"], "--belief: belief 'colour=2x': expected NAME=VALUE with NAME one of eta, "
                                             "intent_heading, perception_radius"),

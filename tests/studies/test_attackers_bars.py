@@ -41,15 +41,17 @@ def test_the_bars_count_each_attacker_the_two_robot_hunts_the_times_and_the_unsa
         rows += [_row(focus, a, 0, True, time=90.0), _row(focus, a, 1, True, defenders=2, time=150.0),
                  _row(base, a, 0, True, time=100.0), _row(base, a, 1, False, defenders=2)]
         summaries += [_summary(focus, a, 1.0), _summary(base, a, 0.5)]
-    rows[-4] = _row(focus, "minimax", 0, False, cause="obstacle_collision")     # unsafe, and behind against minimax:
-    rows[-1] = _row(base, "minimax", 1, True, defenders=2, time=100.0)           # the baseline takes both there
-    summaries[-2] = _summary(focus, "minimax", 0.5)
+    last, n = list(BEHAVIOURS)[-1], len(BEHAVIOURS)
+    rows[-4] = _row(focus, last, 0, False, cause="obstacle_collision")     # unsafe, and behind against the last
+    rows[-1] = _row(base, last, 1, True, defenders=2, time=100.0)           # attacker: the baseline takes both there
+    summaries[-2] = _summary(focus, last, 0.5)
     verdict = {what: (measured, met) for what, measured, met in attackers.bars(rows, summaries)}
     as_many, gain, apf, two_apf, two_gap, times, safe = verdict.values()
-    assert as_many == ("behind against minimax", False)
-    assert gain[1] and "+42.9 points" in gain[0]                  # (6 × 100 % + 50 %) / 7 against 50 %
+    assert as_many == (f"behind against {last}", False)
+    # ((n − 1) × 100 % + 50 %) / n against 50 %
+    assert gain[1] and f"{100 * (n - 0.5) / n - 50:+.1f} points" in gain[0]
     assert apf == ("2 / 2", True) and two_apf == ("1 / 1", True) and two_gap == ("1 / 1", True)
-    assert times == ("90.0 s against 100.0 s (7 hunts)", True)
+    assert times == (f"90.0 s against 100.0 s ({n} hunts)", True)
     assert safe == ("1 unsafe hunts, 0 solves over the time step", False)
 
 
@@ -70,3 +72,19 @@ def test_the_recommended_is_the_solving_controller_that_captures_most_then_the_q
     rows.append(_row("contain:rti:hpipm:10", "apf", 1, True))
     rows.remove(_row("contain:rti:hpipm:10", "apf", 1, False))
     assert attackers.recommended_choice(rows) == "contain:rti:hpipm:10"
+
+
+def test_the_league_pairs_the_hunts_and_tells_apart_only_what_its_interval_does():
+    focus, team = attackers.FOCUS, attackers.LEARNED_TEAM
+    rows = [_row(focus, "apf", i, True) for i in range(40)] + [_row(team, "apf", i, i < 10) for i in range(40)]
+    rows += [_row(focus, "gap", i, i % 2 == 0) for i in range(40)]
+    rows += [_row(team, "gap", i, i % 2 == 1) for i in range(40)]
+    rows += [_row(team, "flee", i, True) for i in range(5)]             # the recommended one ran none of these
+    n, mean, lo, hi = attackers.paired_difference(rows, "apf", team)
+    assert n == 40 and mean == 0.75 and 0 < lo < mean < hi < 1         # 30 of 40 hunts won by focus alone
+    n, mean, lo, hi = attackers.paired_difference(rows, "gap", team)
+    assert n == 40 and mean == 0.0 and lo < 0 < hi                     # as many each way: not told apart
+    assert attackers.paired_difference(rows, "flee", team)[0] == 0
+    table = "\n".join(attackers.league(rows))
+    assert "| apf | 40 / 40 | 10 / 40 |" in table and "+75 points" in table and "ahead" in table
+    assert "not told apart" in table

@@ -23,9 +23,10 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 STUDIES = ["attackers", "sweep", "team_sweep", "team_size", "train_attacker", "compare", "realtime",
-           "reproduce_paper", "smoothing", "step_latency", "default_problems"]
+           "reproduce_paper", "smoothing", "step_latency", "default_problems", "train_ppo", "env_throughput"]
 OUTPUTS = {"attackers": "--output", "team_sweep": "--output", "train_attacker": "--output",
-           "reproduce_paper": "--out", "smoothing": "--out", "step_latency": "--out", "team_size": "--out"}
+           "train_ppo": "--output", "reproduce_paper": "--out", "smoothing": "--out", "step_latency": "--out",
+           "team_size": "--out"}
 
 
 def study(name: str):
@@ -74,7 +75,8 @@ def _bad_outputs(tmp_path: Path) -> dict[str, str]:
 @pytest.mark.parametrize("name", sorted(OUTPUTS))
 def test_a_bad_output_folder_is_refused_before_any_work(name, capsys, tmp_path, monkeypatch):
     module = study(name)
-    for attribute in ("run", "train", "study", "run_sweep", "hunt_indices", "timed_sizes", "hunt_states"):
+    for attribute in ("run", "train", "train_side", "study", "run_sweep", "hunt_indices", "timed_sizes",
+                      "hunt_states"):
         if hasattr(module, attribute):       # any work at all fails the test
             monkeypatch.setattr(module, attribute, lambda *a, **k: pytest.fail("work started"))
     for why, path in _bad_outputs(tmp_path).items():

@@ -121,7 +121,7 @@ def test_a_scenario_names_its_attackers_behaviour_and_parameters_in_toml():
 
 @pytest.mark.parametrize("options, message", [
     ({"behaviour": "sneaky"}, "attacker.behaviour: unknown 'sneaky' (available: apf, flee, gap, voronoi, noisy, "
-                                "learned, minimax)"),
+                                "learned, minimax, ppo)"),
     ({"behaviour": "apf", "sensing_radius": 2.0}, "attacker.sensing_radius: the apf attacker senses at its "
                                                   "perception_radius"),
     ({"behaviour": "gap", "sensing_radius": -1.0}, "attacker.sensing_radius: must be positive"),

@@ -5,7 +5,8 @@ the default, which every scenario without a ``behaviour`` keeps. The others are
 evaders from the pursuit–evasion literature (docs/model.md, "Attacker
 behaviours"): ``flee``, ``gap``, ``voronoi`` and ``noisy``; ``learned`` is a policy trained against the
 recommended controller (``python studies/train_attacker.py``); ``minimax`` plans its best response to
-where the defenders can be. Every behaviour
+where the defenders can be; ``ppo`` is a neural policy trained by PPO against the recommended controller
+(``python studies/train_ppo.py``). Every behaviour
 senses defenders within a radius, moves at most v_a, is repelled by obstacles
 (Eq. 3) and never steps into one (:mod:`mpc_hunt.world.behaviours.base`).
 """
@@ -23,6 +24,7 @@ from mpc_hunt.world.behaviours.gap import GapAttacker
 from mpc_hunt.world.behaviours.learned import LearnedAttacker
 from mpc_hunt.world.behaviours.minimax import MinimaxAttacker
 from mpc_hunt.world.behaviours.noisy import NoisyAttacker
+from mpc_hunt.world.behaviours.ppo import PpoAttacker
 from mpc_hunt.world.behaviours.voronoi import VoronoiAttacker
 from mpc_hunt.world.names import registered
 
@@ -38,6 +40,7 @@ BEHAVIOURS = {
     "noisy": NoisyAttacker,
     "learned": LearnedAttacker,
     "minimax": MinimaxAttacker,
+    "ppo": PpoAttacker,
 }
 DEFAULT_BEHAVIOUR = "apf"
 

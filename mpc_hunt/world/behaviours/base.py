@@ -62,6 +62,13 @@ def steered(scenario: Scenario, p_a: np.ndarray, wish: np.ndarray) -> np.ndarray
     return keep_out(scenario, p_a, saturate(wish + push, scenario.attacker.max_speed))
 
 
+def attacker_move(scenario: Scenario, p_a: np.ndarray, action) -> np.ndarray:
+    """An agent's velocity for the attacker at ``p_a`` as the world allows it: capped at v_a, kept out of every
+    obstacle (as every attacker behaviour's)."""
+    wish = saturate(np.asarray(action, dtype=float).reshape(2), scenario.attacker.max_speed)
+    return keep_out(scenario, p_a, wish)
+
+
 def keep_out(scenario: Scenario, p_a: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``v`` without its part towards an obstacle whose surface the next step would cross (it slides along)."""
     T = scenario.hunt.time_step

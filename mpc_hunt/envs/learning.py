@@ -1,0 +1,175 @@
+"""The hunts the PPO agents train on, as they will play them: their views, their decision steps, their shield.
+
+- :class:`AttackerViewEnv` (Gymnasium): the attacker of an :class:`~mpc_hunt.envs.AttackerEnv`
+  against a controller, as :mod:`mpc_hunt.world.behaviours.ppo` moves it: while it senses no
+  defender it follows its intent and the agent is not asked; while it senses one, the
+  agent reads :func:`~mpc_hunt.world.agent_view.attacker_view` and its action a in [−1, 1]²
+  (velocity v_a · a) is held for ``decision_steps`` of the world's steps, or until it senses
+  nobody. A step returns at the next decision (or the hunt's end) with the rewards of the
+  world's steps between summed. Each reset draws the team's size from ``teams`` (one
+  AttackerEnv per size), so the policy meets every size the sweeps play, and plays the
+  hunt to its first decision (a hunt that ends before it is replaced by another).
+- :class:`TeamHunts`: ``hunts`` hunts of :class:`~mpc_hunt.envs.DefenderEnv`, each defender an
+  agent sharing one policy, as :mod:`mpc_hunt.control.ppo_team` plays it: the agent reads
+  :func:`~mpc_hunt.control.ppo_team.team_view` and its action is a correction of the Voronoi
+  baseline's velocity, held for ``decision_steps`` steps while the baseline is recomputed at
+  each (:func:`~mpc_hunt.control.ppo_team.corrected`, the shield included); each reset draws
+  the attacker's behaviour from ``attackers``. A finished
+  hunt starts the next at once; its last views are kept for the learner
+  (``terminal_views``). Stable-Baselines3 steps it through a ``VecEnv`` of one slot per
+  defender (studies/train_ppo.py).
+
+Playing a trained network through :mod:`mpc_hunt.world.behaviours.ppo` or
+:mod:`mpc_hunt.control.ppo_team` gives the hunts these environments give it (a test checks).
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from mpc_hunt.control.ppo_team import corrected, team_view
+from mpc_hunt.control.voronoi import VoronoiController
+from mpc_hunt.envs.attacker_env import AttackerEnv
+from mpc_hunt.envs.defender_env import DefenderEnv
+from mpc_hunt.errors import MpcHuntError, OptionError
+from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
+from mpc_hunt.world.behaviours.base import sensed, sensing_radius, undisturbed
+from mpc_hunt.world.mlp import MAX_DECISION_STEPS
+
+BOUND = 1e3         # a view's numbers are within a few REACH; the Box says so loosely
+MAX_REDRAWS = 100   # hunts a reset may draw before one reaches its first decision
+
+
+def _decision_steps(value) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_DECISION_STEPS:
+        raise OptionError(f"decision_steps: a whole number from 1 to {MAX_DECISION_STEPS}, got {value!r}")
+    return int(value)
+
+
+class AttackerViewEnv(gym.Env):
+    """The attacker learning against ``controller`` on random hunts (the module's docstring)."""
+
+    def __init__(self, controller: str = "trap", teams: tuple[int, ...] = (2, 3, 4, 5), decision_steps: int = 5):
+        self.decision_steps = _decision_steps(decision_steps)
+        if not teams or any(isinstance(t, bool) or not isinstance(t, (int, np.integer)) for t in teams):
+            raise OptionError(f"teams: team sizes (whole numbers), got {teams!r}")
+        self.envs = [AttackerEnv(defenders=int(t), controller=controller) for t in teams]
+        self.env = self.envs[0]
+        self.observation_space = spaces.Box(-BOUND, BOUND, shape=(ATTACKER_VIEW,), dtype=np.float64)
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
+
+    def _view(self) -> np.ndarray:
+        e = self.env.episode
+        return attacker_view(e.scenario, e.attacker, e.defenders, e.defender_velocities, sensing_radius(e.scenario))
+
+    def _sensing(self) -> bool:
+        e = self.env.episode
+        return len(sensed(e.attacker, e.defenders, sensing_radius(e.scenario))) > 0
+
+    def _run(self, action: np.ndarray | None) -> tuple[float, bool, bool, dict]:
+        """The world's steps to the next decision (the module's docstring): the summed reward, how it ended."""
+        held, total = (self.decision_steps if action is not None else 0), 0.0
+        terminated = truncated = False
+        info = self.env.info()
+        while True:
+            if not self._sensing():
+                held, velocity = 0, undisturbed(self.env.scenario, self.env.episode.attacker)
+            elif held == 0:
+                return total, False, False, info
+            else:
+                held, velocity = held - 1, self.env.scenario.attacker.max_speed * action
+            _, reward, terminated, truncated, info = self.env.step(velocity)
+            total += reward
+            if terminated or truncated:
+                return total, terminated, truncated, info
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        given = (options or {}).get("scenario") is not None if isinstance(options, dict) else False
+        for _ in range(1 if given else MAX_REDRAWS):
+            self.env = self.envs[int(self.np_random.integers(len(self.envs)))]
+            _, info = self.env.reset(seed=int(self.np_random.integers(2**31)), options=options)
+            _, terminated, truncated, info = self._run(None)
+            if not (terminated or truncated):
+                return self._view(), info
+        raise MpcHuntError("reset: options['scenario'] ends before the attacker senses a defender, so the agent has "
+                           "nothing to decide; give a hunt whose defenders come within its sensing radius" if given
+                           else f"reset: {MAX_REDRAWS} hunts ended before the attacker sensed a defender")
+
+    def step(self, action):
+        a = np.clip(np.asarray(action, dtype=float).reshape(2), -1.0, 1.0)
+        total, terminated, truncated, info = self._run(a)
+        return self._view(), total, terminated, truncated, info
+
+
+class TeamHunts:
+    """``hunts`` hunts of a team of ``defenders`` sharing one policy (the module's docstring)."""
+
+    def __init__(self, hunts: int, attackers: tuple[str, ...], defenders: int = 3, decision_steps: int = 5,
+                 seed: int = 0):
+        self.decision_steps = _decision_steps(decision_steps)
+        self.defenders = defenders
+        self.envs = [{name: DefenderEnv(defenders=defenders, attacker=name) for name in attackers}
+                     for _ in range(hunts)]
+        self.rng = np.random.default_rng(seed)
+        self.playing: list[DefenderEnv] = [None] * hunts
+        self.bases: list[VoronoiController] = [None] * hunts
+        self.terminal_views: list[np.ndarray | None] = [None] * hunts
+
+    @property
+    def agents(self) -> int:
+        return len(self.envs) * self.defenders
+
+    def _start(self, k: int) -> None:
+        names = list(self.envs[k])
+        env = self.envs[k][names[int(self.rng.integers(len(names)))]]
+        env.reset(seed=int(self.rng.integers(2**31)))
+        self.start(k, env)
+
+    def start(self, k: int, env: DefenderEnv) -> None:
+        """Hunt ``k`` goes on as ``env``'s (reset, its hunt just begun), with a new baseline."""
+        self.playing[k], self.bases[k] = env, VoronoiController(env.episode.scenario)
+
+    def _base(self, k: int) -> np.ndarray:
+        return self.bases[k].command(self.playing[k].episode.controller_observation()).velocities
+
+    def views(self, k: int) -> np.ndarray:
+        """Hunt ``k``'s views, one row per defender (:func:`~mpc_hunt.control.ppo_team.team_view`)."""
+        e, base = self.playing[k].episode, self._base(k)
+        return np.array([team_view(e.scenario, i, e.attacker, e.attacker_velocity, e.defenders,
+                                   e.defender_velocities, base) for i in range(self.defenders)])
+
+    def reset(self) -> np.ndarray:
+        """Every hunt started anew: the views, one row per agent (hunt by hunt)."""
+        for k in range(len(self.envs)):
+            self._start(k)
+        return np.vstack([self.views(k) for k in range(len(self.envs))])
+
+    def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict]]:
+        """One decision of every agent (``actions``: a correction in [−1, 1]² each): the views after it, each
+        agent's reward (its team's), whether its hunt ended, and an info per hunt (``termination``, ``truncated``,
+        and ``behaviour``, the attacker's) for a hunt that ended, else {}."""
+        actions = np.clip(np.asarray(actions, dtype=float).reshape(len(self.envs), self.defenders, 2), -1.0, 1.0)
+        views, rewards, dones, infos = [], [], [], []
+        for k, env in enumerate(self.playing):
+            e = env.episode
+            total, ended, info = 0.0, False, {}
+            for _ in range(self.decision_steps):
+                active = ~e.scenario.failed(e.time)
+                velocities = corrected(e.scenario, e.defenders, self._base(k), actions[k], active)
+                _, reward, terminated, truncated, _ = env.step(velocities)
+                total += reward
+                if terminated or truncated:
+                    ended = True
+                    info = {"termination": e.termination, "truncated": bool(truncated), "behaviour": env.attacker_name}
+                    break
+            if ended:
+                self.terminal_views[k] = self.views(k)
+                self._start(k)
+            views.append(self.views(k))
+            rewards += [total] * self.defenders
+            dones += [ended] * self.defenders
+            infos.append(info)
+        return np.vstack(views), np.array(rewards), np.array(dones), infos
