@@ -12,8 +12,10 @@ writes ``studies/attackers/`` (README.md, summary.json with the machine, the fig
     python studies/attackers.py                   # run (or resume), then write the report
     python studies/attackers.py --hunts 200 --seed 3 --output /tmp/a   # other hunts, into another folder
     python studies/attackers.py --check           # the committed report is the committed file's summary, the
-                                                  # recommended controller is the one that captures most, and its
-                                                  # quickest capture per attacker still captures
+                                                  # recommended controller is the one to recommend (the solving
+                                                  # controller that captures most, or the quickest of those its
+                                                  # interval cannot tell from it), and its quickest capture per
+                                                  # attacker still captures
 """
 
 from __future__ import annotations
@@ -165,13 +167,28 @@ def solving_shares(rows: list[dict]) -> tuple[dict[str, float], int]:
     return shares, len(common)
 
 
+def paired_interval(differences: list[int]) -> tuple[float, float, float]:
+    """The mean of paired differences (each −1, 0 or 1: one controller's capture minus another's on the same hunt)
+    and its 95 % interval by the normal approximation."""
+    mean = statistics.fmean(differences)
+    half = 1.96 * (statistics.stdev(differences) / len(differences) ** 0.5 if len(differences) > 1 else 1.0)
+    return mean, mean - half, mean + half
+
+
 def recommended_choice(rows: list[dict]) -> str | None:
-    """The solving controller with the largest share of :func:`solving_shares`; on a tie, the one with the
-    shortest median capture time on the hunts every tied one captures (exact belief)."""
+    """The solving controller with the largest share of :func:`solving_shares`, or, among those the paired 95 %
+    interval cannot tell from it on the hunts every solving controller ran (an interval of the captures' paired
+    differences that holds 0), the one with the shortest median capture time on the hunts they all capture
+    (exact belief)."""
     shares, _ = solving_shares(rows)
     if not shares:
         return None
-    tied = [k for k, v in shares.items() if v >= max(shares.values()) - 1e-12]
+    best = max(shares, key=shares.get)
+    won = {k: {(r["attacker"], r["index"]): int(r["outcome"] == "captured") for r in rows if r["strategy"] == k
+               and r["belief"] == EXACT and r["comfortable"]} for k in shares}
+    common = sorted(set.intersection(*(set(w) for w in won.values())))
+    tied = [k for k in shares if k == best or
+            paired_interval([won[best][h] - won[k][h] for h in common])[1] <= 0]
     times = {k: {(r["attacker"], r["index"]): r["capture_time_s"] for r in rows if r["strategy"] == k
                  and r["belief"] == EXACT and r["outcome"] == "captured"} for k in tied}
     both = set.intersection(*(set(t) for t in times.values()))
@@ -267,10 +284,7 @@ def paired_difference(rows: list[dict], attacker: str, other: str) -> tuple[int,
     common = sorted(set(mine) & set(theirs))
     if not common:
         return 0, 0.0, 0.0, 0.0
-    d = [mine[i] - theirs[i] for i in common]
-    mean = statistics.fmean(d)
-    half = 1.96 * (statistics.stdev(d) / len(d) ** 0.5 if len(d) > 1 else 1.0)
-    return len(common), mean, mean - half, mean + half
+    return (len(common), *paired_interval([mine[i] - theirs[i] for i in common]))
 
 
 def league(rows: list[dict]) -> list[str]:
@@ -357,8 +371,9 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         f"capture stage) on the {common} comfortable hunts each of them ran: " +
         ", ".join(f"`{k}` {100 * shares[k]:.1f} %" for k in solving) +
         f". The recommended controller (`mpc_hunt/control/recommended.py`) is `{FOCUS}`; `--check` fails unless it "
-        "is first among the solving controllers (on a tie, the quickest: the shortest median capture time on the "
-        "hunts the tied ones all capture). How it fares against the Voronoi baseline, which has no capture "
+        "is first among the solving controllers, or not told apart from the first by the paired 95 % interval of "
+        "their captures on those hunts and the quickest of those so tied (the shortest median capture time on the "
+        "hunts they all capture). How it fares against the Voronoi baseline, which has no capture "
         "stage, is the next section's.", "",
         *headline(summaries),
         f"## `{FOCUS}` against the Voronoi baseline", "",
@@ -401,9 +416,9 @@ def check(folder: Path) -> list[str]:
         errors.append(f"sweep.db: {len(left)} hunts of the study are missing (resume it)")
     best = recommended_choice(rows)
     if best != FOCUS:
-        errors.append(f"mpc_hunt/control/recommended.py: the recommended controller is {FOCUS}, but {best} captures "
-                      "the largest share of the comfortable hunts averaged over the attackers among the solving "
-                      "controllers")
+        errors.append(f"mpc_hunt/control/recommended.py: the recommended controller is {FOCUS}, but {best} is the "
+                      "solving controller to recommend (the largest share of the comfortable hunts, or the quickest "
+                      "of those its interval cannot tell from it)")
     if errors:
         return errors
     return still_captured(quickest_captures(rows, FOCUS, EXACT), seed, committed["arguments"]["ranges"],

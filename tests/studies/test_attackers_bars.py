@@ -58,7 +58,8 @@ def test_the_bars_count_each_attacker_the_two_robot_hunts_the_times_and_the_unsa
 def test_the_recommended_is_the_solving_controller_that_captures_most_then_the_quickest():
     # trap and contain each capture one of two comfortable hunts per attacker on the hunts both ran, enclose none;
     # the baseline (no capture stage) captures both but is no candidate; contain's extra hunt is not shared; on the
-    # tie the quicker, trap, is chosen, and a contain that captures one more is chosen instead.
+    # tie the quicker, trap, is chosen. A contain that captures one hunt more is still not told apart from trap
+    # (the paired interval holds 0): the quicker stays. A contain that captures every hunt is chosen.
     rows = []
     for a in BEHAVIOURS:
         rows += [_row("trap:rti:hpipm:10", a, 0, True, time=90.0), _row("trap:rti:hpipm:10", a, 1, False),
@@ -71,6 +72,12 @@ def test_the_recommended_is_the_solving_controller_that_captures_most_then_the_q
     assert attackers.recommended_choice(rows) == "trap:rti:hpipm:10"
     rows.append(_row("contain:rti:hpipm:10", "apf", 1, True))
     rows.remove(_row("contain:rti:hpipm:10", "apf", 1, False))
+    assert attackers.solving_shares(rows)[0]["contain:rti:hpipm:10"] > 0.5
+    assert attackers.recommended_choice(rows) == "trap:rti:hpipm:10"
+    for a in BEHAVIOURS:
+        if _row("contain:rti:hpipm:10", a, 1, False) in rows:
+            rows.remove(_row("contain:rti:hpipm:10", a, 1, False))
+            rows.append(_row("contain:rti:hpipm:10", a, 1, True))
     assert attackers.recommended_choice(rows) == "contain:rti:hpipm:10"
 
 
