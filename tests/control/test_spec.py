@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from conftest import small_scenario
 from mpc_hunt.capture.problem import MAX_HORIZON, horizon_error
 from mpc_hunt.cli.commands import main
-from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, controller_objective, make_controller
+from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, controller_objective, make_controller, takes
 from mpc_hunt.control.recommended import OTHER_HORIZON, PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import OptionError, SettingError
@@ -73,9 +73,10 @@ def test_unset_fields_take_the_defaults_defined_once():
     assert ControllerSpec.parse("enclose::daqp-condensed:4").settings == RECOMMENDED | {"backend": "daqp-condensed",
                                                                                       "horizon": 4}
     for controller in BASELINES:
-        spec = ControllerSpec(controller, options={"prediction": False})
+        options = {"prediction": False} if takes(controller, "prediction") else {}
+        spec = ControllerSpec(controller, options=options)
         assert (spec.formulation, spec.backend, spec.horizon) == (None, None, None)
-        assert spec.settings == {"prediction": False}
+        assert spec.settings == options
 
 
 def test_a_numpy_horizon_is_kept_as_an_int():
