@@ -18,7 +18,7 @@ every CPU, :mod:`mpc_hunt.world.mlp`), observations normalised by ``VecNormalize
   of DAgger (116 000 views; it fitted the baseline's velocities to a mean squared
   error of 0.06 and captured none of 20 hunts in any round, the baseline 20 of 40).
 
-Each side trains for ``--minutes`` of wall time (default 45), its progress on stderr each rollout.
+Each side trains for ``--minutes`` of wall time (default 50), its progress on stderr each rollout.
 Ctrl-C, or the end of the budget, writes a checkpoint (``studies/train_ppo/checkpoint/``, not
 committed: torch's files); ``--resume`` continues from it with the minutes left. At the end the
 network goes to the package (``mpc_hunt/world/behaviours/ppo_attacker.npz``,
@@ -57,7 +57,7 @@ OUT = Path(__file__).resolve().parent / "train_ppo"
 COMMAND = "python studies/train_ppo.py"
 TRAIN_SEED = 31_337
 DECISION_STEPS = 5
-MINUTES = 45
+MINUTES = 50
 TEAM = 3
 TEAM_HUNTS = 4
 TEAM_ATTACKERS = ("apf", "flee", "gap", "voronoi", "noisy", "learned", "minimax")
