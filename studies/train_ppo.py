@@ -166,6 +166,18 @@ def export(policy, obs_rms, clip: float, epsilon: float, side: str, path: Path) 
         np.savez(f, **arrays)
 
 
+def read_checkpoint(path: Path) -> dict:
+    """A checkpoint's progress (its elapsed seconds and curve), or a one-line MpcHuntError naming the file."""
+    try:
+        progress = json.loads(path.read_text(encoding="utf-8"))
+    except (ValueError, UnicodeDecodeError):
+        progress = None
+    if not (isinstance(progress, dict) and isinstance(progress.get("elapsed_s"), (int, float))
+            and isinstance(progress.get("curve"), list)):
+        raise MpcHuntError(f"{path}: not a training's progress; delete {path.parent} to train from the start")
+    return progress
+
+
 def digest(path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
@@ -180,15 +192,19 @@ def train_side(side: str, minutes: float, workers: int, out: Path, resume: bool)
     torch.set_num_threads(1)
     folder = out / "checkpoint" / side
     progress_path = folder / "progress.json"
-    progress = json.loads(progress_path.read_text(encoding="utf-8")) if resume and progress_path.exists() else \
-        {"elapsed_s": 0.0, "curve": []}
     if resume and not progress_path.exists():
         raise MpcHuntError(f"{folder}: no checkpoint of the {side} to resume; train without --resume")
+    progress = read_checkpoint(progress_path) if resume else {"elapsed_s": 0.0, "curve": []}
     seed = TRAIN_SEED + (0 if side == "attacker" else 1) + 1000 * len(progress["curve"])
     venv = attacker_vec_env(workers, seed) if side == "attacker" else team_vec_env(TEAM_HUNTS, seed)
     if resume:
-        venv = VecNormalize.load(str(folder / "vecnormalize.pkl"), venv)
-        model = PPO.load(str(folder / "model.zip"), env=venv, device="cpu")
+        try:
+            venv = VecNormalize.load(str(folder / "vecnormalize.pkl"), venv)
+            model = PPO.load(str(folder / "model.zip"), env=venv, device="cpu")
+        except Exception as exc:        # a damaged file: pickle, zip and torch each raise their own
+            venv.close()
+            raise MpcHuntError(f"{folder}: a damaged checkpoint ({type(exc).__name__}); delete it to train from the "
+                               "start") from None
     else:
         venv = VecNormalize(venv, norm_obs=True, norm_reward=True, clip_obs=10.0, gamma=PPO_SETTINGS[side]["gamma"])
         model = PPO("MlpPolicy", venv, seed=TRAIN_SEED, device="cpu", verbose=0,

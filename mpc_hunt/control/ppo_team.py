@@ -20,7 +20,6 @@ network never captured, nor did a network cloned from the baseline (docs/envs.md
 
 from __future__ import annotations
 
-from functools import cache
 from importlib import resources
 
 import numpy as np
@@ -30,7 +29,7 @@ from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.agent_view import DEFENDER_VIEW, defender_view
 from mpc_hunt.world.arena import safe_velocity
 from mpc_hunt.world.geometry import saturate
-from mpc_hunt.world.mlp import Mlp, load_mlp
+from mpc_hunt.world.mlp import Mlp, load_mlp, shipped_mlp
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 
@@ -41,17 +40,13 @@ TEAM_VIEW = DEFENDER_VIEW + 2
 
 def policy_file():
     """The shipped policy, ``ppo_team.npz`` beside this module."""
-    return resources.files("mpc_hunt.control").joinpath(POLICY)
-
-
-@cache
-def shipped_policy() -> Mlp:
-    return load_mlp(policy_file(), "defender", TEAM_VIEW)
+    return resources.files(__package__).joinpath(POLICY)
 
 
 def team_policy(path=None) -> Mlp:
     """The team's network: the shipped one, or the policy file ``path``."""
-    return shipped_policy() if path is None else load_mlp(path, "defender", TEAM_VIEW)
+    return shipped_mlp(__package__, POLICY, "defender", TEAM_VIEW) if path is None else \
+        load_mlp(path, "defender", TEAM_VIEW)
 
 
 def team_view(scenario: Scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray,

@@ -31,6 +31,7 @@ from gymnasium import spaces
 
 from mpc_hunt.control.ppo_team import corrected, team_view
 from mpc_hunt.control.voronoi import VoronoiController
+from mpc_hunt.envs.actions import checked_action
 from mpc_hunt.envs.attacker_env import AttackerEnv
 from mpc_hunt.envs.defender_env import DefenderEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
@@ -99,7 +100,7 @@ class AttackerViewEnv(gym.Env):
                            else f"reset: {MAX_REDRAWS} hunts ended before the attacker sensed a defender")
 
     def step(self, action):
-        a = np.clip(np.asarray(action, dtype=float).reshape(2), -1.0, 1.0)
+        a = np.clip(checked_action(action, self.action_space, "action"), -1.0, 1.0)   # before anything moves
         total, terminated, truncated, info = self._run(a)
         return self._view(), total, terminated, truncated, info
 
@@ -116,6 +117,7 @@ class TeamHunts:
         self.rng = np.random.default_rng(seed)
         self.playing: list[DefenderEnv] = [None] * hunts
         self.bases: list[VoronoiController] = [None] * hunts
+        self.next_base: list[np.ndarray | None] = [None] * hunts   # the base at each hunt's state, once
         self.terminal_views: list[np.ndarray | None] = [None] * hunts
 
     @property
@@ -130,14 +132,19 @@ class TeamHunts:
 
     def start(self, k: int, env: DefenderEnv) -> None:
         """Hunt ``k`` goes on as ``env``'s (reset, its hunt just begun), with a new baseline."""
-        self.playing[k], self.bases[k] = env, VoronoiController(env.episode.scenario)
+        self.playing[k], self.bases[k], self.next_base[k] = env, VoronoiController(env.episode.scenario), None
 
     def _base(self, k: int) -> np.ndarray:
-        return self.bases[k].command(self.playing[k].episode.controller_observation()).velocities
+        """The baseline's velocities at hunt ``k``'s state, computed once for that state."""
+        base, self.next_base[k] = self.next_base[k], None
+        if base is None:
+            base = self.bases[k].command(self.playing[k].episode.controller_observation()).velocities
+        return base
 
     def views(self, k: int) -> np.ndarray:
         """Hunt ``k``'s views, one row per defender (:func:`~mpc_hunt.control.ppo_team.team_view`)."""
         e, base = self.playing[k].episode, self._base(k)
+        self.next_base[k] = base            # the state's first step uses it again
         return np.array([team_view(e.scenario, i, e.attacker, e.attacker_velocity, e.defenders,
                                    e.defender_velocities, base) for i in range(self.defenders)])
 

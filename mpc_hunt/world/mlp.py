@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import zipfile
 from dataclasses import dataclass
+from functools import cache
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +58,12 @@ class Mlp:
                 y += w[:, j] * x[j]
             x = y if k == last else np.maximum(y, 0.0)
         return np.clip(x, -1.0, 1.0)
+
+
+@cache
+def shipped_mlp(package: str, name: str, side: str, inputs: int) -> Mlp:
+    """The policy file ``name`` shipped in ``package``, loaded once (:func:`load_mlp`)."""
+    return load_mlp(resources.files(package).joinpath(name), side, inputs)
 
 
 def load_mlp(path, side: str, inputs: int) -> Mlp:

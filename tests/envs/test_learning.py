@@ -168,3 +168,16 @@ def test_the_correction_is_added_to_the_baseline_at_its_scale(tmp_path):
     from mpc_hunt.world.geometry import saturate
     assert np.allclose(push, saturate(base + RESIDUAL * top * np.array([0.0, -0.3]), top), atol=1e-12)
     assert not np.allclose(push, base)
+
+
+@pytest.mark.parametrize("bad", [np.array([np.nan, 0.0]), np.zeros(3), np.zeros((1, 2)), "east"])
+def test_an_illegal_attacker_action_is_refused_before_anything_moves(bad):
+    from mpc_hunt.errors import ActionError
+    env = AttackerViewEnv(controller="voronoi", teams=(3,))
+    env.reset(seed=0, options={"scenario": _hunt(3, limit=300.0)})
+    before = (env.env.episode.step_count, env.env.episode.attacker.copy())
+    with pytest.raises(ActionError):
+        env.step(bad)
+    assert env.env.episode.step_count == before[0] and np.array_equal(env.env.episode.attacker, before[1])
+    view, *_ = env.step(np.array([1e300, -1e300]))          # huge: clipped to the box, then the top speed
+    assert np.all(np.isfinite(view))

@@ -201,3 +201,15 @@ def test_a_study_that_fails_at_run_time_says_so_in_one_line(failure, code, messa
     assert study("study_check").run_study(failure) == code
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("content", ["", "{not json", '{"elapsed_s": "soon"}', "[]"])
+def test_train_ppo_refuses_a_damaged_checkpoint_in_one_line(content, tmp_path):
+    pytest.importorskip("stable_baselines3", reason="Stable-Baselines3 is the optional extra learn")
+    folder = tmp_path / "out" / "checkpoint" / "team"
+    folder.mkdir(parents=True)
+    (folder / "progress.json").write_text(content)
+    run = subprocess.run([sys.executable, str(ROOT / "studies" / "train_ppo.py"), "--side", "team", "--resume",
+                          "--output", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert run.returncode == 2 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
+    assert "progress.json: not a training's progress" in run.stderr

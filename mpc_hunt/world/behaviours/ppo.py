@@ -15,7 +15,6 @@ and shipped as ``ppo_attacker.npz`` beside this module.
 
 from __future__ import annotations
 
-from functools import cache
 from importlib import resources
 from typing import TYPE_CHECKING
 
@@ -23,7 +22,7 @@ import numpy as np
 
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
 from mpc_hunt.world.behaviours.base import attacker_move, sensed, sensing_radius, undisturbed
-from mpc_hunt.world.mlp import Mlp, load_mlp
+from mpc_hunt.world.mlp import Mlp, load_mlp, shipped_mlp
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
@@ -33,17 +32,13 @@ POLICY = "ppo_attacker.npz"
 
 def policy_file():
     """The shipped policy, ``ppo_attacker.npz`` beside this module."""
-    return resources.files("mpc_hunt.world.behaviours").joinpath(POLICY)
-
-
-@cache
-def shipped_policy() -> Mlp:
-    return load_mlp(policy_file(), "attacker", ATTACKER_VIEW)
+    return resources.files(__package__).joinpath(POLICY)
 
 
 def attacker_policy(path=None) -> Mlp:
     """The attacker's network: the shipped one, or the policy file ``path``."""
-    return shipped_policy() if path is None else load_mlp(path, "attacker", ATTACKER_VIEW)
+    return shipped_mlp(__package__, POLICY, "attacker", ATTACKER_VIEW) if path is None else \
+        load_mlp(path, "attacker", ATTACKER_VIEW)
 
 
 class PpoAttacker:
