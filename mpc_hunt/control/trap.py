@@ -45,7 +45,10 @@ arena's edge). The reference has two phases:
   than twice ``HERD_ORBIT`` runs for where it meets the attacker (its intercept
   with the observed velocity), not for where the attacker stands;
 - **close** (the attacker strictly inside the hull of the movers and the
-  stationary members, and no direction open to the edge): places on an even
+  stationary members, and its region reaching the edge along no ray: no
+  point of the edge is the attacker's before a defender's; the margin
+  ``EDGE_MARGIN`` shapes the shrink only, for an attacker within it of the
+  edge could never be closed on): places on an even
   spread round the attacker (:func:`~mpc_hunt.control.voronoi.ring_bearings`,
   a stationary member first), their common centre shifted so that the
   members' centroid is the attacker (Eq. 4), one radius for all, shrinking
@@ -83,7 +86,7 @@ from mpc_hunt.world.reachable_set import defender_reach, edge_distance, obstacle
 from mpc_hunt.world.scenario import Scenario
 
 W_EDGE = 20.0         # m: an open ray's penalty per metre beyond the edge less the margin (a ray this long's weight)
-EDGE_MARGIN = 1.0     # m: how far inside the edge the region's boundary must stay to count as closed
+EDGE_MARGIN = 1.0     # m: how far inside the edge the shrink's penalty keeps the region's boundary
 SHARPNESS = 4.0       # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
 TINY = 1e-9           # m: a limit's floor in that minimum (a defender already within reach)
 STEP = 1e-4           # m: the finite difference of the gradient
@@ -156,13 +159,13 @@ class Trap(Unmodelled):
         return out
 
     def closed(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray) -> bool:
-        """Is the attacker inside the members' hull with no direction open to the arena's edge?"""
+        """Is the attacker inside the members' hull, its region reaching the arena's edge along no ray?"""
         s = self.scenario
         if not encloses(p_a, np.vstack([movers, stationary])):
             return False
         limits = defender_reach(p_a, self.rays, movers, s.attacker.max_speed / speeds, 0.5 * s.hunt.hunt_radius)
         blocked, edge = self.bounds(p_a)
-        return not np.any((limits.min(axis=1) > edge - EDGE_MARGIN) & (blocked > edge))
+        return not np.any((limits.min(axis=1) >= edge) & (blocked > edge))
 
     def reference(self, obs: Observation) -> Reference:
         """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""

@@ -62,6 +62,19 @@ def test_once_enclosed_with_no_way_out_the_ring_closes_with_the_members_centroid
     np.testing.assert_allclose(radii[-1], 2.0 - 0.08 * N * 0.1, atol=1e-9)     # the nearest mover's distance, at top speed
 
 
+def test_an_attacker_enclosed_near_the_edge_is_closed_on_once_its_region_no_longer_reaches_the_edge():
+    # The attacker 1.05 m from the right edge, four movers on a ring of 0.95 m round it (one between it and the
+    # edge): no point of the edge is the attacker's before a defender's, so the ring closes. (A region required
+    # to stay a metre inside the edge could not be closed here: the team stood still on this ring for 120 s.)
+    p_a = np.array([18.95, 13.46])
+    ring = [tuple(p_a + 0.95 * np.array([np.cos(a), np.sin(a)])) for a in np.radians([-63.0, -153.0, 27.0, 117.0])]
+    s = _world(ring, tuple(p_a))
+    trap = Trap(s, N)
+    reference = trap.reference(Observation(0.0, p_a, None, s.defender_starts))
+    assert trap.phase == "close"
+    assert np.all(norm(reference.defenders[-1] - p_a) < 0.95 - 0.05)
+
+
 def test_the_trap_controller_plans_every_defender_inside_the_time_step():
     s = _world([(2.5, 13.0), (15.0, 5.0), (15.0, 15.0), (18.0, 10.0)], (2.5, 10.0))
     controller = make_controller("trap", s, formulation="rti", backend="hpipm", horizon=N)
