@@ -40,3 +40,16 @@ def test_the_baselines_and_the_defaults_shares_quoted_are_the_attackers_studys()
     assert quoted in (ROOT / "README.md").read_text()
     assert f"{share('voronoi')[:-2]} % to its {share('trap')}" in (ROOT / "mpc_hunt" / "control"
                                                                  / "recommended.py").read_text()
+
+
+def test_the_adversarial_loops_table_after_retraining_is_the_attackers_studys_summary():
+    loop = _section((ROOT / "docs" / "envs.md").read_text(), "### The adversarial loop, once")
+    rows = dict(re.findall(r"^\| (.+?) \| \d+ / \d+ \| (\d+ / \d+) \|$", loop, flags=re.M))
+    summary = json.loads((ROOT / "studies" / "attackers" / "summary.json").read_text())
+    names = {"`trap`": "trap", "`voronoi`": "voronoi", "`ppo` team": "ppo", "`apf`": "apf",
+             "paper's strategy": "paper", "`contain`": "contain", "`enclose`": "enclose"}
+    assert set(rows) == set(names)
+    for label, strategy in names.items():
+        row, = [r for r in summary["strategies"] if r["belief"] == "exact" and r["attacker"] == "ppo"
+                and r["strategy"].split(":")[0] == strategy]
+        assert rows[label] == f"{round(row['success_rate_comfortable'] * row['comfortable'])} / {row['comfortable']}"
