@@ -8,6 +8,8 @@ import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+SUMMARY = json.loads((ROOT / "studies" / "attackers" / "summary.json").read_text())
+EXACT = [row for row in SUMMARY["strategies"] if row["belief"] == "exact"]
 
 
 def _section(text: str, heading: str) -> str:
@@ -16,40 +18,37 @@ def _section(text: str, heading: str) -> str:
     return text[start:following if following >= 0 else len(text)]
 
 
+def _captured(strategy: str, attacker: str) -> tuple[int, int]:
+    """(comfortable hunts captured, comfortable hunts) of a strategy (its name before any ':') and attacker."""
+    row, = [r for r in EXACT if r["strategy"].split(":")[0] == strategy and r["attacker"] == attacker]
+    return round(row["success_rate_comfortable"] * row["comfortable"]), row["comfortable"]
+
+
+def _share(strategy: str) -> str:
+    """A strategy's share of the comfortable hunts averaged over the attackers, as the docs print it."""
+    rates = [r["success_rate_comfortable"] for r in EXACT if r["strategy"].split(":")[0] == strategy]
+    return f"{100 * sum(rates) / len(rates):.1f} %"
+
+
 def test_the_trap_table_of_e16_is_the_attackers_studys_summary():
     e16 = _section((ROOT / "docs" / "model.md").read_text(), "### E16")
     rows = re.findall(r"^\| (\w+) \| (\d+) \| (\d+) \|$", e16, flags=re.M)
-    summary = json.loads((ROOT / "studies" / "attackers" / "summary.json").read_text())
-    captured = {(row["strategy"].split(":")[0], row["attacker"]): round(row["success_rate_comfortable"]
-                                                                       * row["comfortable"])
-                for row in summary["strategies"] if row["belief"] == "exact"}
-    assert {attacker for attacker, _, _ in rows} == set(summary["arguments"]["attackers"])
+    assert {attacker for attacker, _, _ in rows} == set(SUMMARY["arguments"]["attackers"])
     for attacker, trap, voronoi in rows:
-        assert (int(trap), int(voronoi)) == (captured["trap", attacker], captured["voronoi", attacker]), attacker
+        assert (int(trap), int(voronoi)) == (_captured("trap", attacker)[0], _captured("voronoi", attacker)[0])
 
 
 def test_the_baselines_and_the_defaults_shares_quoted_are_the_attackers_studys():
-    summary = json.loads((ROOT / "studies" / "attackers" / "summary.json").read_text())
-
-    def share(strategy: str) -> str:
-        rates = [row["success_rate_comfortable"] for row in summary["strategies"]
-                 if row["belief"] == "exact" and row["strategy"].split(":")[0] == strategy]
-        return f"{100 * sum(rates) / len(rates):.1f} %"
-
-    quoted = f"{share('voronoi')} of the comfortable hunts\nto its {share('trap')}"
-    assert quoted in (ROOT / "README.md").read_text()
-    assert f"{share('voronoi')[:-2]} % to its {share('trap')}" in (ROOT / "mpc_hunt" / "control"
-                                                                 / "recommended.py").read_text()
+    assert f"{_share('voronoi')} of the comfortable hunts\nto its {_share('trap')}" in (ROOT / "README.md").read_text()
+    assert f"{_share('voronoi')} to its {_share('trap')}" in (ROOT / "mpc_hunt" / "control"
+                                                             / "recommended.py").read_text()
 
 
 def test_the_adversarial_loops_table_after_retraining_is_the_attackers_studys_summary():
     loop = _section((ROOT / "docs" / "envs.md").read_text(), "### The adversarial loop, once")
     rows = dict(re.findall(r"^\| (.+?) \| \d+ / \d+ \| (\d+ / \d+) \|$", loop, flags=re.M))
-    summary = json.loads((ROOT / "studies" / "attackers" / "summary.json").read_text())
     names = {"`trap`": "trap", "`voronoi`": "voronoi", "`ppo` team": "ppo", "`apf`": "apf",
              "paper's strategy": "paper", "`contain`": "contain", "`enclose`": "enclose"}
     assert set(rows) == set(names)
     for label, strategy in names.items():
-        row, = [r for r in summary["strategies"] if r["belief"] == "exact" and r["attacker"] == "ppo"
-                and r["strategy"].split(":")[0] == strategy]
-        assert rows[label] == f"{round(row['success_rate_comfortable'] * row['comfortable'])} / {row['comfortable']}"
+        assert rows[label] == "{} / {}".format(*_captured(strategy, "ppo")), label
