@@ -11,7 +11,9 @@ it asks for b_i + ``RESIDUAL`` · v_d · a_i. Every robot runs the same network 
 sharing, as multi-agent PPO does), so the team may have any size. The asked velocities
 pass the same shield as every controller's (:func:`shielded`: capped at the robot's
 speed, no step into an obstacle's R_safe or out of the arena, then the separation
-filter); the training ran with it too. Trained with Stable-Baselines3's PPO on a team of
+filter, which keeps R_safe and the arena as well); the training ran with it too, before
+R_safe and the arena joined the separation filter (the two differ only where a robot is
+squeezed between a team-mate and an obstacle or the edge). Trained with Stable-Baselines3's PPO on a team of
 3 against a mix of the world's attacker behaviours (``python studies/train_ppo.py``,
 docs/envs.md), shipped as ``ppo_team.npz`` beside this module. Why a correction of the
 baseline rather than a policy from nothing: with an hour of two cores, PPO from a random
@@ -27,9 +29,10 @@ import numpy as np
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.agent_view import DEFENDER_VIEW, defender_view
-from mpc_hunt.world.arena import safe_velocity
+from mpc_hunt.world.arena import arena_rows, safe_velocity
 from mpc_hunt.world.geometry import saturate
 from mpc_hunt.world.mlp import Mlp, load_mlp, shipped_mlp
+from mpc_hunt.world.safety import safety_rows
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 
@@ -66,13 +69,19 @@ def corrected(scenario: Scenario, p_d: np.ndarray, base: np.ndarray, corrections
 
 def shielded(scenario: Scenario, p_d: np.ndarray, wished: np.ndarray, active: np.ndarray) -> np.ndarray:
     """The team's ``wished`` velocities capped at each robot's speed, kept out of obstacles' R_safe and in the
-    arena, then separated (the module's docstring); a stopped robot's row is 0."""
+    arena, then separated (the module's docstring), the separation filter keeping R_safe and the arena too (a
+    projection onto a separation row alone could push a robot into an obstacle); a stopped robot's row is 0."""
     s, hunt = scenario, scenario.hunt
-    speeds = s.defender_max_speeds
+    speeds, T = s.defender_max_speeds, hunt.time_step
     v = np.zeros_like(p_d)
     for i in np.flatnonzero(active):
         v[i] = safe_velocity(s, p_d[i], saturate(wished[i], speeds[i]))
-    return keep_separation(p_d, v, active, p_d, hunt.time_step, speeds, hunt.min_separation)
+
+    def clear(i: int) -> list:
+        rows = safety_rows(p_d[i], s.obstacle_centres, s.obstacle_radii, hunt.safety_distance, T)
+        return [(a, min(b, 0.0)) for a, b in rows] + arena_rows(p_d[i], s.arena, T)
+
+    return keep_separation(p_d, v, active, p_d, T, speeds, hunt.min_separation, also=clear)
 
 
 class PpoTeam:

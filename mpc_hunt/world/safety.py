@@ -29,12 +29,19 @@ from mpc_hunt.world.separation import onto_half_planes
 AIM = 1e-12     # m: how far inside a broken row's half-plane a projection aims
 
 
+def safety_rows(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float,
+                time_step: float) -> list[tuple[np.ndarray, float]]:
+    """The module's half-planes a · v ≥ b for a defender at ``p``, one per obstacle."""
+    distances = norm(p - centres)
+    floor = radii + np.minimum(safety_distance, distances - radii)      # the least distance allowed to each centre
+    return [(time_step * (p - c) / d, f - d) for c, d, f in zip(centres, distances, floor)]
+
+
 def keep_safety_distance(p: np.ndarray, v: np.ndarray, centres: np.ndarray, radii: np.ndarray,
                          safety_distance: float, time_step: float, speed: float) -> np.ndarray:
     """``v`` for a defender at ``p``, filtered as the module's docstring says (unchanged unless it must be)."""
     distances = norm(p - centres)
-    floor = radii + np.minimum(safety_distance, distances - radii)      # the least distance allowed to each centre
+    floor = radii + np.minimum(safety_distance, distances - radii)
     if np.all(norm(p + time_step * v - centres) >= floor):
         return v
-    rows = [(time_step * (p - c) / d, f - d) for c, d, f in zip(centres, distances, floor)]
-    return onto_half_planes(v, rows, speed, AIM)
+    return onto_half_planes(v, safety_rows(p, centres, radii, safety_distance, time_step), speed, AIM)

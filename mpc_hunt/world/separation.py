@@ -22,6 +22,8 @@ caps the speed, then scales v towards 0 until none is broken.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from mpc_hunt.world.geometry import dot2, saturate
@@ -37,11 +39,14 @@ def _normal(v: np.ndarray) -> np.ndarray:
 
 def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np.ndarray,
                     planned_next: np.ndarray, time_step: float, speeds: np.ndarray,
-                    min_separation: float) -> np.ndarray:
+                    min_separation: float, also: Callable[[int], list] | None = None) -> np.ndarray:
     """``velocities`` with the unplanned defenders' rows filtered (see the module's docstring).
 
     ``planned_next`` holds the next positions of the defenders not in
-    ``unplanned`` (rows of unplanned defenders are ignored).
+    ``unplanned`` (rows of unplanned defenders are ignored). ``also(i)``, if given, are more half-planes
+    (a, b) that defender ``i`` keeps in the same filter, each with b ≤ 0 (holding position keeps it): the
+    obstacles' safety distance, say (:func:`mpc_hunt.world.safety.safety_rows`), which a projection onto a
+    separation row could otherwise break.
     """
     out = np.array(velocities, dtype=float)
     planned = np.flatnonzero(~unplanned)
@@ -58,6 +63,8 @@ def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np
                 m, n = 0.5 * (p + positions[j]), _normal(p - positions[j])
                 gap = dot2(n, p - m)
                 rows.append((time_step * n, min(0.5 * min_separation, gap) - gap))
+        if also is not None:
+            rows += also(int(i))
         out[i] = onto_half_planes(out[i], rows, speeds[i])
     return out
 

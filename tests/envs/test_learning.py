@@ -10,7 +10,7 @@ from gymnasium.utils.env_checker import check_env
 
 from conftest import small_scenario
 from mpc_hunt import simulate
-from mpc_hunt.control.ppo_team import PpoTeam, team_policy
+from mpc_hunt.control.ppo_team import PpoTeam, shielded, team_policy
 from mpc_hunt.envs.learning import AttackerViewEnv, TeamHunts
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
@@ -134,6 +134,28 @@ def test_the_team_is_shielded_from_obstacles_and_a_stopped_robot_stays():
     v = shielded(s, p_d, wished, np.array([True, True, False]))
     assert abs(v[0, 0]) < 1e-12                         # the step into R_safe is taken off
     assert np.allclose(v[1], [s.defenders[1].max_speed, 0.0]) and not v[2].any()
+
+
+def _squeezed(s, wall_x: float):
+    """Robot 0 just right of ``wall_x`` (an obstacle's R_safe or the arena's edge), asked straight down onto robot
+    1, which stands too close below and to its right: the separation row alone turns robot 0 left, over the wall."""
+    p_d = np.array([[wall_x + 0.001, 3.0], [wall_x + 0.101, 2.9], [15.0, 15.0]])
+    wished = np.array([[0.0, -0.08], [0.0, 0.0], [0.0, 0.0]])
+    return shielded(s, p_d, wished, np.array([True, True, False])), p_d
+
+
+def test_the_team_shield_keeps_r_safe_when_the_separation_filter_turns_a_robot_towards_an_obstacle():
+    s = small_scenario(obstacles=((3.0, 3.0, 1.0),))
+    v, p_d = _squeezed(s, 4.0 + s.hunt.safety_distance)
+    after = p_d + s.hunt.time_step * v
+    assert np.hypot(*(after[0] - [3.0, 3.0])) >= 1.0 + s.hunt.safety_distance      # 3 mm inside without the rows
+    assert np.hypot(*(after[0] - after[1])) >= np.hypot(*(p_d[0] - p_d[1])) - 1e-12  # and no closer to robot 1
+
+
+def test_the_team_shield_keeps_a_robot_in_the_arena_when_the_separation_filter_turns_it_outwards():
+    s = dataclasses.replace(small_scenario(obstacles=()), arena=(0.0, 0.0, 20.0, 20.0))
+    v, p_d = _squeezed(s, 0.0)
+    assert p_d[0, 0] + s.hunt.time_step * v[0, 0] >= 0.0                            # 3 mm out without the rows
 
 
 def _network(tmp_path, bias=(0.0, 0.0)):
