@@ -60,7 +60,15 @@ arena's edge). The reference has two phases:
   shift would take the movers back from the attacker, so that they no longer
   press it towards that member. With fewer than three robots, the close phase
   starts once the attacker is within R_hunt + ``HOLD_BAND`` of the obstacle's
-  surface, which holds the first place.
+  surface, which holds the first place. While a stationary member stands
+  farther than ``PRESS_FROM`` R_hunt from the attacker, the ring's floor is
+  the capture problem's least attacker distance plus ``PRESS_CLEARANCE``, not
+  R_hunt / 2: an attacker that its own field keeps off the obstacle settles
+  where the movers' push balances that field, and on the development hunts
+  that balance was 0.52–0.53 m from the surface, just beyond R_hunt, for the
+  last 40–50 s of the hunt; only a nearer ring moves it inside. The margin
+  below R_hunt keeps the press on until the member is well inside, so that it
+  does not flicker at the success test's edge.
 
 Places stay in the arena and out of every obstacle's R_safe; the capture
 problem (:class:`~mpc_hunt.capture.problem.CaptureProblem`, the ``enclose``
@@ -99,6 +107,8 @@ CENTRE_SLACK = 0.5    # of the centre tolerance: the ring's members' centroid is
 HERD_DRIFT = 0.3      # of v_a: an attacker moving slower than this has no drift the herd corrects
 HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it closes in at top speed down to this)
 HERD_STEER = np.radians(60.0)     # rad: the herd's push turned at most this far past the way to the anchor
+PRESS_FROM = 0.8      # of R_hunt: a stationary member farther than this from the attacker makes the ring press
+PRESS_CLEARANCE = 0.05            # m: how far beyond the capture problem's least attacker distance the ring presses
 
 
 def run_towards(q: np.ndarray, target: np.ndarray, reach: float) -> np.ndarray:
@@ -253,6 +263,8 @@ class Trap(Unmodelled):
         """The close phase's places (N, k, 2) round the attacker where it stands (the module's docstring)."""
         s = self.scenario
         inner = 0.5 * s.hunt.hunt_radius
+        if np.any(norm(stationary - p_a) > PRESS_FROM * s.hunt.hunt_radius):
+            inner = s.hunt.min_attacker_distance + PRESS_CLEARANCE
         angles = ring_bearings(p_a, movers, stationary)
         start = float(np.min(norm(movers - p_a)))
         radii = np.maximum(inner, start - float(np.min(speeds)) * steps)                         # (N, 1)

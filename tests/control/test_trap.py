@@ -175,3 +175,20 @@ def test_closing_on_an_obstacle_the_movers_keep_pushing_within_the_centre_tolera
     centroid = (last.sum(axis=0) + np.array([10.0, 10.7])) / 3
     np.testing.assert_allclose(norm(centroid - 10.0), 0.5 * s.hunt.centre_tolerance, atol=1e-9)
     assert np.all(norm(last - 10.0) < 0.3)
+
+
+def test_closing_on_an_obstacle_still_out_of_reach_the_ring_presses_nearer_than_half_r_hunt():
+    # Two movers 0.3 m from an attacker whose nearest obstacle surface is 0.55 m away (beyond R_hunt: the success
+    # test cannot hold yet): over 2 s the ring closes towards the capture problem's least attacker distance plus
+    # the press clearance, 0.15 m (0.157 m: the centring takes it back to half the centre tolerance), not to
+    # R_hunt / 2. With the surface 0.3 m away (inside PRESS_FROM R_hunt) it stops at R_hunt / 2.
+    movers = [(10.0 + 0.3 * np.cos(a), 10.0 + 0.3 * np.sin(a)) for a in np.radians([-150.0, -30.0])]
+    for gap in (0.55, 0.3):
+        obstacle = Obstacle(centre=(10.0, 10.0 + gap + 1.0), radius=1.0)
+        s, trap, reference = _herding(movers, (10.0, 10.0), (0.0, 0.0), obstacle, phase="close", horizon=20)
+        assert trap.phase == "close"
+        distances = norm(reference.defenders[-1] - 10.0)
+        if gap > 0.5:
+            assert np.all((distances > 0.15) & (distances < 0.16))
+        else:
+            np.testing.assert_allclose(distances, 0.5 * s.hunt.hunt_radius, atol=1e-9)
