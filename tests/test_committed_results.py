@@ -8,6 +8,7 @@ import json
 import os
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -17,15 +18,30 @@ from mpc_hunt import builtin_scenario, simulate
 ROOT = Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("study", ["studies/reproduce_paper.py", "studies/default_problems.py", "studies/compare.py",
-                                   "studies/realtime.py", "studies/sweep.py",
-                                   "studies/step_latency.py", "studies/attackers.py", "studies/train_attacker.py",
-                                   "studies/team_size.py", "studies/team_sweep.py", "studies/train_ppo.py",
-                                   "studies/env_throughput.py"])
-def test_committed_results_match_the_code(study):
+STUDIES = ["studies/attackers.py", "studies/team_sweep.py", "studies/team_size.py", "studies/step_latency.py",
+           "studies/reproduce_paper.py", "studies/default_problems.py", "studies/sweep.py", "studies/compare.py",
+           "studies/realtime.py", "studies/train_attacker.py", "studies/train_ppo.py", "studies/env_throughput.py"]
+CHECKS_AT_ONCE = 2        # the studies' checks run side by side (none times anything), the slowest first
+
+
+def _check(study: str) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
     # The study imports this tree's code, not whichever copy of mpc_hunt is installed.
-    run = subprocess.run([sys.executable, study, "--check"], cwd=ROOT, capture_output=True, text=True, env=env)
+    return subprocess.run([sys.executable, study, "--check"], cwd=ROOT, capture_output=True, text=True, env=env)
+
+
+@pytest.fixture(scope="module")
+def checks(request):
+    """The ``--check`` of every study the session selected, started at once on ``CHECKS_AT_ONCE`` workers."""
+    chosen = [item.callspec.params["study"] for item in request.session.items
+              if getattr(item, "originalname", None) == "test_committed_results_match_the_code"]
+    with ThreadPoolExecutor(max_workers=CHECKS_AT_ONCE) as pool:
+        yield {study: pool.submit(_check, study) for study in chosen}
+
+
+@pytest.mark.parametrize("study", STUDIES)
+def test_committed_results_match_the_code(study, checks):
+    run = checks[study].result()
     assert run.returncode == 0, run.stderr[-2000:]
 
 
