@@ -52,3 +52,19 @@ def test_the_adversarial_loops_table_after_retraining_is_the_attackers_studys_su
     assert set(rows) == set(names)
     for label, strategy in names.items():
         assert rows[label] == "{} / {}".format(*_captured(strategy, "ppo")), label
+
+
+def test_the_shares_times_and_two_robot_hunts_e16_quotes_are_the_attackers_studys_readme():
+    e16 = " ".join(_section((ROOT / "docs" / "model.md").read_text(), "### E16").split())
+    study = (ROOT / "studies" / "attackers" / "README.md").read_text()
+    solving = dict(re.findall(r"`(\w+):rti:hpipm:\d+` (\d+\.\d %)", study.split("each of them ran:")[1]
+                              .split(". ")[0]))
+    quoted = re.search(r"`trap` captures (\S+ %), `contain` (\S+ %) \(it copies the baseline's places\), "
+                       r"`enclose` (\S+ %)", e16)
+    assert quoted.groups() == (solving["trap"], solving["contain"], solving["enclose"])
+    median = re.search(r"on the hunts both capture \| (\S+) s against (\S+) s \((\d+) hunts\)",
+                       study)
+    assert (f"On the {median[3]} hunts both capture, the median capture time is {median[1]} s against "
+            f"{median[2]} s") in e16
+    two = re.search(r"two-robot hunts against `apf` \| (\d+) / (\d+) \|", study)
+    assert f"It captures {two[1]} of {two[2]} reachable ones against `apf`" in e16
