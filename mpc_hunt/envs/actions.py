@@ -17,9 +17,11 @@ from gymnasium import spaces
 from mpc_hunt.errors import ActionError
 
 
-def checked_action(action, space: spaces.Box, agent: str) -> np.ndarray:
-    """``action`` as a new float64 array of ``space``'s shape, or an ActionError naming ``agent``."""
-    what = "a velocity (vx, vy) in m/s" + ("" if space.shape == (2,) else " per defender, one row each")
+def checked_action(action, space: spaces.Box, agent: str, what: str | None = None) -> np.ndarray:
+    """``action`` as a new float64 array of ``space``'s shape, or an ActionError naming ``agent`` and saying
+    ``what`` an action is (default: a velocity, or one per defender)."""
+    if what is None:
+        what = "a velocity (vx, vy) in m/s" + ("" if space.shape == (2,) else " per defender, one row each")
     try:
         raw = np.asarray(action)
         if raw.dtype.kind not in "biufO":            # bool, integers, floats; objects that may hold numbers

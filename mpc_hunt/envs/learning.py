@@ -158,7 +158,9 @@ class TeamHunts:
         """One decision of every agent (``actions``: a correction in [−1, 1]² each): the views after it, each
         agent's reward (its team's), whether its hunt ended, and an info per hunt (``termination``, ``truncated``,
         and ``behaviour``, the attacker's) for a hunt that ended, else {}."""
-        actions = np.clip(np.asarray(actions, dtype=float).reshape(len(self.envs), self.defenders, 2), -1.0, 1.0)
+        actions = np.clip(checked_action(actions, spaces.Box(-1.0, 1.0, (self.agents, 2)), "actions",
+                                         "a correction (ax, ay) in [-1, 1] per agent, one row each"),
+                          -1.0, 1.0).reshape(len(self.envs), self.defenders, 2)     # before anything moves
         views, rewards, dones, infos = [], [], [], []
         for k, env in enumerate(self.playing):
             e = env.episode

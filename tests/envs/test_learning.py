@@ -203,3 +203,17 @@ def test_an_illegal_attacker_action_is_refused_before_anything_moves(bad):
     assert env.env.episode.step_count == before[0] and np.array_equal(env.env.episode.attacker, before[1])
     view, *_ = env.step(np.array([1e300, -1e300]))          # huge: clipped to the box, then the top speed
     assert np.all(np.isfinite(view))
+
+
+@pytest.mark.parametrize("bad", [np.vstack([np.zeros((3, 2)), np.full((3, 2), np.nan)]), np.zeros((5, 2)), "east"])
+def test_illegal_team_actions_are_refused_before_any_hunt_moves(bad):
+    from mpc_hunt.errors import ActionError
+    hunts = TeamHunts(2, ("apf",), defenders=3, seed=1)
+    hunts.reset()
+    before = [(env.episode.step_count, env.episode.defenders.copy()) for env in hunts.playing]
+    with pytest.raises(ActionError, match="a correction"):
+        hunts.step(bad)
+    assert all(env.episode.step_count == n and np.array_equal(env.episode.defenders, p)
+               for env, (n, p) in zip(hunts.playing, before))
+    views, rewards, *_ = hunts.step(np.full((6, 2), 1e300))        # huge: clipped to [-1, 1]
+    assert np.all(np.isfinite(views)) and np.all(np.isfinite(rewards))
