@@ -14,6 +14,7 @@ from enum import Enum
 
 import numpy as np
 
+from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.errors import SolverError
 
 
@@ -55,7 +56,10 @@ class Solution:
     the persistent solver was reused). ``warm_started``: a plan seeded this
     solve (as the starting point and, for the QP family, the linearisation
     point). ``duals`` are what the next warm start may reuse; ``extras`` holds
-    solver-specific figures (plain numbers and strings).
+    solver-specific figures (plain numbers and strings). ``certificate``: the
+    returned point's primal and dual residuals and duality gap, computed from
+    the problem the solver was handed (:mod:`mpc_hunt.capture.certificate`;
+    None where the backend returns no multipliers).
     """
 
     status: Status
@@ -76,6 +80,7 @@ class Solution:
     attacker_path: np.ndarray | None = field(default=None, repr=False)
     duals: WarmStart = field(default_factory=WarmStart, repr=False)
     extras: dict = field(default_factory=dict, repr=False)
+    certificate: Certificate | None = None
 
     @property
     def success(self) -> bool:
@@ -114,5 +119,6 @@ class Solution:
             "iterations": self.iterations,
             "warm_started": self.warm_started,
             "extras": self.extras,
+            "certificate": None if self.certificate is None else self.certificate.to_dict(),
             "plan": None if self.plan is None else self.plan.tolist(),
         }

@@ -27,6 +27,7 @@ starts from (the plan applied last step, shifted one step) and the fallback are
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -67,6 +68,9 @@ class CaptureLoop:
         self._buffer.set_arg(1, memoryview(self._reference))
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
+        self.certificate = np.full(3, np.nan)   # the last QP's primal and dual residuals and duality gap
+        if self.backend.LOOP_CERTIFICATE:
+            self._buffer.set_res(5, memoryview(self.certificate))
 
     @property
     def extras(self) -> dict:
@@ -82,12 +86,30 @@ class CaptureLoop:
 
     def step(self) -> Status:
         """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan
-        of this step (the reference it started from, if none) and returns its status."""
+        of this step (the reference it started from, if none) and returns its status. A step that ran past the
+        backend's time limit returns ``time_limit`` (its plan kept), and no further QP is started after it."""
+        t0 = time.perf_counter()
+        status = self._step()
+        elapsed = time.perf_counter() - t0
+        if self.iterations > 0:
+            self.backend.pace = max(self.backend.pace, elapsed / self.iterations)
+        limit = self.backend.time_limit
+        if limit is not None and elapsed > limit and status.usable:
+            self.message = f"after {elapsed:.3g} s: past the {limit:g} s limit"
+            return Status.TIME_LIMIT
+        return status
+
+    def _step(self) -> Status:
         iteration = self.formulation.iteration
+        limit = self.backend.time_limit
+        t0 = time.perf_counter()
         self.iterations = 0
         np.copyto(self._previous, self.reference)
         self.message = ""
         for count in range(iteration.max_qps):
+            if count and limit is not None and time.perf_counter() - t0 > limit:
+                np.copyto(self.plan, self._previous)
+                return Status.TIME_LIMIT
             self.qps = count + 1
             try:
                 self._evaluate()

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.capture.evaluator import solve_scores
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
@@ -134,7 +135,7 @@ class CaptureSolver:
                         np.isfinite(loop.objective[0]) else None,
                         solver_time=solver_time, overhead_time=max(overhead, 0.0), setup_time=setup_time,
                         iterations=loop.iterations, warm_started=warm_plan is not None,
-                        extras=loop.extras, **scores)
+                        extras=loop.extras, certificate=loop_certificate(loop), **scores)
 
     def export(self, folder: Path, problem: CaptureProblem, robot: int = 0, target: str = "host") -> list[Path]:
         """The step of ``problem``'s structure, as this solver set it up, written as C sources for a robot's board
@@ -172,6 +173,12 @@ class CaptureSolver:
 
     def _finish(self, solution: Solution) -> Solution:
         return solution.raise_for_status() if self.raise_on_failure else solution
+
+
+def loop_certificate(loop: CaptureLoop | TeamLoop) -> Certificate | None:
+    """The certificate of the loop's last step (None where its backend writes none: NaN)."""
+    values = loop.certificate
+    return None if np.any(np.isnan(values)) else Certificate(*(float(v) for v in values))
 
 
 def solve(problem: CaptureProblem, formulation: str = "nlp", backend: str | None = None,

@@ -53,6 +53,11 @@ class TeamLoop:
         self.unseen_neighbours = 0
         self.extras: dict = {}
 
+    @property
+    def certificate(self) -> np.ndarray:
+        """The worst of the robots' last QPs' certificates (primal residual, dual residual, duality gap)."""
+        return np.max([loop.certificate for loop in self.robots], axis=0)
+
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """The team's numbers at ``problem``, and the plans to start from (``warm_plan``, else every one held)."""
         if problem.structure != self.structure:

@@ -86,8 +86,8 @@ def test_the_solver_runs_a_loop_where_the_pair_closes_one():
     assert CaptureSolver("rti", "hpipm").on_loops and CaptureSolver("stage-sqp", "hpipm-codegen").on_loops
     assert not CaptureSolver("sqp", "daqp").on_loops and not CaptureSolver("nlp").on_loops
     assert not CaptureSolver("rti", "hpipm", loop=False).on_loops
-    with pytest.raises(SolverError, match="takes no time limit"):      # the stage-form backends take none
-        CaptureSolver("rti", "hpipm", time_limit=0.05)
+    with pytest.raises(SolverError, match="time_limit: backend daqp-condensed takes none"):   # its step is one call
+        CaptureSolver("distributed", "daqp-condensed", time_limit=0.05)
     with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
         CaptureSolver("sqp", "daqp", loop=True)
     with pytest.raises(MpcHuntError, match="backend 'osqp' does not solve formulation 'rti'"):

@@ -132,8 +132,10 @@ def test_solve_at_a_state_file(capsys, tmp_path):
     (["solve", "--formulation", "qp", "--backend", "ipopt"], "does not solve formulation 'qp'"),
     (["solve", "--time-limit", "nan"], "--time-limit: must be a positive finite number"),
     (["scenarios", "--output", "x.toml"], "--output needs --write"),
-    (["simulate", "--time-limit", "0.05"], "backend hpipm takes no time limit"),
-    (["compare", "--pair", "rti:hpipm", "--time-limit", "0.1"], "backend hpipm takes none"),
+    (["simulate", "--controller", "enclose", "--formulation", "distributed", "--time-limit", "0.05"],
+     "backend daqp-condensed takes none"),
+    (["compare", "--objective", "enclose", "--pair", "distributed:daqp-condensed", "--time-limit", "0.1"],
+     "backend daqp-condensed takes none"),
     (["compare", "--seed", "-1"], "--seed: must not be negative"),
     (["problems", "--build", "x.json", "--seed", "-1"], "--seed: must not be negative"),
     (["simulate", "--attacker", "nobody"], "invalid choice: 'nobody' (choose from 'apf', 'flee', 'gap', 'voronoi', "

@@ -3,14 +3,26 @@
 A backend is a persistent solver object (osqp-style). The first ``solve`` of a
 new ``key`` sets a solver up; later solves of that key only update numbers in
 place and warm-start. :class:`Backend` owns that lifecycle (the cache by key,
-the set-up counter, the timing, non-finite answers); a concrete backend
-supplies ``setup``, ``update`` and ``run``, and declares which problem kinds it
-``accepts`` and which Python package it needs. It imports that package on first
-use, so listing or importing backends never loads a solver.
+the set-up counter, the timing, non-finite answers, the budget); a concrete
+backend supplies ``setup``, ``update`` and ``run``, and declares which problem
+kinds it ``accepts`` and which Python package it needs. It imports that package
+on first use, so listing or importing backends never loads a solver.
+
+The budget has one name per kind on every backend: ``time_limit`` (seconds) and
+``max_iter`` (iterations), each handed to the solver under its own name
+(``NATIVE``). A solver that does not stop itself on the clock (``CLOCK = False``:
+DAQP, whose clock is read only inside long inner loops) gets its time limit as
+an iteration cap, the limit over the largest time per iteration measured so far
+(:meth:`Backend.iteration_cap`). A solve that ran past its time limit all the
+same returns ``time_limit``, never ``optimal``. The solver's own names for the
+budget and any option the solver does not know are refused when the backend is
+made, each in one line naming the key.
 """
 
 from __future__ import annotations
 
+import difflib
+import math
 import time
 from collections import OrderedDict
 from dataclasses import replace
@@ -19,19 +31,27 @@ from typing import Any, ClassVar
 import numpy as np
 
 from mpc_hunt.errors import OptionError, SolverError, UnknownNameError
+from mpc_hunt.capture.certificate import qp_certificate
+from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 ACCURACIES = ("default", "high", "low")
 CACHE_SIZE = 16   # structures kept set up per backend (the controlled set changes during a hunt)
+MAX_ITERATIONS = 1_000_000   # the largest iteration cap taken
+FIRST_CAP = 100   # a clockless solver's cap under a time limit before any time per iteration is measured
+BUDGET = ("time_limit", "max_iter")
+
+
+def _number(value: object) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
 
 
 class Backend:
     """Base of every backend: set up once per key, then update and solve.
 
-    ``time_limit`` (s) is handed to the solver as its own limit (a backend whose
-    solver has none says so with ``TIME_LIMIT = False`` and refuses one); ``accuracy``
-    (``default``, ``high``, ``low``) picks the tolerances of the class's
-    ``ACCURACY`` table; other keyword options go to the solver as they are.
+    ``time_limit`` (s) and ``max_iter`` are the budget of every solve (the module's docstring); ``accuracy``
+    (``default``, ``high``, ``low``) picks the tolerances of the class's ``ACCURACY`` table; other keyword options
+    go to the solver as they are, each checked against what the solver takes (:meth:`option_names`).
     """
 
     name: ClassVar[str]
@@ -39,23 +59,63 @@ class Backend:
     package: ClassVar[str]                  # the solver's import name
     install: ClassVar[str]                  # what to pip install
     ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}
-    TIME_LIMIT: ClassVar[bool] = True       # whether the solver takes a wall-clock limit
+    TIME_LIMIT: ClassVar[bool] = True       # whether it takes a time limit at all
+    CLOCK: ClassVar[bool] = True            # whether the solver stops itself on the clock (else: an iteration cap)
+    MAX_ITER: ClassVar[int] = 1000          # the iteration cap without max_iter
+    NATIVE: ClassVar[dict[str, str]] = {}   # the solver's own names of time_limit and max_iter
+    LOOP_CERTIFICATE: ClassVar[bool] = False    # whether its loop step writes its QP's certificate (output 5)
     objectives: ClassVar[tuple[str, ...] | None] = None     # the objectives whose QPs it can solve (None: every one)
 
-    def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", *, max_iter: int | None = None,
+                 **options):
         if accuracy not in ACCURACIES:
-            raise UnknownNameError(f"unknown accuracy {accuracy!r} (available: {', '.join(ACCURACIES)})")
-        number = isinstance(time_limit, (int, float, np.integer, np.floating)) and not isinstance(time_limit, bool)
-        if time_limit is not None and not (number and 0 < time_limit < float("inf")):
+            raise UnknownNameError(f"accuracy: unknown {accuracy!r} (available: {', '.join(ACCURACIES)})")
+        if time_limit is not None and not (_number(time_limit) and 0 < time_limit < float("inf")):
             raise OptionError(f"time_limit: a positive, finite number of seconds or None, got {time_limit!r}")
         if time_limit is not None and not self.TIME_LIMIT:
-            raise SolverError(f"backend {self.name} takes no time limit (its solver has none); drop the time limit "
-                              f"or pick another backend")
-        self.time_limit = time_limit
+            raise SolverError(f"time_limit: backend {self.name} takes none (its step is one call that nothing can "
+                              f"stop); bound it with max_iter, drop the time limit or pick another backend")
+        if max_iter is not None and not (_number(max_iter) and float(max_iter).is_integer()
+                                         and 1 <= max_iter <= MAX_ITERATIONS):
+            raise OptionError(f"max_iter: a whole number of iterations from 1 to {MAX_ITERATIONS} or None, "
+                              f"got {max_iter!r}")
+        self._check_options(options)
+        self.time_limit = None if time_limit is None else float(time_limit)
+        self.max_iter = None if max_iter is None else int(max_iter)
         self.accuracy = accuracy
         self.options = {**self.ACCURACY.get(accuracy, {}), **options}
         self.setups = 0
+        self.pace = 0.0   # the largest solver time per iteration measured (s): a clockless solver's time limit
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
+
+    @classmethod
+    def option_names(cls) -> frozenset[str] | None:
+        """The options the solver takes (None: the solver checks them itself when it is set up)."""
+        return None
+
+    def _check_options(self, options: dict) -> None:
+        own = {native: ours for ours, native in self.NATIVE.items()}
+        for key in options:
+            if key in own or key in BUDGET:
+                raise OptionError(f"{key}: the budget is given as {own.get(key, key)}=..., the same name on every "
+                                  f"backend (not as a solver option)" if key in own else
+                                  f"{key}: give it as the budget {key}=..., not as a solver option")
+        names = self.option_names()
+        unknown = [key for key in options if names is not None and key not in names]
+        if unknown:
+            near = difflib.get_close_matches(unknown[0], sorted(names), n=1)
+            hint = f"did you mean {near[0]!r}?" if near else "see the solver's documentation for its options"
+            raise OptionError(f"{unknown[0]}: not an option of backend {self.name} ({hint})")
+
+    def iteration_cap(self) -> int:
+        """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
+        under a time limit the limit over the largest time per iteration measured (:data:`FIRST_CAP` before one)."""
+        cap = self.max_iter or self.MAX_ITER
+        if self.time_limit is None or self.CLOCK:
+            return cap
+        if self.pace <= 0:
+            return min(cap, FIRST_CAP)
+        return max(1, min(cap, math.floor(self.time_limit / self.pace)))
 
     # What a concrete backend supplies.
     def setup(self, data) -> Any:
@@ -101,8 +161,17 @@ class Backend:
             return Solution(status=Status.ERROR, message=message, backend=self.name,
                             solver_time=time.perf_counter() - t0, setup_time=setup_time)
         solver_time = time.perf_counter() - t0
+        if result.iterations > 0:
+            self.pace = max(self.pace, solver_time / result.iterations)
         if result.x is not None and not np.all(np.isfinite(result.x)):
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
         if result.x is None and result.status.usable:
             result = replace(result, status=Status.ERROR, message=f"{result.message} (no solution returned)")
+        if result.x is not None and result.duals.y is not None and isinstance(data, QPData) \
+                and len(result.duals.y) == data.A.shape[0]:
+            result = replace(result, certificate=qp_certificate(data.P, data.q, data.A, data.l, data.u, result.x,
+                                                                result.duals.y, data.cones))
+        if self.time_limit is not None and solver_time > self.time_limit and result.status.usable:
+            result = replace(result, status=Status.TIME_LIMIT, message=f"{result.message}, after {solver_time:.3g} s: "
+                                                                       f"past the {self.time_limit:g} s limit")
         return replace(result, backend=self.name, solver_time=solver_time, setup_time=setup_time)

@@ -66,6 +66,13 @@ class ConicLayout:
         A.data = self.values(data)
         return A
 
+    def row_duals(self, z: np.ndarray, rows: int) -> np.ndarray:
+        """The stacked rows' duals z ≥ 0 (∈ K*) as multipliers of the rows of A: y > 0 at an upper bound, y < 0 at
+        a lower one, a cone row's own dual (:mod:`mpc_hunt.capture.certificate`'s convention)."""
+        y = np.zeros(rows)
+        np.add.at(y, self.b_index, self.b_sign * z)
+        return y
+
     def vector(self, data: QPData) -> np.ndarray:
         return self.b_sign * np.where(self.b_sign > 0, data.u[self.b_index], data.l[self.b_index])
 
@@ -79,6 +86,14 @@ class ClarabelBackend(Backend):
     install = "clarabel"
     ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
                 "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
+    MAX_ITER = 200
+    NATIVE = {"time_limit": "time_limit", "max_iter": "max_iter"}
+
+    @classmethod
+    def option_names(cls) -> frozenset[str]:
+        import clarabel
+
+        return frozenset(name for name in dir(clarabel.DefaultSettings()) if not name.startswith("_"))
 
     def setup(self, data: QPData):
         import clarabel
@@ -87,11 +102,11 @@ class ClarabelBackend(Backend):
         settings.verbose = False
         settings.presolve_enable = False
         settings.input_sparse_dropzeros = False
-        settings.max_iter = 200
         for key, value in self.options.items():
             setattr(settings, key, value)
+        settings.max_iter = self.iteration_cap()
         if self.time_limit is not None:
-            settings.time_limit = float(self.time_limit)
+            settings.time_limit = self.time_limit
         layout = ConicLayout(data)
         cones = ([clarabel.NonnegativeConeT(layout.nonnegative)] if layout.nonnegative else []) \
             + [clarabel.SecondOrderConeT(k) for k in layout.cone_sizes]
@@ -103,11 +118,11 @@ class ClarabelBackend(Backend):
         solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
 
     def run(self, state, data: QPData, warm: WarmStart) -> Solution:
-        solver, _ = state
+        solver, layout = state
         sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)
         return Solution(status=_STATUS.get(raw, Status.ERROR), message=raw, x=x,
                         formulation_objective=float(sol.obj_val), iterations=int(sol.iterations),
-                        duals=WarmStart(x, np.array(sol.z)),
+                        duals=WarmStart(x, layout.row_duals(np.array(sol.z), data.A.shape[0])),
                         extras={"reported_solve_time_s": float(sol.solve_time)})

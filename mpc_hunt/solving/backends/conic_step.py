@@ -5,7 +5,7 @@ the QP's data as expressions of its inputs, and the plan as an expression of
 the inputs and the QP's solution. ``setup`` closes it, once per structure,
 into one Function
 
-    step(inputs…, λ_x0, λ_a0) → (plan, model objective, λ_x, λ_a)
+    step(inputs…, λ_x0, λ_a0) → (plan, model objective, λ_x, λ_a, QP objective, certificate)
 
 with the backend's ``conic`` plugin in the middle, so a control step is one
 call from Python: linearisation, QP and read-back run inside CasADi, with no
@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.capture.data import StageQPData
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
@@ -34,7 +35,8 @@ class ConicStepBackend(Backend):
     accepts = ("ocp-qp",)
     package = "casadi"
     install = "casadi"
-    TIME_LIMIT = False      # the step is one CasADi call; its conic plugins take no wall-clock limit
+    CLOCK = False           # the step is one CasADi call; its conic plugins read no clock: a time limit is a cap
+    LOOP_CERTIFICATE = True  # the step's output 5: its QP's certificate
     plugin: ClassVar[str]
 
     def conic_options(self, graph: Any) -> dict:
@@ -55,8 +57,9 @@ class ConicStepBackend(Backend):
         # Every output requested: some plugins write their duals unconditionally.
         solution = solver(**dict(zip(QP_KEYS, linearise(*inputs))), lam_x0=lam_x0, lam_a0=lam_a0)
         plan, cost = read(*inputs, solution["x"])
+        residuals = certificate(*linearise(*inputs), solution["x"], solution["lam_x"], solution["lam_a"])
         return ca.Function("step", inputs + [lam_x0, lam_a0],
-                           [plan, cost, solution["lam_x"], solution["lam_a"], solution["cost"]])
+                           [plan, cost, solution["lam_x"], solution["lam_a"], solution["cost"], residuals])
 
     def run(self, step, data: StageQPData, warm: WarmStart) -> Solution:
         outputs = call(step, data, warm)
@@ -86,15 +89,34 @@ class ConicStepBackend(Backend):
         return ""
 
 
+def certificate(h, g, a, lba, uba, lbx, ubx, z, lam_x, lam_a):
+    """The QP's primal residual, dual residual and duality gap at (z, λ_x, λ_a), as CasADi expressions of its data
+    (:mod:`mpc_hunt.capture.certificate`; CasADi's multipliers are positive at an upper bound): a 3-vector."""
+    import casadi as ca
+
+    az = ca.mtimes(a, z)
+    primal = ca.mmax(ca.vertcat(ca.fmax(az - uba, lba - az), ca.fmax(z - ubx, lbx - z), 0))
+    dual = ca.norm_inf(ca.mtimes(h, z) + g + ca.mtimes(a.T, lam_a) + lam_x)
+
+    def bound_terms(lam, lower, upper):    # u λ⁺ − l λ⁻, nothing where λ = 0 (an infinite bound)
+        return ca.sum1(ca.if_else(lam > 0, upper * lam, 0) + ca.if_else(lam < 0, lower * lam, 0))
+
+    gap = ca.fabs(ca.dot(z, ca.mtimes(h, z)) + ca.dot(g, z) + bound_terms(lam_a, lba, uba)
+                  + bound_terms(lam_x, lbx, ubx))
+    return ca.vertcat(primal, dual, gap)
+
+
 def call(step, data: StageQPData, warm: WarmStart) -> tuple:
-    """One step: (plan, model objective, λ_x, λ_a), from the previous duals where they fit."""
+    """One step: (plan, model objective, λ_x, λ_a, certificate), from the previous duals where they fit."""
     nz, na = step.size1_in(len(data.args)), step.size1_in(len(data.args) + 1)
     lam_x0 = warm.z if warm.z is not None and len(warm.z) == nz else np.zeros(nz)
     lam_a0 = warm.y if warm.y is not None and len(warm.y) == na else np.zeros(na)
-    return step(*data.args, lam_x0, lam_a0)[:4]
+    outputs = step(*data.args, lam_x0, lam_a0)
+    return (*outputs[:4], outputs[5])
 
 
 def as_solution(status: Status, message: str, iterations: int, outputs: tuple) -> Solution:
-    plan, cost, lam_x, lam_a = outputs
+    plan, cost, lam_x, lam_a, residuals = outputs
     return Solution(status=status, message=message, x=np.array(plan).ravel(), formulation_objective=float(cost),
-                    iterations=iterations, duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()))
+                    iterations=iterations, duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()),
+                    certificate=Certificate(*(float(v) for v in np.array(residuals).ravel())))

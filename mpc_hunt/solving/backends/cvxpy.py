@@ -18,6 +18,7 @@ from mpc_hunt.capture.data import QPData
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.solving.backends.clarabel import ClarabelBackend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.errors import OptionError
 
 
 @dataclass
@@ -32,6 +33,7 @@ class _Problem:
     A: object
     b: object    # u on upper and cone rows
     bl: object   # l on lower rows
+    rows: list   # (constraint, its rows of A, sign): how each constraint's duals map onto the rows' multipliers y
 
 
 class CvxpyBackend(Backend):
@@ -43,10 +45,20 @@ class CvxpyBackend(Backend):
     install = "cvxpy"
     ACCURACY = ClarabelBackend.ACCURACY      # Clarabel's tolerances (any other solver gets the default)
 
-    def __init__(self, time_limit: float | None = None, accuracy: str = "default", solver: str = "CLARABEL",
-                 **options):
-        super().__init__(time_limit, accuracy if solver == "CLARABEL" else "default", **options)
+    MAX_ITER = ClarabelBackend.MAX_ITER
+    BUDGETED = ("CLARABEL", "OSQP")     # the solvers it hands time_limit and max_iter (both by those names)
+
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", solver: str = "CLARABEL", *,
+                 max_iter: int | None = None, **options):
         self.solver = solver
+        if solver not in self.BUDGETED and (time_limit is not None or max_iter is not None):
+            raise OptionError(f"solver: CVXPY's {solver} is handed no budget here (only {', '.join(self.BUDGETED)}); "
+                              "drop time_limit and max_iter or pick one of those")
+        super().__init__(time_limit, accuracy if solver == "CLARABEL" else "default", max_iter=max_iter, **options)
+
+    def option_names(self) -> frozenset[str] | None:  # type: ignore[override]
+        """Clarabel's options when CVXPY runs Clarabel; another solver checks its own."""
+        return ClarabelBackend.option_names() if self.solver == "CLARABEL" else None
 
     def setup(self, data: QPData) -> _Problem:
         import cvxpy as cp
@@ -55,15 +67,16 @@ class CvxpyBackend(Backend):
         upper, lower = data.bounded_rows()
         x, J, c, lin = cp.Variable(n), cp.Parameter(data.J.shape), cp.Parameter(data.c.shape), cp.Parameter(n)
         A, b, bl = cp.Parameter((m, n)), cp.Parameter(m), cp.Parameter(m)
-        constraints = []
+        rows = []
         if len(upper):
-            constraints.append(A[upper] @ x <= b[upper])
+            rows.append((A[upper] @ x <= b[upper], upper, 1.0))
         if len(lower):
-            constraints.append(A[lower] @ x >= bl[lower])
+            rows.append((A[lower] @ x >= bl[lower], lower, -1.0))
         for start, size in data.cones:
-            constraints.append(cp.SOC(b[start] - A[start] @ x, b[start + 1:start + size] - A[start + 1:start + size] @ x))
+            rows.append((cp.SOC(b[start] - A[start] @ x, b[start + 1:start + size] - A[start + 1:start + size] @ x),
+                         np.arange(start, start + size), 1.0))
         objective = cp.Minimize(cp.sum_squares(J @ x + c) + lin @ x)
-        state = _Problem(cp.Problem(objective, constraints), x, J, c, lin, A, b, bl)
+        state = _Problem(cp.Problem(objective, [row[0] for row in rows]), x, J, c, lin, A, b, bl, rows)
         self.update(state, data)
         return state
 
@@ -79,8 +92,10 @@ class CvxpyBackend(Backend):
         if warm.x is not None:
             state.x.value = warm.x
         kwargs = {"warm_start": True, "solver": self.solver, **self.options}
-        if self.time_limit is not None and self.solver in ("CLARABEL", "OSQP"):
-            kwargs["time_limit"] = self.time_limit
+        if self.solver in self.BUDGETED:
+            kwargs["max_iter"] = self.iteration_cap()
+            if self.time_limit is not None:
+                kwargs["time_limit"] = self.time_limit
         try:
             with warnings.catch_warnings():  # "may be inaccurate" is reported through the status
                 warnings.simplefilter("ignore", UserWarning)
@@ -96,4 +111,18 @@ class CvxpyBackend(Backend):
         objective = None if x is None else float(state.problem.value - data.c @ data.c)
         return Solution(status=status, message=f"{state.problem.status} ({stats.solver_name})", x=x,
                         formulation_objective=objective, iterations=int(stats.num_iters or 0),
-                        duals=WarmStart(x), extras={"reported_solve_time_s": float(stats.solve_time or 0.0)})
+                        duals=WarmStart(x, _row_duals(state, data.A.shape[0])),
+                        extras={"reported_solve_time_s": float(stats.solve_time or 0.0)})
+
+
+def _row_duals(state: _Problem, m: int) -> np.ndarray | None:
+    """The constraints' duals as multipliers of the rows of A (y > 0 at an upper bound, < 0 at a lower one; a
+    cone's (λ, μ) on its rows t, v), or None if CVXPY has none. The objective is the QP's (P = 2JᵀJ), unscaled."""
+    y = np.zeros(m)
+    for constraint, index, sign in state.rows:
+        value = constraint.dual_value
+        if value is None:
+            return None
+        y[index] += sign * np.concatenate([np.ravel(v) for v in value]) if isinstance(value, list) \
+            else sign * np.ravel(value)
+    return y

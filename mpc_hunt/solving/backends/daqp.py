@@ -7,6 +7,12 @@ numbers. The capture QP is small and dense enough (n ≤ ~100) for a dense
 solver. Warm start: constraints whose previous multiplier is non-zero start in
 the working set. Its Hessian is singular (the slacks of Eq. 14 enter linearly);
 DAQP's proximal-point iterations (``eps_prox``) handle that.
+
+Budget: DAQP reads its clock only every 32 iterations of one inner active-set
+solve, and its proximal-point loop runs many short ones, so its own time limit
+can pass unnoticed for seconds (measured: 2 s against a 0.02 s limit). The time
+limit is therefore also an iteration cap (``CLOCK = False``:
+:meth:`~mpc_hunt.solving.backends.base.Backend.iteration_cap`), set before each solve.
 """
 
 from __future__ import annotations
@@ -38,6 +44,15 @@ class DaqpBackend(Backend):
     package = "daqp"
     install = "daqp"
     ACCURACY = {"default": {}, "high": {"primal_tol": 1e-9}, "low": {"primal_tol": 1e-4}}
+    CLOCK = False
+    MAX_ITER = 10000
+    NATIVE = {"time_limit": "time_limit", "max_iter": "iter_limit"}
+
+    @classmethod
+    def option_names(cls) -> frozenset[str]:
+        import daqp
+
+        return frozenset(daqp.Model().settings)
 
     def setup(self, data: QPData):
         import daqp
@@ -46,7 +61,7 @@ class DaqpBackend(Backend):
         model.setup(*_dense(data))
         settings = dict(self.options)
         if self.time_limit is not None:
-            settings["time_limit"] = float(self.time_limit)
+            settings["time_limit"] = self.time_limit
         if settings:
             model.settings = settings
         return model
@@ -59,6 +74,7 @@ class DaqpBackend(Backend):
         if warm.y is not None and len(warm.y) == data.A.shape[0]:
             sense = np.where(warm.y > 0, ACTIVE, np.where(warm.y < 0, ACTIVE | LOWER, 0)).astype(np.int32)
             model.update(sense=sense)
+        model.settings = {"iter_limit": self.iteration_cap()}
         x, fval, flag, info = model.solve()
         x = np.array(x)
         return Solution(status=_STATUS.get(int(flag), Status.ERROR), message=_MESSAGE.get(int(flag), str(flag)),

@@ -40,7 +40,7 @@ import numpy as np
 
 from mpc_hunt.capture.data import StageQPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
-from mpc_hunt.errors import UnknownNameError
+from mpc_hunt.errors import OptionError, UnknownNameError
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.solving.backends.daqp import _MESSAGE, _STATUS
 from mpc_hunt.solving.compiled import CompilationWarning, build, compiler
@@ -389,6 +389,9 @@ class DaqpCondensedBackend(Backend):
     def __init__(self, time_limit: float | None = None, accuracy: str = "default", flags: tuple = FLAGS,
                  **options):
         super().__init__(time_limit, accuracy, **options)
+        if self.max_iter is not None:
+            raise OptionError(f"max_iter: backend {self.name}'s compiled step (the board's) runs DAQP's own cap; "
+                              "drop max_iter or use the hpipm backend")
         if self.options:
             raise UnknownNameError(f"backend {self.name} takes no options (got {', '.join(sorted(self.options))})")
         self.flags = tuple(flags)

@@ -11,7 +11,7 @@ over as for any conic plugin, and HPIPM's iterations start from its own point.
 from __future__ import annotations
 
 from mpc_hunt.capture.solution import Status
-from mpc_hunt.errors import UnknownNameError
+from mpc_hunt.errors import OptionError, UnknownNameError
 from mpc_hunt.solving.backends.conic_step import ConicStepBackend
 
 # HPIPM's modes offered: ``robust`` (LQ factorisations, the default) and ``balance`` (Cholesky: faster with a
@@ -29,15 +29,34 @@ class HpipmBackend(ConicStepBackend):
     ACCURACY = {"default": {"res_g_max": 1e-8, "res_b_max": 1e-8, "res_d_max": 1e-8, "res_m_max": 1e-7},
                 "high": {"res_g_max": 1e-10, "res_b_max": 1e-10, "res_d_max": 1e-10, "res_m_max": 1e-9},
                 "low": {"res_g_max": 1e-5, "res_b_max": 1e-5, "res_d_max": 1e-5, "res_m_max": 1e-5}}
+    MAX_ITER = 100
+    NATIVE = {"max_iter": "iter_max"}
 
     def __init__(self, time_limit: float | None = None, accuracy: str = "default", **options):
         if options.get("mode", "robust") not in MODES:
             raise UnknownNameError(f"mode: HPIPM's mode is one of {', '.join(MODES)}, not {options['mode']!r}")
         super().__init__(time_limit, accuracy, **options)
 
+    def _check_options(self, options: dict) -> None:
+        """The budget's names, then every other option as HPIPM takes it through CasADi: a one-variable QP is set
+        up with each, and a refusal becomes one line naming it."""
+        super()._check_options(options)
+        import casadi as ca
+
+        for key, value in options.items():
+            if key == "mode":
+                continue
+            try:
+                ca.conic("probe", "hpipm", {"h": ca.Sparsity.dense(1, 1), "a": ca.Sparsity(0, 1)},
+                         {"N": 0, "nx": [1], "nu": [0], "ng": [0], "hpipm": {key: value}})
+            except RuntimeError:
+                raise OptionError(f"{key}: not an option of HPIPM, or not of its type (HPIPM's own names: "
+                                  "iter_max is max_iter here; tolerances res_g_max, res_b_max, res_d_max, "
+                                  "res_m_max, ...)") from None
+
     def conic_options(self, graph) -> dict:
         N, nx, nu, ng = graph.stages
-        hpipm = {"mode": "robust", "mu0": 1.0, "iter_max": 100, **self.options}
+        hpipm = {"mode": "robust", "mu0": 1.0, **self.options, "iter_max": self.iteration_cap()}
         return {"N": N, "nx": nx, "nu": nu, "ng": ng, "hpipm": hpipm}
 
     def failure(self, stats: dict) -> Status:

@@ -28,13 +28,22 @@ class OsqpBackend(Backend):
     install = "osqp"
     ACCURACY = {"default": {"eps_abs": 1e-7, "eps_rel": 1e-7}, "high": {"eps_abs": 1e-9, "eps_rel": 1e-9},
                 "low": {"eps_abs": 1e-4, "eps_rel": 1e-4}}
+    MAX_ITER = 20000
+    NATIVE = {"time_limit": "time_limit", "max_iter": "max_iter"}
+
+    @classmethod
+    def option_names(cls) -> frozenset[str]:
+        from osqp.ext_builtin import OSQPSettings
+
+        return frozenset(name for name in dir(OSQPSettings) if not name.startswith("_"))
 
     def setup(self, data: QPData):
         import osqp
 
-        settings = dict(verbose=False, max_iter=20000, polishing=True, warm_starting=True, **self.options)
+        settings = {"verbose": False, "polishing": True, "warm_starting": True, **self.options,
+                    "max_iter": self.iteration_cap()}
         if self.time_limit is not None:
-            settings["time_limit"] = float(self.time_limit)
+            settings["time_limit"] = self.time_limit
         solver = osqp.OSQP()
         scale = _scale(data)
         solver.setup(data.P * scale, data.q * scale, data.A, data.l, data.u, **settings)

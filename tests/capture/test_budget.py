@@ -1,0 +1,77 @@
+"""One budget on every backend: time_limit and max_iter under one name each, honoured, their hits their own
+statuses; options checked against what each solver takes."""
+
+from __future__ import annotations
+
+import pytest
+
+from conftest import problem_at, small_scenario
+from mpc_hunt import CaptureSolver, Status, make_controller
+from mpc_hunt.errors import MpcHuntError, OptionError
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.backends.daqp import DaqpBackend
+
+INSTALLED = [b for b in registry.BACKENDS if registry.installed(b)]
+
+
+def test_osqp_stops_at_max_iter_and_says_so(scenario):
+    solution = CaptureSolver("qp", "osqp", max_iter=10).solve(problem_at(scenario, 10))
+    assert solution.status is Status.ITERATION_LIMIT and solution.iterations == 10
+    assert "max" in solution.message.lower() and "iter" in solution.message.lower()
+
+
+@pytest.mark.parametrize("backend", ["osqp", "clarabel", "daqp", "cvxpy", "ipopt", "hpipm"])
+def test_every_backend_takes_max_iter_by_that_name(scenario, backend):
+    formulation = next(f for f in registry.FORMULATIONS if backend in registry.compatible_backends(f))
+    solution = CaptureSolver(formulation, backend, max_iter=1).solve(problem_at(scenario, 5))
+    assert solution.status is Status.ITERATION_LIMIT, (solution.status, solution.message)
+    assert solution.iterations <= (2 if backend == "ipopt" else 1)   # IPOPT counts its initial point's too
+
+
+@pytest.mark.parametrize("backend", INSTALLED)
+def test_an_unknown_option_is_one_line_naming_it(backend):
+    formulation = next(f for f in registry.FORMULATIONS if backend in registry.compatible_backends(f))
+    with pytest.raises(MpcHuntError, match="tolerence") as caught:
+        CaptureSolver(formulation, backend, tolerence=1e-6)
+    assert "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize("backend,native", [("daqp", "iter_limit"), ("hpipm", "iter_max"), ("ipopt", "max_wall_time"),
+                                            ("ipopt", "max_cpu_time")])
+def test_the_solvers_own_budget_names_point_to_ours(backend, native):
+    formulation = next(f for f in registry.FORMULATIONS if backend in registry.compatible_backends(f))
+    with pytest.raises(OptionError, match=f"{native}: the budget is given as (max_iter|time_limit)="):
+        CaptureSolver(formulation, backend, **{native: 5})
+
+
+def test_a_misspelled_setting_of_a_controller_is_refused_at_once():
+    scenario = small_scenario()
+    with pytest.raises(OptionError, match="formulaton"):
+        make_controller("paper", scenario, formulaton="qp")
+    with pytest.raises(OptionError, match="bogus"):
+        make_controller("trap", scenario, bogus=1)
+
+
+def test_a_usable_solve_past_its_time_limit_is_a_time_limit_not_optimal(scenario):
+    # A limit no solve can meet: DAQP stops itself or finishes after it; HPIPM's step, which reads no clock, after.
+    assert CaptureSolver("qp", "daqp", time_limit=1e-7).solve(problem_at(scenario, 3)).status is Status.TIME_LIMIT
+    step = CaptureSolver("rti", "hpipm", time_limit=1e-7).solve(problem_at(scenario, 3))
+    assert step.status is Status.TIME_LIMIT and "past the 1e-07 s limit" in step.message
+
+
+def test_daqp_turns_its_time_limit_into_an_iteration_cap_from_its_measured_pace():
+    backend = DaqpBackend(time_limit=0.01)
+    assert backend.iteration_cap() == 100                  # nothing measured yet: the first-solve cap
+    backend.pace = 1e-4                                    # 0.1 ms an iteration measured
+    assert backend.iteration_cap() == 100
+    backend.pace = 1e-3
+    assert backend.iteration_cap() == 10
+    assert DaqpBackend(time_limit=0.01, max_iter=3).iteration_cap() == 3
+    assert DaqpBackend().iteration_cap() == DaqpBackend.MAX_ITER
+
+
+def test_a_solve_measures_the_pace_its_cap_is_made_from(scenario):
+    solver = CaptureSolver("qp", "daqp", time_limit=0.5)
+    solver.solve(problem_at(scenario, 3))
+    assert solver.backend.pace > 0 and solver.backend.iteration_cap() == min(
+        DaqpBackend.MAX_ITER, int(0.5 / solver.backend.pace))
