@@ -70,6 +70,7 @@ class CompareRun:
     accuracy: str
     time_limit: float | None
     starts: int
+    max_iter: int | None = None
     records: list[SolveRecord] = field(default_factory=list)
     references: dict[tuple[str, int], float | None] = field(default_factory=dict)
     interrupted: bool = False
@@ -121,7 +122,8 @@ def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, hor
 
 
 def _new_mpc(run: CompareRun, pair: tuple[str, str]) -> CaptureMPC:
-    return CaptureMPC(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True)
+    budget = {} if run.max_iter is None else {"max_iter": run.max_iter}
+    return CaptureMPC(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True, **budget)
 
 
 def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:
@@ -144,7 +146,7 @@ def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Call
 
 def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons: list[int], modes: list[str],
                 rng: np.random.Generator, *, accuracy: str = "default", time_limit: float | None = None,
-                starts: int = 4, objective: str = "paper",
+                max_iter: int | None = None, starts: int = 4, objective: str = "paper",
                 progress: Callable[[], None] | None = None) -> CompareRun:
     """Run every pair over ``problem_set`` at each horizon in each mode, each problem posed with ``objective``
     (``paper`` or ``enclose``); ``progress()`` is called per solve."""
@@ -164,7 +166,7 @@ def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons:
         raise BenchmarkError(f"time_limit: backend {untimed[0]} takes none; leave it out of the pairs or drop the "
                              f"time limit")
     run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts,
-                     objective=objective)
+                     max_iter=max_iter, objective=objective)
     tick = progress or (lambda: None)
     try:
         for horizon in run.horizons:

@@ -19,6 +19,7 @@ from mpc_hunt import __version__
 from mpc_hunt.cli import sweep as cli_sweep
 
 from mpc_hunt.solving import registry
+from mpc_hunt.solving.backends.base import ACCURACIES, MAX_ITERATIONS
 from mpc_hunt.solving.backends.hpipm import MODES as HPIPM_MODES
 from mpc_hunt.solving.export import TARGETS as EXPORT_TARGETS
 from mpc_hunt.capture.problem import OBJECTIVES
@@ -40,6 +41,9 @@ EXIT_ERROR = 2
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif",)
 EXPORT_BACKENDS = ("hpipm", "daqp-condensed")   # the backends whose step the C export writes
+OWN_LOOP = "own-loop"          # compare's mode whose pairs run hunts in their own loops (mpc_hunt/bench/own_loop.py)
+OWN_LOOP_SCENARIOS = ("paper-open", "paper-obstacles")
+MAX_OWN_LOOP_HUNTS = 200
 
 
 def _backend_help() -> str:
@@ -103,6 +107,11 @@ def build_parser() -> argparse.ArgumentParser:
     sim.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
                      help="wall-clock limit of each capture-stage solve (the hunt's is the scenario's time_limit)")
     sim.add_argument("--time-budget", type=positive_float, dest="time_limit", help=argparse.SUPPRESS)  # its old name
+    sim.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N",
+                     help="iteration cap of each capture-stage solve (every backend's, under this one name)")
+    sim.add_argument("--deadline", type=positive_float, metavar="SECONDS",
+                     help="the capture stage's budget per step (e.g. 0.02 for 50 Hz): the report counts the steps "
+                          "that waited longer, beside those longer than the time step T")
     sim.add_argument("--score", action="store_true",
                      help="score every capture-stage plan with the evaluator (without it only a failed solve's "
                           "plan is scored, for the fallback; rti and stage-sqp run as a control loop either way)")
@@ -122,6 +131,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help='JSON state {"attacker": [x, y], "defenders": [[x, y], ...]} to solve at')
     solve.add_argument("--save-state", type=Path, metavar="FILE", help="write the state solved at as JSON")
     solve.add_argument("--time-limit", type=positive_float, metavar="SECONDS", help="solver time limit")
+    solve.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="solver iteration cap")
+    solve.add_argument("--accuracy", choices=ACCURACIES, default="default",
+                       help="the solver's tolerances: default, high or low (docs/benchmarks.md)")
     solve.add_argument("--objective", choices=OBJECTIVES, default="paper",
                        help="paper: Eq. 12 as published (default); enclose: places on the hunting circle, "
                             "built at the state as the enclose controller's first step would (docs/formulations.md)")
@@ -212,7 +224,16 @@ def _compare_parser(sub) -> None:
                           "(default: every registered pair whose solver is installed)")
     cmp.add_argument("--horizon", type=horizon_argument, nargs="+", default=[1], metavar="N",
                      help="one or more horizons (default: 1)")
-    cmp.add_argument("--mode", nargs="+", choices=MODES, default=list(MODES), help="default: both")
+    cmp.add_argument("--mode", nargs="+", choices=MODES + (OWN_LOOP,), default=list(MODES),
+                     help="cold and closed-loop (the problem set's states, replayed; the default: both), or "
+                          "own-loop alone: each pair drives whole hunts in its own receding-horizon loop, from the "
+                          "shipped paper scenarios and --hunts random ones (mpc_hunt/bench/own_loop.py)")
+    cmp.add_argument("--hunts", type=non_negative(MAX_OWN_LOOP_HUNTS), default=10, metavar="K",
+                     help="own-loop: random hunts beside the two paper scenarios, drawn as the sweep draws hunt K of "
+                          "--seed (default: 10)")
+    cmp.add_argument("--deadline", type=positive_float, metavar="SECONDS",
+                     help="own-loop: the step's budget (e.g. 0.02 for 50 Hz), counted beside the time step T")
+    cmp.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="each solve's iteration cap")
     cmp.add_argument("--accuracy", choices=ACCURACIES, default="default", help="default: default")
     cmp.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
                      help="handed to each solver call; a failed solve then counts at it in the shifted mean")
@@ -270,6 +291,8 @@ def _controller_spec(args) -> ControllerSpec:
         if args.no_prediction or controllers.takes(args.controller, "prediction") else {}
     if args.time_limit is not None:
         options["time_limit"] = args.time_limit
+    if args.max_iter is not None:
+        options["max_iter"] = args.max_iter
     if args.score:
         options["score"] = True
     return _spec(args, args.controller, options)
@@ -300,7 +323,7 @@ def _simulate(args) -> int:
     scenario, world, drawn = _world(args, resolve_scenario(args.scenario))
     controller = spec.build(scenario, belief=args.belief, rng=drawn)
     with stop_at_once("simulate"), Progress(scenario.hunt.time_limit, "hunt", quiet=args.json) as update:
-        result = simulate(scenario, controller, progress=update, rng=world)
+        result = simulate(scenario, controller, progress=update, rng=world, deadline=args.deadline)
     report = result.to_dict()
     # The report goes out before any figure is written, so a failed write loses nothing computed.
     print(json.dumps(report) if args.json else _summary(result, report, scenario))
@@ -342,6 +365,11 @@ def _summary(result, report: dict, scenario) -> str:
         lines.append(f"capture-stage solves: {stats['count']}, median {stats['median_s'] * 1e3:.2f} ms, "
                      f"p95 {stats['p95_s'] * 1e3:.2f} ms, max {stats['max_s'] * 1e3:.2f} ms; "
                      f"failed {result.failed_solves}, fallbacks {result.fallbacks}")
+        misses = report["deadline_misses"]
+        lines.append(f"steps that waited longer than T = {misses['time_step_s']:g} s: {misses['over_time_step']}"
+                     + ("" if misses["deadline_s"] is None else
+                        f", than the deadline {misses['deadline_s']:g} s: {misses['over_deadline']}")
+                     + f"; budget hits {result.budget_hits}; longest failure streak {result.longest_failure_streak}")
     return "\n".join(lines)
 
 
@@ -369,7 +397,8 @@ def _solve(args) -> int:
     formulation, backend, horizon = stage.formulation, stage.backend, stage.horizon
     if args.save_state:
         check_output(args.save_state, (".json",), "--save-state")
-    solver = CaptureSolver(formulation, backend, time_limit=args.time_limit)
+    solver = CaptureSolver(formulation, backend, time_limit=args.time_limit, max_iter=args.max_iter,
+                           accuracy=args.accuracy)
     scenario = resolve_scenario(args.scenario)
     with stop_at_once("solve"):
         state = _state(args, scenario)
@@ -389,6 +418,10 @@ def _solve(args) -> int:
         lines.append("violations (m): " + ", ".join(f"{k} {v:.2e}" for k, v in solution.violation.items()))
         lines.append("first step: " + "; ".join(f"defender {i}: [{x:.4f}, {y:.4f}]"
                                                   for i, (x, y) in enumerate(solution.plan[0])))
+    if solution.certificate is not None:
+        c = solution.certificate
+        lines.append(f"certificate ({'IPOPT' if c.kind == 'nlp' else 'the QP handed to the solver'}): primal residual "
+                     f"{c.primal_residual:.2e}, dual residual {c.dual_residual:.2e}, duality gap {c.duality_gap:.2e}")
     lines.append(f"time: solver {solution.solver_time * 1e3:.2f} ms + overhead {solution.overhead_time * 1e3:.2f} ms "
                  f"(set-up {solution.setup_time * 1e3:.2f} ms); iterations {solution.iterations}")
     print("\n".join(lines))
@@ -489,6 +522,8 @@ def _compare(args) -> int:
     from mpc_hunt.plots.compare import plot_compare
 
     pairs = check_pairs(args.pair, args.objective)
+    if OWN_LOOP in args.mode:
+        return _compare_own_loop(args, pairs)
     check_output(args.csv, (".csv",), "--csv")
     check_folder(args.report, "--report")
     check_folder(args.plot, "--plot")
@@ -501,7 +536,8 @@ def _compare(args) -> int:
     with Progress(total, "compare", quiet=args.json, unit="solves") as update:
         done = itertools.count(1)
         run = run_compare(problem_set, pairs, args.horizon, args.mode, rng, accuracy=args.accuracy,
-                          time_limit=args.time_limit, starts=args.starts, objective=args.objective,
+                          time_limit=args.time_limit, max_iter=args.max_iter, starts=args.starts,
+                          objective=args.objective,
                           progress=(lambda: update(next(done))) if update else None)
     machine["load_average_end"] = load_average()
     rows = score_rows(run)
@@ -516,6 +552,47 @@ def _compare(args) -> int:
         write_report(run, machine, args.report, "mpc-hunt " + shlex.join(args.argv), extra)
     if run.interrupted:
         print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.records)} finished solves",
+              file=messages())
+        return EXIT_ERROR
+    return 0
+
+
+def _compare_own_loop(args, pairs) -> int:
+    from mpc_hunt.bench.compare_report import dumps
+    from mpc_hunt.bench.machine import describe_machine, load_average
+    from mpc_hunt.bench.own_loop import rows as loop_rows, run_own_loop, table as loop_table
+    from mpc_hunt.sweep.random_scenario import sweep_scenario
+
+    if len(args.mode) > 1:
+        raise MpcHuntError("--mode own-loop: it runs hunts, not the problem set's states: give it alone")
+    for flag, given in (("--csv", args.csv), ("--report", args.report), ("--plot", args.plot),
+                        ("--tag", args.tag), ("--limit", args.limit)):
+        if given:
+            raise MpcHuntError(f"{flag}: not with --mode own-loop (its results: the table, or --json)")
+    untimed = [b for _, b in pairs if args.time_limit is not None and not registry.backend_class(b).TIME_LIMIT]
+    if untimed:
+        raise MpcHuntError(f"--time-limit: backend {untimed[0]} takes none; leave it out of the pairs (--pair) or "
+                           "drop --time-limit")
+    scenarios = [builtin_scenario(name) for name in OWN_LOOP_SCENARIOS] \
+        + [sweep_scenario(args.seed, i) for i in range(args.hunts)]
+    controller = "paper" if args.objective == "paper" else "enclose"
+    machine = describe_machine()
+    total = len(scenarios) * len(pairs) * len(args.horizon)
+    with stop_at_once("compare"), Progress(total, "compare (own loop)", quiet=args.json, unit="hunts") as update:
+        done = itertools.count(1)
+        run = run_own_loop(scenarios, pairs, args.horizon, controller=controller, accuracy=args.accuracy,
+                           time_limit=args.time_limit, max_iter=args.max_iter, deadline=args.deadline,
+                           progress=(lambda: update(next(done))) if update else None)
+    machine["load_average_end"] = load_average()
+    rows = loop_rows(run)
+    settings = {"mode": OWN_LOOP, "controller": controller, "scenarios": [s.name for s in scenarios],
+                "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon, "accuracy": args.accuracy,
+                "violation_tolerance_m": run.tolerance, "time_limit_s": args.time_limit, "max_iter": args.max_iter,
+                "deadline_s": args.deadline, "seed": args.seed}
+    print(dumps({"machine": machine, "settings": settings, "interrupted": run.interrupted, "rows": rows})
+          if args.json else loop_table(rows))
+    if run.interrupted:
+        print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.hunts)} finished hunts",
               file=messages())
         return EXIT_ERROR
     return 0

@@ -40,6 +40,16 @@ class HuntResult:
     failed_solves: int = 0
     fallbacks: int = 0
     longest_failure_streak: int = 0   # most consecutive failed capture-stage solves
+    # Per capture-stage solve, in order: the time the controller waited (solve and any set-up, s), the status,
+    # the certificate (primal residual, dual residual, duality gap; NaN where none) and the true violations of
+    # the plan applied (VIOLATION_NAMES' order, m; NaN where the plan was not scored or a fallback was applied).
+    step_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    solve_statuses: tuple[str, ...] = ()
+    certificates: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    applied_violations: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+    deadline: float | None = None     # the step's budget given to the hunt (s), beside the time step T
+
+    BUDGET_STATUSES = ("time_limit", "iteration_limit")
 
     formulation = _described("formulation")     # str | None
     backend = _described("backend")             # str | None
@@ -49,6 +59,19 @@ class HuntResult:
     @property
     def steps(self) -> int:
         return len(self.times) - 1
+
+    @property
+    def time_step(self) -> float:
+        return float(self.times[1] - self.times[0]) if len(self.times) > 1 else float("nan")
+
+    @property
+    def budget_hits(self) -> int:
+        """Solves stopped by their time limit or iteration cap."""
+        return sum(s in self.BUDGET_STATUSES for s in self.solve_statuses)
+
+    def deadline_misses(self, deadline: float) -> int:
+        """Capture-stage steps whose wait (solve and set-up) exceeded ``deadline`` seconds."""
+        return int(np.sum(self.step_times > deadline))
 
     def solve_time_stats(self) -> dict:
         t = self.solve_times
@@ -83,4 +106,20 @@ class HuntResult:
             "failed_solves": self.failed_solves,
             "fallbacks": self.fallbacks,
             "longest_failure_streak": self.longest_failure_streak,
+            "budget_hits": self.budget_hits,
+            "step_time_max_s": float(np.max(self.step_times)) if len(self.step_times) else None,
+            "deadline_misses": {"time_step_s": self.time_step,
+                                "over_time_step": self.deadline_misses(self.time_step),
+                                "deadline_s": self.deadline,
+                                "over_deadline": None if self.deadline is None else self.deadline_misses(self.deadline)},
+            "certificate_max": self.certificate_max(),
         }
+
+    def certificate_max(self) -> dict | None:
+        """The largest primal residual, dual residual and duality gap over the hunt's certified solves (None: none)."""
+        rows = self.certificates[~np.any(np.isnan(self.certificates), axis=1)] if len(self.certificates) else []
+        if not len(rows):
+            return None
+        top = np.max(rows, axis=0)
+        return {k: (float(v) if np.isfinite(v) else "inf")
+                for k, v in zip(("primal_residual", "dual_residual", "duality_gap"), top)}

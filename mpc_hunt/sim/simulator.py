@@ -14,10 +14,12 @@ same scenario always gives the same result.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Callable
 
 import numpy as np
 
+from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.world.behaviours import make_behaviour
 from mpc_hunt.world.behaviours.base import Behaviour
 from mpc_hunt.world.belief import believed
@@ -36,7 +38,8 @@ DEFAULT_SEED = 0
 def simulate(scenario: Scenario, controller: Controller | None = None, *, prediction: bool = True,
              until: Callable[[Observation], bool] | None = None,
              progress: Callable[[float], None] | None = None,
-             rng: np.random.Generator | None = None, behaviour: Behaviour | None = None) -> HuntResult:
+             rng: np.random.Generator | None = None, behaviour: Behaviour | None = None,
+             deadline: float | None = None) -> HuntResult:
     """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT) built on the
     defenders' default belief (:func:`mpc_hunt.world.belief.believed`), never on the world's behaviour.
 
@@ -46,7 +49,8 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
 
     ``until`` stops the run (termination ``"stopped"``) before the first
     observation it returns true for; that observation is the last recorded state.
-    ``progress``, if given, is called with the simulated time after each step.
+    ``progress``, if given, is called with the simulated time after each step. ``deadline`` (s), if given, is
+    the capture stage's budget a step is counted against (:meth:`HuntResult.deadline_misses`), beside T.
     """
     controller = controller or HuntingStrategy(believed(scenario), prediction=prediction)
     if behaviour is None:
@@ -57,7 +61,7 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
     p_a = np.array(scenario.attacker.start, dtype=float)
     p_d = scenario.defender_starts.copy()
     attacker_path, defender_paths, stages, intercepts = [p_a.copy()], [p_d.copy()], [], []
-    solve_times, iterations = [], []
+    solve_times, iterations, record = [], [], _SolveRecord()
     failed = fallbacks = held = streak = longest_streak = 0
     previous = None
     termination = "time_limit"
@@ -71,6 +75,7 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
         if cmd.solution is not None:
             solve_times.append(cmd.solution.solve_time)
             iterations.append(cmd.solution.iterations)
+            record.add(cmd.solution, cmd.fallback)
             failed += not cmd.solution.success
             streak = 0 if cmd.solution.success else streak + 1
             longest_streak = max(longest_streak, streak)
@@ -86,9 +91,32 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
         if ended is not None:
             termination = ended
             break
-    return _result(scenario, controller, np.array(attacker_path), np.array(defender_paths), np.array(stages),
-                   np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks,
-                   longest_streak)
+    result = _result(scenario, controller, np.array(attacker_path), np.array(defender_paths), np.array(stages),
+                     np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks,
+                     longest_streak)
+    return record.into(result, deadline)
+
+
+class _SolveRecord:
+    """Per capture-stage solve: the wait, the status, the certificate, the applied plan's true violations."""
+
+    def __init__(self):
+        self.waits, self.statuses, self.certificates, self.violations = [], [], [], []
+
+    def add(self, solution, fallback: bool) -> None:
+        self.waits.append(solution.solve_time + solution.setup_time)
+        self.statuses.append(solution.status.value)
+        c = solution.certificate
+        self.certificates.append((np.nan,) * 3 if c is None else (c.primal_residual, c.dual_residual, c.duality_gap))
+        v = solution.violation
+        self.violations.append((np.nan,) * len(VIOLATION_NAMES) if v is None or fallback
+                               else tuple(v[name] for name in VIOLATION_NAMES))
+
+    def into(self, result: HuntResult, deadline: float | None) -> HuntResult:
+        return replace(result, step_times=np.array(self.waits), solve_statuses=tuple(self.statuses),
+                       certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
+                       applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),
+                       deadline=deadline)
 
 
 def _result(scenario, controller, attacker, defenders, stages, intercepts, termination, held,

@@ -68,6 +68,7 @@ class CaptureLoop:
         self._buffer.set_arg(1, memoryview(self._reference))
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
+        self._stepped = False                    # whether a step has run (the first, slower, is not paced)
         self.certificate = np.full(3, np.nan)   # the last QP's primal and dual residuals and duality gap
         if self.backend.LOOP_CERTIFICATE:
             self._buffer.set_res(5, memoryview(self.certificate))
@@ -91,8 +92,9 @@ class CaptureLoop:
         t0 = time.perf_counter()
         status = self._step()
         elapsed = time.perf_counter() - t0
-        if self.iterations > 0:
-            self.backend.pace = max(self.backend.pace, elapsed / self.iterations)
+        if self._stepped:
+            self.backend.record_pace(elapsed, self.iterations)
+        self._stepped = True
         limit = self.backend.time_limit
         if limit is not None and elapsed > limit and status.usable:
             self.message = f"after {elapsed:.3g} s: past the {limit:g} s limit"

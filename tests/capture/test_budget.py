@@ -62,16 +62,21 @@ def test_a_usable_solve_past_its_time_limit_is_a_time_limit_not_optimal(scenario
 def test_daqp_turns_its_time_limit_into_an_iteration_cap_from_its_measured_pace():
     backend = DaqpBackend(time_limit=0.01)
     assert backend.iteration_cap() == 100                  # nothing measured yet: the first-solve cap
-    backend.pace = 1e-4                                    # 0.1 ms an iteration measured
-    assert backend.iteration_cap() == 100
-    backend.pace = 1e-3
-    assert backend.iteration_cap() == 10
+    backend.record_pace(0.5e-3, 10)                        # 0.05 ms an iteration, budgeted at twice that
+    assert backend.pace == pytest.approx(1e-4) and backend.iteration_cap() == 100
+    for _ in range(3):
+        backend.record_pace(5e-3, 10)                      # slower solves move the median
+    backend.record_pace(1.0, 2)                            # too few iterations to tell fixed costs apart: not counted
+    assert backend.pace == pytest.approx(1e-3) and backend.iteration_cap() == 10
     assert DaqpBackend(time_limit=0.01, max_iter=3).iteration_cap() == 3
     assert DaqpBackend().iteration_cap() == DaqpBackend.MAX_ITER
 
 
 def test_a_solve_measures_the_pace_its_cap_is_made_from(scenario):
-    solver = CaptureSolver("qp", "daqp", time_limit=0.5)
+    # HPIPM's step (an interior point: always several iterations), on its loop.
+    solver = CaptureSolver("rti", "hpipm", time_limit=0.5)
     solver.solve(problem_at(scenario, 3))
+    assert solver.backend.pace == 0                        # a structure's first solve is not counted
+    assert solver.solve(problem_at(scenario, 3)).iterations >= 3
     assert solver.backend.pace > 0 and solver.backend.iteration_cap() == min(
-        DaqpBackend.MAX_ITER, int(0.5 / solver.backend.pace))
+        solver.backend.MAX_ITER, int(0.5 / solver.backend.pace))

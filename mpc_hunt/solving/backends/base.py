@@ -12,8 +12,10 @@ The budget has one name per kind on every backend: ``time_limit`` (seconds) and
 ``max_iter`` (iterations), each handed to the solver under its own name
 (``NATIVE``). A solver that does not stop itself on the clock (``CLOCK = False``:
 DAQP, whose clock is read only inside long inner loops) gets its time limit as
-an iteration cap, the limit over the largest time per iteration measured so far
-(:meth:`Backend.iteration_cap`). A solve that ran past its time limit all the
+an iteration cap, the limit over its pace: twice the median time per iteration of
+its last solves (:meth:`Backend.iteration_cap`; a structure's first solve, slower
+by its allocations, and solves of fewer than three iterations, where fixed costs
+dominate, are not counted). A solve that ran past its time limit all the
 same returns ``time_limit``, never ``optimal``. The solver's own names for the
 budget and any option the solver does not know are refused when the backend is
 made, each in one line naming the key.
@@ -24,7 +26,7 @@ from __future__ import annotations
 import difflib
 import math
 import time
-from collections import OrderedDict
+from collections import OrderedDict, deque
 from dataclasses import replace
 from typing import Any, ClassVar
 
@@ -39,6 +41,8 @@ ACCURACIES = ("default", "high", "low")
 CACHE_SIZE = 16   # structures kept set up per backend (the controlled set changes during a hunt)
 MAX_ITERATIONS = 1_000_000   # the largest iteration cap taken
 FIRST_CAP = 100   # a clockless solver's cap under a time limit before any time per iteration is measured
+PACE_SOLVES = 32  # the solves whose time per iteration the pace is the median of (× PACE_MARGIN)
+PACE_MARGIN = 2.0
 BUDGET = ("time_limit", "max_iter")
 
 
@@ -85,7 +89,7 @@ class Backend:
         self.accuracy = accuracy
         self.options = {**self.ACCURACY.get(accuracy, {}), **options}
         self.setups = 0
-        self.pace = 0.0   # the largest solver time per iteration measured (s): a clockless solver's time limit
+        self._paces: deque[float] = deque(maxlen=PACE_SOLVES)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
 
     @classmethod
@@ -106,6 +110,16 @@ class Backend:
             near = difflib.get_close_matches(unknown[0], sorted(names), n=1)
             hint = f"did you mean {near[0]!r}?" if near else "see the solver's documentation for its options"
             raise OptionError(f"{unknown[0]}: not an option of backend {self.name} ({hint})")
+
+    @property
+    def pace(self) -> float:
+        """The time an iteration is budgeted (s): :data:`PACE_MARGIN` × the median of the last solves' (0: none)."""
+        return PACE_MARGIN * float(np.median(self._paces)) if self._paces else 0.0
+
+    def record_pace(self, seconds: float, iterations: int) -> None:
+        """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` towards the pace."""
+        if iterations >= 3:
+            self._paces.append(seconds / iterations)
 
     def iteration_cap(self) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
@@ -161,8 +175,8 @@ class Backend:
             return Solution(status=Status.ERROR, message=message, backend=self.name,
                             solver_time=time.perf_counter() - t0, setup_time=setup_time)
         solver_time = time.perf_counter() - t0
-        if result.iterations > 0:
-            self.pace = max(self.pace, solver_time / result.iterations)
+        if not new:
+            self.record_pace(solver_time, result.iterations)
         if result.x is not None and not np.all(np.isfinite(result.x)):
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
         if result.x is None and result.status.usable:

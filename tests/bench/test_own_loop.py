@@ -1,0 +1,64 @@
+"""compare's own-loop mode: each pair in its own loop, hunt by hunt, its rows counting what the loop met."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from conftest import ATTACKER, DEFENDERS, small_scenario
+from mpc_hunt.bench.own_loop import rows, run_own_loop, table
+from mpc_hunt.cli import main
+from mpc_hunt.errors import BenchmarkError
+
+
+def _short(seconds: float = 3.0):
+    """The small scenario from the capture stage on (every defender within R_agg of the attacker), a few seconds."""
+    s = small_scenario()
+    return dataclasses.replace(s, hunt=dataclasses.replace(s.hunt, time_limit=seconds),
+                               attacker=dataclasses.replace(s.attacker, start=tuple(ATTACKER)),
+                               defenders=tuple(dataclasses.replace(d, start=tuple(p))
+                                               for d, p in zip(s.defenders, DEFENDERS)))
+
+
+def test_each_pair_runs_its_own_hunt_and_its_row_counts_what_its_loop_met():
+    scenario = _short()
+    run = run_own_loop([scenario], [("qp", "daqp"), ("rti", "hpipm")], [3], deadline=1e-9)
+    assert [(h.formulation, h.backend) for h in run.hunts] == [("qp", "daqp"), ("rti", "hpipm")]
+    assert not np.array_equal(run.hunts[0].result.defenders, run.hunts[1].result.defenders)   # its own states
+    by = {r["backend"]: r for r in rows(run)}
+    for backend, row in by.items():
+        result = next(h.result for h in run.hunts if h.backend == backend)
+        assert row["solves"] == len(result.step_times) > 0
+        assert row["deadline_misses"] == row["solves"]               # nothing meets a nanosecond
+        assert row["deadline_misses_T"] == int(np.sum(result.step_times > 0.1))
+        assert row["step_time_max_s"] == pytest.approx(result.step_times.max())
+        assert row["applied_plans_scored"] == row["solves"] - row["fallbacks"]
+        assert row["max_dual_residual"] is not None and row["max_dual_residual"] < 1e-3
+    assert "qp/daqp" in table(rows(run)) and "rti/hpipm" in table(rows(run))
+
+
+def test_a_budget_hit_is_counted_and_the_fallback_applied():
+    run = run_own_loop([_short()], [("qp", "osqp")], [5], max_iter=2)
+    row = rows(run)[0]
+    assert row["budget_hits"] == row["solves"] == row["fallbacks"] == row["failed_solves"] > 0
+    assert row["longest_failure_streak"] == row["solves"] and row["applied_plans_scored"] == 0
+
+
+def test_bad_settings_are_refused_before_any_hunt():
+    with pytest.raises(BenchmarkError, match="scenarios"):
+        run_own_loop([], [("qp", "osqp")], [1])
+    with pytest.raises(BenchmarkError, match="deadline"):
+        run_own_loop([_short()], [("qp", "osqp")], [1], deadline=-1.0)
+
+
+def test_the_command_runs_own_loop_alone(capsys):
+    assert main(["compare", "--mode", "own-loop", "cold"]) == 2
+    assert "give it alone" in capsys.readouterr().err
+    assert main(["compare", "--mode", "own-loop", "--pair", "qp:osqp", "--hunts", "0", "--horizon", "1",
+                 "--max-iter", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["settings"]["scenarios"] == ["paper-open", "paper-obstacles"] and out["settings"]["max_iter"] == 1
+    assert out["rows"][0]["budget_hits"] == out["rows"][0]["solves"] > 0
