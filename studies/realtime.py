@@ -1,162 +1,207 @@
-"""Closed-loop real-time factor of every (formulation, backend) pair: simulated seconds per wall-clock second.
+"""Every formulation × backend in its own receding-horizon loop, under a 50 Hz budget: which pair is fit to embed.
 
-Each installed pair drives the capture stage of both paper scenarios (the
-paper's strategy, prediction on, horizon 1 unless told otherwise); the real-time
-factor is the hunt's simulated time over the wall-clock time of the whole
-closed loop (approach stage, simulation and every capture-stage solve, set-ups
-included). Pairs take turns on each scenario, measured side by side in one run,
-with each factor also given as a ratio to the NLP on IPOPT of the same run. It
-writes ``studies/realtime/`` (README.md, results.json with the machine's
-description) and the real-time table of ``docs/benchmarks.md``. A few minutes.
+Each installed pair drives the capture stage of the paper's strategy (prediction on) through hunts, at N = 1, 5
+and 10, from the same starts: the two paper scenarios and the first ``RANDOM_HUNTS`` random ones (drawn as the
+sweep draws hunts 0, 1, … of ``RANDOM_SEED``) that reach the capture stage, each from where the paper's own
+strategy first reaches it, for at most ``WINDOW`` seconds, each pair meeting the states its own plans lead to
+(:mod:`mpc_hunt.bench.own_loop`, what ``mpc-hunt compare --mode own-loop`` runs). Every solve is handed the
+robots' budget, ``BUDGET`` s (50 Hz) as its time limit, and every step is counted against it and against the
+time step T. A pair is *fit to embed* at a horizon when, on every hunt, no step waited past the budget, no run of
+failed solves was longer than ``STREAK`` steps and no usable plan broke a hard constraint beyond the tolerance.
+Pairs take turns on each hunt. It writes ``studies/realtime/`` (README.md, results.json with the machine's
+description) and the own-loop table of ``docs/benchmarks.md``; each finished hunt goes to ``hunts.jsonl`` as it
+ends, so a stopped run resumes where it stopped (``--fresh`` starts over). About an hour on one core.
 
-    python studies/realtime.py [--horizons 1]       # run it and rewrite studies/realtime/
-    python studies/realtime.py --check              # the committed pairs and scenarios are the code's
-    python studies/realtime.py --check-runs         # ... and rerunning the hunts gives the same non-timing figures
+    python studies/realtime.py [--workers 2]     # run it (or resume) and rewrite studies/realtime/
+    python studies/realtime.py --check           # the committed pairs, horizons, hunts and table are the code's
 """
 
 from __future__ import annotations
 
+import itertools
 import json
 import sys
-import time
+from functools import cache
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
-from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
+from mpc_hunt import builtin_scenario
 
-from mpc_hunt.solving import registry
-from mpc_hunt.arguments import CommandParser
-from mpc_hunt.control.spec import horizon_argument
-from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
+from mpc_hunt.bench.own_loop import WINDOW, capture_stage_hunts, hunt_summary, markdown_table, rows_of, run_own_loop
+from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
+from mpc_hunt.sweep.random_scenario import sweep_scenario
 
 from studies.docs_block import read_block, write_block
 from studies.study_check import check_result, run_study
 
 OUT = Path(__file__).resolve().parent / "realtime"
-SCENARIOS = ("paper-open", "paper-obstacles")
-HORIZONS = [1]
-BASELINE = ("nlp", "ipopt")
-CHECKED = ("captured", "termination", "steps", "failed_solves", "fallbacks")   # capture_time_s: within a step
+PROGRESS = OUT / "hunts.jsonl"
+PAPER_SCENARIOS = ("paper-open", "paper-obstacles")
+RANDOM_SEED, RANDOM_HUNTS = 1, 10
+HORIZONS = [1, 5, 10]
+BUDGET = 0.02          # s: the robots' 50 Hz, as each solve's time limit and the step's deadline
+STREAK = 5             # the longest run of failed solves a pair fit to embed may have (0.5 s on its fallback)
+TOLERANCE = VIOLATION_TOLERANCE["default"]
 COMMAND = "python studies/realtime.py"
+MAX_WORKERS = 2
 
 
-def hunt(scenario_name: str, pair: tuple[str, str], horizon: int) -> dict:
-    scenario = builtin_scenario(scenario_name)
-    strategy = HuntingStrategy(scenario, formulation=pair[0], backend=pair[1], horizon=horizon)
-    t0 = time.perf_counter()
-    result = simulate(scenario, strategy)
-    wall = time.perf_counter() - t0
-    report = result.to_dict()
-    simulated = result.steps * scenario.hunt.time_step
-    report.update(simulated_s=simulated, wall_s=wall, real_time_factor=simulated / wall)
-    return report
+@cache
+def scenarios() -> list:
+    """The hunts, each from its capture stage's start for at most WINDOW seconds (mpc_hunt/bench/own_loop.py)."""
+    return capture_stage_hunts([builtin_scenario(name) for name in PAPER_SCENARIOS],
+                               (sweep_scenario(RANDOM_SEED, i) for i in itertools.count()), RANDOM_HUNTS, WINDOW)
 
 
-def run(horizons: list[int]) -> list[dict]:
-    rows = []
-    for name in SCENARIOS:
-        for horizon in horizons:
-            for pair in registry.pairs(objective="paper"):
-                rows.append(hunt(name, pair, horizon))
-                r = rows[-1]
-                print(f"{name} {pair[0]}/{pair[1]} N={horizon}: real-time factor {r['real_time_factor']:.1f}, "
-                      f"captured {r['captured']}", file=sys.stderr, flush=True)
-    return rows
+def pairs() -> list[tuple[str, str]]:
+    return registry.pairs(objective="paper")
+
+
+def tasks() -> list[tuple[int, int, tuple[str, str]]]:
+    """(horizon, hunt index, pair): the pairs take turns on each hunt."""
+    return [(n, i, pair) for n in HORIZONS for i in range(len(scenarios())) for pair in pairs()]
+
+
+def key(horizon: int, scenario: str, pair: tuple[str, str]) -> str:
+    return f"{pair[0]}:{pair[1]} N={horizon} {scenario}"
+
+
+def one_hunt(task: tuple[int, int, tuple[str, str]]) -> dict:
+    horizon, index, pair = task
+    run = run_own_loop([scenarios()[index]], [pair], [horizon], time_limit=BUDGET, deadline=BUDGET)
+    if run.interrupted:
+        raise KeyboardInterrupt
+    return hunt_summary(run.hunts[0])
+
+
+def finished() -> dict[str, dict]:
+    if not PROGRESS.exists():
+        return {}
+    done = {}
+    for line in PROGRESS.read_text(encoding="utf-8").splitlines():
+        try:
+            h = json.loads(line)
+        except json.JSONDecodeError:      # a line cut short by a stop: that hunt runs again
+            continue
+        done[key(h["horizon"], h["scenario"], (h["formulation"], h["backend"]))] = h
+    return done
+
+
+def run(workers: int) -> list[dict]:
+    OUT.mkdir(parents=True, exist_ok=True)
+    done = finished()
+    names = [s.name for s in scenarios()]
+    todo = [t for t in tasks() if key(t[0], names[t[1]], t[2]) not in done]
+    print(f"{len(done)} hunts kept, {len(todo)} to run", file=sys.stderr, flush=True)
+    with open(PROGRESS, "a", encoding="utf-8") as out:
+        def keep(summary: dict) -> None:
+            out.write(json.dumps(summary) + "\n")
+            out.flush()
+            done[key(summary["horizon"], summary["scenario"], (summary["formulation"], summary["backend"]))] = summary
+            print(f"{len(done)}/{len(tasks())} {key(summary['horizon'], summary['scenario'], (summary['formulation'], summary['backend']))}: "
+                  f"captured {summary['captured']}, {summary['wall_s']:.1f} s", file=sys.stderr, flush=True)
+
+        if workers == 1:
+            for task in todo:
+                keep(one_hunt(task))
+        else:
+            with ProcessPoolExecutor(workers) as pool:
+                for future in as_completed([pool.submit(one_hunt, t) for t in todo]):
+                    keep(future.result())
+    return list(done.values())
+
+
+def fit(row: dict) -> bool:
+    """Fit to embed: no step past the budget, no failure streak over STREAK, no usable plan beyond the tolerance."""
+    return (row["deadline_misses"] == 0 and row["longest_failure_streak"] <= STREAK and row["violating_plans"] == 0
+            and row["captured"] == row["hunts"])
 
 
 def table(rows: list[dict]) -> list[str]:
-    base = {(r["scenario"], r["horizon"]): r["real_time_factor"] for r in rows
-            if (r["formulation"], r["backend"]) == BASELINE}
-    lines = ["| scenario | pair | N | real-time factor | ÷ nlp/ipopt | wall (s) | simulated (s) | captured "
-             "| capture time (s) | solves | solve median (ms) | solve p95 (ms) | failed solves | fallbacks |",
-             "| --- | --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
-    for r in rows:
-        t = r["solve_time"]
-        capture = "–" if r["capture_time_s"] is None else f"{r['capture_time_s']:.1f}"
-        lines.append(
-            f"| {r['scenario']} | {r['formulation']}/{r['backend']} | {r['horizon']} | {r['real_time_factor']:.1f} | "
-            f"{r['real_time_factor'] / base[(r['scenario'], r['horizon'])]:.2f} | {r['wall_s']:.1f} | "
-            f"{r['simulated_s']:.1f} | {'yes' if r['captured'] else 'no'} | {capture} | {t['count']} | "
-            f"{t['median_s'] * 1e3:.2f} | {t['p95_s'] * 1e3:.2f} | {r['failed_solves']} | {r['fallbacks']} |")
-    return lines
+    lines = markdown_table(rows)
+    lines[0] += " fit to embed |"
+    lines[1] += " --- |"
+    return lines[:2] + [line + f" {'yes' if fit(r) else 'no'} |" for line, r in zip(lines[2:], rows)]
 
 
-def write(rows: list[dict], machine: dict, horizons: list[int]) -> None:
-    OUT.mkdir(parents=True, exist_ok=True)
-    settings = {"scenarios": list(SCENARIOS), "pairs": [f"{f}:{b}" for f, b in registry.pairs(objective="paper")],
-                "horizons": horizons}
-    (OUT / "results.json").write_text(json.dumps({"machine": machine, "settings": settings, "rows": rows}) + "\n",
-                                      encoding="utf-8")
-    text = ["# Closed-loop real-time factor of each formulation × backend", "",
-            f"Regenerate with `{COMMAND}`. Each row is one hunt, the paper's strategy with prediction, its "
-            "capture stage solved by the pair. The real-time factor is simulated seconds per wall-clock second of "
-            "the whole closed loop (approach stage, simulation, every capture-stage solve, set-ups included); "
-            "above 1, the loop runs faster than the robots. The ratio column divides it by the NLP on IPOPT's "
-            "in the same run (pairs take turns on each scenario). Solve times are per capture-stage step, all-in, "
-            "set-up excluded. Every row's full report is in `results.json`.", "",
-            "## Machine", "", *machine_lines(machine), "", "## Results", "", *table(rows), ""]
-    (OUT / "README.md").write_text("\n".join(text), encoding="utf-8")
+def settings() -> dict:
+    return {"scenarios": [s.name for s in scenarios()], "window_s": WINDOW, "pairs": [f"{f}:{b}" for f, b in pairs()],
+            "horizons": HORIZONS, "budget_s": BUDGET, "streak": STREAK, "tolerance_m": TOLERANCE}
 
 
 def headline(results: dict) -> str:
-    """The docs' table: each pair's real-time factor on each scenario, and its ratio to the NLP on IPOPT's."""
-    rows = results["rows"]
-    base = {(r["scenario"], r["horizon"]): r["real_time_factor"] for r in rows
-            if (r["formulation"], r["backend"]) == BASELINE}
-    keys = [(s, n) for s in results["settings"]["scenarios"] for n in results["settings"]["horizons"]]
-    by = {(r["formulation"], r["backend"], r["scenario"], r["horizon"]): r for r in rows}
-    lines = ["| pair | " + " | ".join(f"{s}, N = {n}" for s, n in keys) + " |",
-             "| --- | " + " | ".join("---:" for _ in keys) + " |"]
-    for pair in results["settings"]["pairs"]:
-        f, b = pair.split(":")
-        cells = [by[(f, b, s, n)] for s, n in keys]
-        lines.append(f"| {f}/{b} | " + " | ".join(
-            f"{r['real_time_factor']:.1f} (× {r['real_time_factor'] / base[(r['scenario'], r['horizon'])]:.2f})"
-            + ("" if r["captured"] else ", not captured") for r in cells) + " |")
     m = results["machine"]
-    return "\n".join(lines) + (f"\n\nMachine: {m['cpu']}, {m['cores']} cores, Python {m['python']}; load average "
-                               f"{m['load_average'][0]} at the start, {m['load_average_end'][0]} at the end.\n")
+    return "\n".join(table(results["rows"])) + (
+        f"\n\nMachine: {m['cpu']}, {m['cores']} cores, Python {m['python']}; load average "
+        f"{m['load_average'][0]} at the start, {m['load_average_end'][0]} at the end.\n")
 
 
-def check(rerun: bool) -> list[str]:
-    committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
-    settings = committed["settings"]
-    wanted = {"scenarios": list(SCENARIOS), "pairs": [f"{f}:{b}" for f, b in registry.pairs(objective="paper")]}
-    errors = [f"settings.{k}: committed {settings.get(k)!r}, the code runs {v!r}"
-              for k, v in wanted.items() if settings.get(k) != v]
+def write(summaries: list[dict], machine: dict) -> None:
+    rows = rows_of(summaries, pairs(), HORIZONS, TOLERANCE, BUDGET)
+    hunts = [{k: v for k, v in h.items() if k not in ("step_times_s", "iterations")} for h in summaries]
+    results = {"machine": machine, "settings": settings(), "rows": rows, "hunts": hunts}
+    (OUT / "results.json").write_text(json.dumps(results) + "\n", encoding="utf-8")
+    fits = [f"{r['formulation']}/{r['backend']} N = {r['horizon']}" for r in rows if fit(r)]
+    text = ["# Every pair in its own loop, under a 50 Hz budget", "",
+            f"Regenerate with `{COMMAND}` (it resumes from `hunts.jsonl`, kept out of the repository). "
+            f"{len(summaries)} hunts: each pair drives the paper's capture stage (prediction on) through "
+            f"{len(scenarios())} hunts ({', '.join(PAPER_SCENARIOS)} and the first {RANDOM_HUNTS} random hunts of the "
+            f"sweep with seed {RANDOM_SEED} that reach the capture stage, each from where the paper's strategy first "
+            f"reaches it, for at most {WINDOW:g} s) at N = {', '.join(map(str, HORIZONS))}, every solve handed a {BUDGET:g} s time "
+            f"limit, every step counted against that deadline and the time step T. Times are what the controller "
+            f"waited per capture-stage step (solve and any set-up; the evaluator's scoring apart). `violating`: "
+            f"usable plans the loop refused, a hard constraint (Eqs. 13, 15, separation, attacker distance) broken "
+            f"beyond {TOLERANCE:g} m; `max hard viol`: the largest such violation of an applied plan; the residuals "
+            f"are the certificates' of the usable solves, of the QP each solver was handed "
+            f"(mpc_hunt/capture/certificate.py). Fit to embed: every hunt captured, no step past {BUDGET:g} s, no "
+            f"run of more than {STREAK} failed solves, no violating plan.", "",
+            "## Machine", "", *machine_lines(machine), "", "## Results", "", *table(rows), "",
+            "Fit to embed: " + (", ".join(fits) if fits else "none") + ".", ""]
+    (OUT / "README.md").write_text("\n".join(text), encoding="utf-8")
+    write_block("realtime", headline(results))
+
+
+def check() -> list[str]:
+    path = OUT / "results.json"
+    if not path.exists():
+        return [f"{path}: missing; run {COMMAND}"]
+    committed = json.loads(path.read_text(encoding="utf-8"))
+    errors = [f"settings.{k}: committed {committed['settings'].get(k)!r}, the code runs {v!r}"
+              for k, v in settings().items() if committed["settings"].get(k) != v]
+    if len(committed["hunts"]) != len(tasks()):
+        errors.append(f"hunts: {len(committed['hunts'])} committed, the study runs {len(tasks())}")
     if read_block("realtime") != headline(committed):
-        errors.append("docs/benchmarks.md: its real-time table is not the committed results'")
-    if errors or not rerun:
-        return errors
-    for old in committed["rows"]:
-        new = hunt(old["scenario"], (old["formulation"], old["backend"]), old["horizon"])
-        key = f"{old['scenario']} {old['formulation']}/{old['backend']} N={old['horizon']}"
-        errors += [f"{key}: {k} committed {old[k]!r}, now {new[k]!r}" for k in CHECKED if old[k] != new[k]]
-        if (old["capture_time_s"] is None) != (new["capture_time_s"] is None) or (
-                old["capture_time_s"] is not None and abs(old["capture_time_s"] - new["capture_time_s"]) > 0.15):
-            errors.append(f"{key}: capture_time_s committed {old['capture_time_s']}, now {new['capture_time_s']}")
+        errors.append("docs/benchmarks.md: its own-loop table is not the committed results'")
     return errors
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--horizons", type=horizon_argument, nargs="+", default=HORIZONS)
-    parser.add_argument("--check", action="store_true", help="check the committed inputs against the code")
-    parser.add_argument("--check-runs", action="store_true", help="also rerun every hunt (minutes)")
+    parser.add_argument("--check", action="store_true", help="check the committed settings and table against the code")
+    parser.add_argument("--workers", type=count(MAX_WORKERS), default=1,
+                        help=f"hunts at once (1 to {MAX_WORKERS}; default 1, leaving a core free)")
+    parser.add_argument("--fresh", action="store_true", help="forget the hunts kept in hunts.jsonl and start over")
     args = parser.parse_args(argv)
-    with stop_at_once("realtime study"):         # Ctrl-C: at once, nothing written
-        if args.check or args.check_runs:
-            return check_result(check(args.check_runs), "studies/realtime", COMMAND)
-        machine = describe_machine()
-        rows = run(args.horizons)
-        machine["load_average_end"] = load_average()
-    write(rows, machine, args.horizons)
-    print(f"wrote {OUT / 'README.md'}")
-    write_block("realtime", headline(json.loads((OUT / "results.json").read_text(encoding="utf-8"))))
-    print("wrote the real-time table of docs/benchmarks.md")
+    if args.check:
+        return check_result(check(), "studies/realtime", COMMAND)
+    if args.fresh and PROGRESS.exists():
+        PROGRESS.unlink()
+    machine = describe_machine()
+    with stop_at_once("realtime study"):         # Ctrl-C: at once; every finished hunt is kept in hunts.jsonl
+        summaries = run(args.workers)
+    machine["load_average_end"] = load_average()
+    if len(summaries) != len(tasks()):
+        raise MpcHuntError(f"{len(summaries)} of {len(tasks())} hunts finished; rerun {COMMAND} to finish them")
+    write(summaries, machine)
+    print(f"wrote {OUT / 'README.md'} and the own-loop table of docs/benchmarks.md")
     return 0
 
 

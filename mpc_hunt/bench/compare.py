@@ -70,11 +70,11 @@ class CompareRun:
     accuracy: str
     time_limit: float | None
     starts: int
-    max_iter: int | None = None
     records: list[SolveRecord] = field(default_factory=list)
     references: dict[tuple[str, int], float | None] = field(default_factory=dict)
     interrupted: bool = False
     objective: str = "paper"
+    max_iter: int | None = None
 
     @property
     def tolerance(self) -> float:

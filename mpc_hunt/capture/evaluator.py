@@ -19,6 +19,8 @@ from mpc_hunt.capture.solution import Status
 from mpc_hunt.world.geometry import norm, saturate
 
 VIOLATION_NAMES = ("motion_limit", "equal_distance", "obstacle_safety", "separation", "attacker_distance")
+# The families a plan must keep to be applied: Eq. 14 is elastic in every formulation (an L1 penalty, not a bound).
+HARD_CONSTRAINTS = tuple(name for name in VIOLATION_NAMES if name != "equal_distance")
 TERM_NAMES = ("force", "ring", "move", "equal_distance")
 ENCLOSE_TERM_NAMES = ("slot", "attacker", "edge", "move")
 
@@ -48,6 +50,11 @@ builds (mpc_hunt.control.enclosure), r_d the controlled defenders' mean step (v_
 attacker propagated through its APF dynamics (Eq. 2),
 w_a = 10, w_e = 10, margin = 1 m, w_m = 1e-3. The paper's constraints but Eq. 14 (the places
 decide the distances), with every defender inside the arena."""
+
+
+def hard_violation(violation: dict[str, float]) -> float:
+    """The largest violation of the families a plan must keep (:data:`HARD_CONSTRAINTS`), in metres."""
+    return max(violation[name] for name in HARD_CONSTRAINTS)
 
 
 @dataclass(frozen=True)

@@ -231,6 +231,9 @@ def _compare_parser(sub) -> None:
     cmp.add_argument("--hunts", type=non_negative(MAX_OWN_LOOP_HUNTS), default=10, metavar="K",
                      help="own-loop: random hunts beside the two paper scenarios, drawn as the sweep draws hunt K of "
                           "--seed (default: 10)")
+    cmp.add_argument("--window", type=positive_float, default=120.0, metavar="SECONDS",
+                     help="own-loop: each hunt runs from where the paper's strategy first reaches the capture stage, "
+                          "for at most this long (default: 120)")
     cmp.add_argument("--deadline", type=positive_float, metavar="SECONDS",
                      help="own-loop: the step's budget (e.g. 0.02 for 50 Hz), counted beside the time step T")
     cmp.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="each solve's iteration cap")
@@ -560,7 +563,7 @@ def _compare(args) -> int:
 def _compare_own_loop(args, pairs) -> int:
     from mpc_hunt.bench.compare_report import dumps
     from mpc_hunt.bench.machine import describe_machine, load_average
-    from mpc_hunt.bench.own_loop import rows as loop_rows, run_own_loop, table as loop_table
+    from mpc_hunt.bench.own_loop import capture_stage_hunts, rows as loop_rows, run_own_loop, table as loop_table
     from mpc_hunt.sweep.random_scenario import sweep_scenario
 
     if len(args.mode) > 1:
@@ -573,8 +576,12 @@ def _compare_own_loop(args, pairs) -> int:
     if untimed:
         raise MpcHuntError(f"--time-limit: backend {untimed[0]} takes none; leave it out of the pairs (--pair) or "
                            "drop --time-limit")
-    scenarios = [builtin_scenario(name) for name in OWN_LOOP_SCENARIOS] \
-        + [sweep_scenario(args.seed, i) for i in range(args.hunts)]
+    if not args.json:
+        print("finding where each hunt's capture stage starts (the paper's strategy)", file=messages())
+    with stop_at_once("compare"):
+        scenarios = capture_stage_hunts([builtin_scenario(name) for name in OWN_LOOP_SCENARIOS],
+                                        (sweep_scenario(args.seed, i) for i in itertools.count()), args.hunts,
+                                        args.window)
     controller = "paper" if args.objective == "paper" else "enclose"
     machine = describe_machine()
     total = len(scenarios) * len(pairs) * len(args.horizon)
@@ -586,6 +593,7 @@ def _compare_own_loop(args, pairs) -> int:
     machine["load_average_end"] = load_average()
     rows = loop_rows(run)
     settings = {"mode": OWN_LOOP, "controller": controller, "scenarios": [s.name for s in scenarios],
+                "window_s": args.window,
                 "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon, "accuracy": args.accuracy,
                 "violation_tolerance_m": run.tolerance, "time_limit_s": args.time_limit, "max_iter": args.max_iter,
                 "deadline_s": args.deadline, "seed": args.seed}

@@ -72,8 +72,10 @@ class LinearisedCapture:
             low = ca.fmax(low, ca.fmin(ca.repmat(p["arena"][:2], N * nc, 1) - Xref, 0))
             high = ca.fmin(high, ca.fmax(ca.repmat(p["arena"][2:], N * nc, 1) - Xref, 0))
         add(X - Xref, low, high, "trust_region")
-        add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc), "equal_distance")
-        n_rows = nX + N * nc
+        # No s ≥ 0 rows: the two elastic rows of Eq. 14 below already give s ≥ |d² − q| ≥ 0. Written out, they were
+        # active wherever an elastic row was, 30 linearly dependent active rows at N = 10 (105 active, rank 75),
+        # on which DAQP's active set cycled for seconds (docs/benchmarks.md, "The QP in its own loop").
+        n_rows = nX
         for k in range(N):
             a_k, a_ref_k = a_lin[2 * k:2 * k + 2], a_ref[2 * k:2 * k + 2]
             for i in range(nc):

@@ -28,16 +28,22 @@ class SQPFormulation(QPFormulation):
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         theta = parameter_vector(problem)
         return iterate(lambda reference, duals: self.solve_at(problem, backend, reference, theta, duals),
-                       problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration)
+                       problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration,
+                       getattr(backend, "time_limit", None))
 
 
-def iterate(step, reference: np.ndarray, duals, iteration: QPIteration) -> Solution:
+def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_limit: float | None = None) -> Solution:
     """``step(reference, duals)`` (one QP linearised at ``reference``) repeated at its own plan until ``iteration``
-    says it has settled; times and iterations summed."""
+    says it has settled; times and iterations summed. With a ``time_limit`` (s, the backend's, for each QP), no QP
+    is started once the QPs' time has reached it: the step ends ``time_limit`` with the last usable plan."""
     solver_time = setup_time = 0.0
     iterations = 0
     last = None
     for count in range(iteration.max_qps):
+        if last is not None and time_limit is not None and solver_time >= time_limit:
+            return replace(last, status=Status.TIME_LIMIT, message=f"{count} QPs in {solver_time:.3g} s: the "
+                                                                   f"{time_limit:g} s limit reached",
+                           solver_time=solver_time, setup_time=setup_time, iterations=iterations)
         result = step(reference, duals)
         solver_time += result.solver_time
         setup_time += result.setup_time

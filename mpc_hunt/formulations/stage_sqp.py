@@ -23,4 +23,5 @@ class StageSQPFormulation(RTIFormulation):
         def step(reference, duals):
             return RTIFormulation.solve(self, problem, backend, reference, duals)
 
-        return iterate(step, problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration)
+        return iterate(step, problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration,
+                       getattr(backend, "time_limit", None))

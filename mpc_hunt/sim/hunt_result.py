@@ -48,6 +48,7 @@ class HuntResult:
     certificates: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     applied_violations: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
     deadline: float | None = None     # the step's budget given to the hunt (s), beside the time step T
+    violating_plans: int = 0          # usable solves whose plan the loop did not apply: beyond its tolerance
 
     BUDGET_STATUSES = ("time_limit", "iteration_limit")
 
@@ -107,6 +108,7 @@ class HuntResult:
             "fallbacks": self.fallbacks,
             "longest_failure_streak": self.longest_failure_streak,
             "budget_hits": self.budget_hits,
+            "violating_plans": self.violating_plans,
             "step_time_max_s": float(np.max(self.step_times)) if len(self.step_times) else None,
             "deadline_misses": {"time_step_s": self.time_step,
                                 "over_time_step": self.deadline_misses(self.time_step),

@@ -102,8 +102,10 @@ class _SolveRecord:
 
     def __init__(self):
         self.waits, self.statuses, self.certificates, self.violations = [], [], [], []
+        self.violating = 0
 
     def add(self, solution, fallback: bool) -> None:
+        self.violating += solution.success and fallback     # usable, yet not applied: beyond the tolerance
         self.waits.append(solution.solve_time + solution.setup_time)
         self.statuses.append(solution.status.value)
         c = solution.certificate
@@ -116,7 +118,7 @@ class _SolveRecord:
         return replace(result, step_times=np.array(self.waits), solve_statuses=tuple(self.statuses),
                        certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
                        applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),
-                       deadline=deadline)
+                       deadline=deadline, violating_plans=self.violating)
 
 
 def _result(scenario, controller, attacker, defenders, stages, intercepts, termination, held,

@@ -7,6 +7,13 @@ backend, stateless between solves) and the receding-horizon memory, which lives 
 * the plan applied last step, kept with its problem's signature; shifted one step, it is the next warm start
   while the same defenders are controlled (:func:`~mpc_hunt.capture.plan.shift_plan`), else the step is cold;
 * the duals of the last step's solve if it was usable, handed back only with that warm start;
+* one meaning of success: a usable solve's plan is applied when its true violations of the constraints a plan
+  must keep (:data:`~mpc_hunt.capture.evaluator.HARD_CONSTRAINTS`: Eqs. 13, 15, separation, attacker distance;
+  Eq. 14 is elastic) are within ``tolerance`` (:data:`~mpc_hunt.solving.accuracy.VIOLATION_TOLERANCE`, the
+  success rule of ``compare``); a usable plan beyond it is its own outcome, ``violating`` (counted in
+  ``violating``), and the fallback below is applied. The rule reads the evaluator's violations, so it holds where
+  plans are scored (``score=True``: compare, ``simulate --score``, compare's own loop); scoring costs about 60 %
+  of an RTI step, so a controller built without it trusts a usable status;
 * the fallback when a solve fails (counted in ``fallbacks``), in order: the solver's last iterate if the
   evaluator scored it feasible (violations ≤ :data:`FEASIBLE_TOLERANCE`; the common case of IPOPT stalling on
   the field's kink at |r_ai| = R_agg, where H is continuous but not differentiable); else the applied plan
@@ -30,9 +37,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mpc_hunt.capture.evaluator import hard_violation
 from mpc_hunt.capture.plan import shift_plan
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.solving.solver import CaptureSolver
 
 FEASIBLE_TOLERANCE = 1e-6     # a failed solve's last iterate is applied when no violation exceeds it
@@ -63,12 +72,16 @@ class CaptureMPC:
     """The capture problem solved over a receding horizon (the module's docstring): a solver and its memory.
 
     ``formulation``, ``backend`` and ``options`` make the :class:`CaptureSolver` (``solver``: ``time_limit``,
-    ``score``, ``loop``, the backend's options …).
+    ``max_iter``, ``accuracy``, ``score``, ``loop``, the backend's options …); ``tolerance`` (m) is the largest
+    true violation of a plan applied (default: the accuracy's, :data:`VIOLATION_TOLERANCE`).
     """
 
-    def __init__(self, formulation: str = "nlp", backend: str | None = None, **options):
+    def __init__(self, formulation: str = "nlp", backend: str | None = None, *, tolerance: float | None = None,
+                 **options):
         self.solver = CaptureSolver(formulation, backend, **options)
+        self.tolerance = VIOLATION_TOLERANCE[options.get("accuracy", "default")] if tolerance is None else tolerance
         self.fallbacks: Counter[str] = Counter()      # the fallbacks applied, by kind (:data:`FALLBACKS`)
+        self.violating = 0                            # usable plans not applied: beyond the tolerance
         self._memory: _Memory | None = None
 
     @property
@@ -90,7 +103,11 @@ class CaptureMPC:
         start, memory = self._start(problem), self._memory
         duals = memory.duals if start is not None else None
         solution = self.solver.solve(problem, start, duals)
-        if solution.success:
+        if solution.success and solution.violation is not None \
+                and hard_violation(solution.violation) > self.tolerance:
+            self.violating += 1
+            plan, fallback = self._fallback(problem, start)
+        elif solution.success:
             plan, fallback = solution.plan, None
         elif solution.plan is not None and solution.violation is not None \
                 and solution.max_violation <= FEASIBLE_TOLERANCE:

@@ -145,3 +145,20 @@ def test_a_failed_real_time_step_holds_then_shifts_and_never_applies_its_iterate
     assert not mpc.loop_step(_broken(_problem())).usable
     np.testing.assert_array_equal(mpc.plan, shift_plan(good))
     assert mpc.fallbacks == Counter({"held": 1, "shifted plan": 1})
+
+
+def test_a_usable_plan_beyond_the_tolerance_is_violating_and_the_fallback_is_applied():
+    """One meaning of success: a usable, scored plan that breaks a hard constraint beyond the loop's tolerance is
+    not applied (Eq. 14, elastic, never vetoes)."""
+    from conftest import problem_at, small_scenario
+
+    problem = problem_at(small_scenario(), 3)
+    strict = CaptureMPC("qp", "clarabel", score=True, tolerance=-1.0)     # nothing is within a negative tolerance
+    step = strict.step(problem)
+    assert step.solution.success and step.fallback == "held" and strict.violating == 1
+    assert np.array_equal(step.plan, problem.held_plan())
+    usual = CaptureMPC("qp", "clarabel", score=True)
+    applied = usual.step(problem)
+    assert applied.fallback is None and usual.violating == 0 and np.array_equal(applied.plan, applied.solution.plan)
+    unscored = CaptureMPC("qp", "clarabel", score=False, tolerance=-1.0)  # no violations known: the status decides
+    assert unscored.step(problem).fallback is None and unscored.violating == 0
