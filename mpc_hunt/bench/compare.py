@@ -54,6 +54,9 @@ class SolveRecord:
     score_time: float        # the evaluator's, outside the all-in time
     iterations: int
     warm_started: bool
+    primal_residual: float | None = None     # the certificate of the QP (or NLP) the solver was handed
+    dual_residual: float | None = None
+    duality_gap: float | None = None
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -118,7 +121,10 @@ def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, hor
                        solution.status.value, is_success(solution.success, solution.violation, run.tolerance),
                        solution.objective, solution.violation, all_in, solution.solver_time,
                        max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.score_time,
-                       solution.iterations, solution.warm_started)
+                       solution.iterations, solution.warm_started,
+                       *((None,) * 3 if solution.certificate is None else
+                         (solution.certificate.primal_residual, solution.certificate.dual_residual,
+                          solution.certificate.duality_gap)))
 
 
 def _new_mpc(run: CompareRun, pair: tuple[str, str]) -> CaptureMPC:

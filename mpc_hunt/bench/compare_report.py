@@ -63,15 +63,17 @@ def _g(x: float | None, fmt: str = ".2g") -> str:
     return "–" if x is None else format(x, fmt)
 
 
-COLUMNS = ("pair", "mode", "N", "success", "median ms", "p95 ms", "sgm ms", "solver ms", "ours ms", "iters",
-           "gap med", "gap p95", "max viol m")
+COLUMNS = ("pair", "mode", "N", "accuracy", "solves", "success", "median ms", "p95 ms", "sgm ms", "solver ms",
+           "ours ms", "warm ×", "iters", "gap med", "gap p95", "max viol m", "max dual res", "max gap")
 
 
 def _cells(r: dict) -> list[str]:
-    return [f"{r['formulation']}/{r['backend']}", r["mode"], str(r["horizon"]), f"{r['success_rate']:.0%}",
-            _ms(r["solve_time_median_s"]), _ms(r["solve_time_p95_s"]), _ms(r["solve_time_shifted_geomean_s"]),
-            _ms(r["solver_time_median_s"]), _ms(r["overhead_time_median_s"]), _g(r["iterations_median"], "g"),
-            _g(r["optimality_gap_median"]), _g(r["optimality_gap_p95"]), _g(r["max_violation"], ".1e")]
+    speedup = "–" if r.get("warm_speedup") is None else f"{r['warm_speedup']:.2f}"
+    return [f"{r['formulation']}/{r['backend']}", r["mode"], str(r["horizon"]), r["accuracy"], str(r["solves"]),
+            f"{r['success_rate']:.0%}", _ms(r["solve_time_median_s"]), _ms(r["solve_time_p95_s"]),
+            _ms(r["solve_time_shifted_geomean_s"]), _ms(r["solver_time_median_s"]), _ms(r["overhead_time_median_s"]),
+            speedup, _g(r["iterations_median"], "g"), _g(r["optimality_gap_median"]), _g(r["optimality_gap_p95"]),
+            _g(r["max_violation"], ".1e"), _g(r.get("max_dual_residual"), ".1e"), _g(r.get("max_duality_gap"), ".1e")]
 
 
 def table(rows: list[dict]) -> str:

@@ -1,7 +1,8 @@
 """Score a compare run: one row per (formulation, backend, mode, horizon), as ``mpc-hunt compare`` reports it.
 
-``success_rate``: the share of solves with a success status and every true
-violation within the accuracy's tolerance (:func:`mpc_hunt.bench.metrics.is_success`).
+``success_rate``: the share of solves with a success status and every hard
+constraint's true violation within the accuracy's tolerance
+(:func:`mpc_hunt.bench.metrics.is_success`, the loop's rule).
 Times, in seconds, over every solve (a failed solve is waited for too):
 ``solve_time_*`` all-in (median, 95th percentile, shifted geometric mean with
 a 10 ms shift, a failed solve counted at the time limit when there is one, as
@@ -14,7 +15,12 @@ known for that problem and horizon (the lowest objective that passes the
 success rule, over every pair, both modes and the multi-start NLP), relative;
 it is negative when a plan that breaks a constraint beats every feasible one.
 ``max_violation`` and ``max_violation_<family>``: the largest true violation,
-in metres, over every plan returned.
+in metres, over every plan returned; ``max_primal_residual``, ``max_dual_residual``
+and ``max_duality_gap``: the largest of the usable solves' certificates, of the
+problem each solver was handed (:mod:`mpc_hunt.capture.certificate`): the solver's
+inaccuracy, beside the true violations that the linearisation adds.
+``warm_speedup``: on a closed-loop row, the median over the states both modes
+solved of the cold time over the warm-started one.
 """
 
 from __future__ import annotations
@@ -87,17 +93,35 @@ def score(records: list[SolveRecord], best: dict[tuple[str, int], float], accura
     }
     for name in VIOLATION_NAMES:
         row[f"max_violation_{name}"] = max((v[name] for v in plans), default=None)
+    for name in ("primal_residual", "dual_residual", "duality_gap"):    # over the usable solves' certificates
+        row[f"max_{name}"] = max((getattr(r, name) for r in records
+                                  if r.status in USABLE and getattr(r, name) is not None), default=None)
     row["statuses"] = ", ".join(f"{s} {n}" for s, n in sorted(Counter(r.status for r in records).items()))
     row["warm_started"] = sum(r.warm_started for r in records)
     return row
 
 
+def warm_speedup(closed: list[SolveRecord], cold: list[SolveRecord]) -> tuple[float | None, int]:
+    """The median, over the states both modes solved, of the cold solve's time over the warm-started one's: the
+    same-state speed-up of the closed-loop mode; and on how many states."""
+    cold_time = {r.problem: r.solve_time for r in cold}
+    ratios = [cold_time[r.problem] / r.solve_time for r in closed if r.problem in cold_time and r.solve_time > 0]
+    return (float(np.median(ratios)) if ratios else None), len(ratios)
+
+
 def rows(run: CompareRun) -> list[dict]:
-    """Every row, by horizon, mode, then the pairs in the run's order (a row for each with finished solves)."""
+    """Every row, by horizon, mode, then the pairs in the run's order (a row for each with finished solves). A
+    closed-loop row also holds its same-state speed-up over the cold mode (:func:`warm_speedup`)."""
     best = best_known(run)
     groups: dict[tuple, list[SolveRecord]] = {}
     for r in run.records:
         groups.setdefault((r.horizon, r.mode, r.formulation, r.backend), []).append(r)
     order = {pair: i for i, pair in enumerate(run.pairs)}
     keys = sorted(groups, key=lambda k: (run.horizons.index(k[0]), run.modes.index(k[1]), order[k[2:]]))
-    return [score(groups[k], best, run.accuracy, run.time_limit) for k in keys]
+    out = []
+    for k in keys:
+        row = score(groups[k], best, run.accuracy, run.time_limit)
+        speedup, states = (warm_speedup(groups[k], groups.get((k[0], "cold", *k[2:]), []))
+                           if k[1] == "closed-loop" else (None, 0))
+        out.append(row | {"warm_speedup": speedup, "warm_speedup_states": states})
+    return out

@@ -8,6 +8,7 @@ and controllers are listed from the registry without importing them.
 from __future__ import annotations
 
 import argparse
+import copy
 import itertools
 import json
 import shlex
@@ -237,7 +238,9 @@ def _compare_parser(sub) -> None:
     cmp.add_argument("--deadline", type=positive_float, metavar="SECONDS",
                      help="own-loop: the step's budget (e.g. 0.02 for 50 Hz), counted beside the time step T")
     cmp.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="each solve's iteration cap")
-    cmp.add_argument("--accuracy", choices=ACCURACIES, default="default", help="default: default")
+    cmp.add_argument("--accuracy", choices=ACCURACIES, nargs="+", default=["default"],
+                     help="one or more profiles, each run on the same problems: default (ours, per backend), high, "
+                          "low, solver (each solver's own defaults) (default: default)")
     cmp.add_argument("--time-limit", type=positive_float, metavar="SECONDS",
                      help="handed to each solver call; a failed solve then counts at it in the shifted mean")
     cmp.add_argument("--starts", type=count(MAX_STARTS), default=4,
@@ -368,7 +371,7 @@ def _summary(result, report: dict, scenario) -> str:
         lines.append(f"capture-stage solves: {stats['count']}, median {stats['median_s'] * 1e3:.2f} ms, "
                      f"p95 {stats['p95_s'] * 1e3:.2f} ms, max {stats['max_s'] * 1e3:.2f} ms; "
                      f"failed {result.failed_solves}, fallbacks {result.fallbacks}")
-        misses = report["deadline_misses"]
+        misses = stats["deadline_misses"]
         lines.append(f"steps that waited longer than T = {misses['time_step_s']:g} s: {misses['over_time_step']}"
                      + ("" if misses["deadline_s"] is None else
                         f", than the deadline {misses['deadline_s']:g} s: {misses['over_deadline']}")
@@ -535,26 +538,40 @@ def _compare(args) -> int:
     if not problem_set.problems:
         raise MpcHuntError(f"--tag {' '.join(args.tag)}: no problem of {args.problems!r} carries every tag")
     machine = describe_machine()
-    total = planned_solves(problem_set, len(pairs), args.horizon, args.mode, args.starts)
+    accuracies = list(dict.fromkeys(args.accuracy))
+    total = planned_solves(problem_set, len(pairs), args.horizon, args.mode, args.starts) * len(accuracies)
+    runs = []
     with Progress(total, "compare", quiet=args.json, unit="solves") as update:
         done = itertools.count(1)
-        run = run_compare(problem_set, pairs, args.horizon, args.mode, rng, accuracy=args.accuracy,
-                          time_limit=args.time_limit, max_iter=args.max_iter, starts=args.starts,
-                          objective=args.objective,
-                          progress=(lambda: update(next(done))) if update else None)
+        for accuracy in accuracies:        # one run per profile, on the same problems and the same draws
+            runs.append(run_compare(problem_set, pairs, args.horizon, args.mode, copy.deepcopy(rng),
+                                    accuracy=accuracy, time_limit=args.time_limit, max_iter=args.max_iter,
+                                    starts=args.starts, objective=args.objective,
+                                    progress=(lambda: update(next(done))) if update else None))
+            if runs[-1].interrupted:
+                break
     machine["load_average_end"] = load_average()
-    rows = score_rows(run)
+    rows = [row for run in runs for row in score_rows(run)]
     extra = {"problem_set": args.problems, "tags": args.tag, "limit": args.limit, "seed": args.seed}
-    print(dumps(document(run, machine, rows, extra)) if args.json else table(rows))
+    doc = document(runs[0], machine, rows, extra)
+    doc["settings"]["accuracy"] = accuracies
+    print(dumps(doc) if args.json else table(rows))
     if args.csv:
         write_csv(rows, args.csv)
-    if args.plot:
-        args.plot.mkdir(exist_ok=True)
-        plot_compare(run, rows, args.plot)
-    if args.report:
-        write_report(run, machine, args.report, "mpc-hunt " + shlex.join(args.argv), extra)
-    if run.interrupted:
-        print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.records)} finished solves",
+    for run in runs:      # a folder per profile when there are several
+        where = (lambda folder: folder) if len(runs) == 1 else (lambda folder: folder / run.accuracy)
+        if args.plot:
+            where(args.plot).mkdir(parents=True, exist_ok=True)
+            plot_compare(run, score_rows(run), where(args.plot))
+        if args.report:
+            write_report(run, machine, where(args.report), "mpc-hunt " + shlex.join(args.argv), extra)
+    solves = sum(len(run.records) for run in runs)
+    if len({row["solves"] for row in rows if row["mode"] == "cold"}) > 1 \
+            or len({row["solves"] for row in rows if row["mode"] == "closed-loop"}) > 1:
+        print("mpc-hunt compare: the rows hold different numbers of solves (see the solves column): compare them "
+              "on the solves they share", file=messages())
+    if runs[-1].interrupted:
+        print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {solves} finished solves",
               file=messages())
         return EXIT_ERROR
     return 0
@@ -568,6 +585,8 @@ def _compare_own_loop(args, pairs) -> int:
 
     if len(args.mode) > 1:
         raise MpcHuntError("--mode own-loop: it runs hunts, not the problem set's states: give it alone")
+    if len(args.accuracy) > 1:
+        raise MpcHuntError("--accuracy: own-loop runs one profile at a time")
     for flag, given in (("--csv", args.csv), ("--report", args.report), ("--plot", args.plot),
                         ("--tag", args.tag), ("--limit", args.limit)):
         if given:
@@ -587,14 +606,14 @@ def _compare_own_loop(args, pairs) -> int:
     total = len(scenarios) * len(pairs) * len(args.horizon)
     with stop_at_once("compare"), Progress(total, "compare (own loop)", quiet=args.json, unit="hunts") as update:
         done = itertools.count(1)
-        run = run_own_loop(scenarios, pairs, args.horizon, controller=controller, accuracy=args.accuracy,
+        run = run_own_loop(scenarios, pairs, args.horizon, controller=controller, accuracy=args.accuracy[0],
                            time_limit=args.time_limit, max_iter=args.max_iter, deadline=args.deadline,
                            progress=(lambda: update(next(done))) if update else None)
     machine["load_average_end"] = load_average()
     rows = loop_rows(run)
     settings = {"mode": OWN_LOOP, "controller": controller, "scenarios": [s.name for s in scenarios],
                 "window_s": args.window,
-                "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon, "accuracy": args.accuracy,
+                "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon, "accuracy": args.accuracy[0],
                 "violation_tolerance_m": run.tolerance, "time_limit_s": args.time_limit, "max_iter": args.max_iter,
                 "deadline_s": args.deadline, "seed": args.seed}
     print(dumps({"machine": machine, "settings": settings, "interrupted": run.interrupted, "rows": rows})

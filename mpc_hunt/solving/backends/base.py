@@ -37,7 +37,9 @@ from mpc_hunt.capture.certificate import qp_certificate
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
-ACCURACIES = ("default", "high", "low")
+# The accuracy profiles: ours, tuned per backend (default), tighter (high), looser (low), and each solver's own
+# defaults (solver), as qpbenchmark's "default" profile runs them (docs/benchmarks.md).
+ACCURACIES = ("default", "high", "low", "solver")
 CACHE_SIZE = 16   # structures kept set up per backend (the controlled set changes during a hunt)
 MAX_ITERATIONS = 1_000_000   # the largest iteration cap taken
 FIRST_CAP = 100   # a clockless solver's cap under a time limit before any time per iteration is measured
