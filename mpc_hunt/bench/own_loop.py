@@ -2,18 +2,19 @@
 
 The replayed modes (``cold``, ``closed-loop``) hand every pair the same recorded states; a control engineer
 embedding a step needs what happens when the pair meets the states its own plans lead to. Here each pair drives
-the capture stage of a solving controller (the paper's by default) through whole hunts, from the same starting
-hunts (scenarios: data, drawn by the caller), pairs taking turns on each hunt so that load on the machine falls on
-all of them alike. Every plan is scored by the evaluator (its time kept apart from the step's); the step's time
-is what the controller waited for its plan: the solve and any set-up it did.
+the capture stage of a solving controller (the paper's by default) through hunts, from the same starts (scenarios:
+data, drawn by the caller; :func:`capture_stage_hunts` starts each where the paper's strategy first reaches the
+capture stage), pairs taking turns on each hunt so that load on the machine falls on all of them alike. Every plan
+is scored by the evaluator (its time kept apart from the step's); the step's time is what the controller waited
+for its plan: the solve and any set-up it did.
 
 Per pair and horizon, over its hunts: captures and capture time; the step's time p50, p95, p99 and max; deadline
 misses against the time step T and against the given ``deadline``; solves stopped by their budget (time limit,
 iteration cap); failed solves, fallbacks and the longest run of failed solves; iterations; the usable plans the
 loop refused as violating (:class:`~mpc_hunt.solving.mpc.CaptureMPC`'s rule) and the applied plans' true
-violations (how many exceed the tolerance: none, by that rule; the largest of each family) and the
-certificates' largest residuals over the usable solves (:mod:`mpc_hunt.capture.certificate`): the solver's inaccuracy and the
-linearisation's error side by side. Ctrl-C stops between two hunts and keeps every hunt finished.
+violations (how many exceed the tolerance: none, by that rule; the largest of each family); the certificates'
+largest residuals over the usable solves (:mod:`mpc_hunt.capture.certificate`): the solver's inaccuracy and the
+linearisation's error side by side. Ctrl-C stops the run and keeps every hunt finished.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from mpc_hunt.capture.evaluator import HARD_CONSTRAINTS as HARD, VIOLATION_NAMES
+from mpc_hunt.capture.solution import Status
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.errors import BenchmarkError
@@ -34,8 +36,6 @@ from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.world.attacker import perceives
 from mpc_hunt.world.scenario import Scenario
-
-USABLE = ("optimal", "optimal_inaccurate")
 
 
 @dataclass(frozen=True)
@@ -169,7 +169,7 @@ def hunt_summary(hunt: LoopHunt) -> dict:
     """One hunt as plain data (JSON-ready): its keys, counts and per-step waits and iterations, what :func:`score`
     aggregates (a study keeps it as it goes)."""
     r = hunt.result
-    usable = np.array([s in USABLE for s in r.solve_statuses], dtype=bool)
+    usable = np.array([Status(s).usable for s in r.solve_statuses], dtype=bool)
     certified = r.certificates[usable & ~np.any(np.isnan(r.certificates), axis=1)] if len(usable) else np.zeros((0, 3))
     scored = r.applied_violations[~np.any(np.isnan(r.applied_violations), axis=1)]
     hard = scored[:, [VIOLATION_NAMES.index(n) for n in HARD]]

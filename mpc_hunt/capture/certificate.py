@@ -74,8 +74,9 @@ def qp_certificate(P: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, l: np.ndarray,
     worst = max(worst, float(np.max(np.nan_to_num(over, nan=0.0, neginf=0.0))))
     dual = float(np.max(np.abs(Px + q + A.T @ y), initial=0.0))
     y_lin = np.where(linear, y, 0.0)
-    gap = float(x @ Px + q @ x) + float(np.sum(_bound_terms(u, np.maximum(y_lin, 0.0)))) \
-        - float(np.sum(_bound_terms(l, np.maximum(-y_lin, 0.0)))) + float(np.sum(_bound_terms(u, np.where(cone, y, 0.0))))
+    bounds = _bound_terms(u, np.maximum(y_lin, 0.0)) - _bound_terms(l, np.maximum(-y_lin, 0.0)) \
+        + _bound_terms(u, np.where(cone, y, 0.0))
+    gap = float(x @ Px + q @ x) + float(np.sum(bounds))
     return Certificate(max(worst, 0.0), dual, abs(gap))
 
 

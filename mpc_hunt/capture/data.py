@@ -45,6 +45,9 @@ class QPData:
     CVXPY backend uses as an independent check of the assembled matrices.
     ``cones`` lists (start, size) of rows that form second-order cones
     (t ≥ |v|, with row ``start`` holding t): such data is of kind ``"socp"``.
+    ``implied`` marks rows that the others imply (None: none), which a backend
+    may leave out (an active-set method, on which they are degenerate); their
+    multipliers are then 0, a valid choice since the rest imply them.
     """
 
     key: tuple
@@ -57,6 +60,7 @@ class QPData:
     c: np.ndarray
     lin: np.ndarray
     cones: tuple[tuple[int, int], ...] = ()
+    implied: np.ndarray | None = None
 
     def bounded_rows(self) -> tuple[np.ndarray, np.ndarray]:
         """The rows outside the cones with a finite upper bound, and those with a finite lower bound."""

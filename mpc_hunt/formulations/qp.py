@@ -72,10 +72,11 @@ class LinearisedCapture:
             low = ca.fmax(low, ca.fmin(ca.repmat(p["arena"][:2], N * nc, 1) - Xref, 0))
             high = ca.fmin(high, ca.fmax(ca.repmat(p["arena"][2:], N * nc, 1) - Xref, 0))
         add(X - Xref, low, high, "trust_region")
-        # No s ≥ 0 rows: the two elastic rows of Eq. 14 below already give s ≥ |d² − q| ≥ 0. Written out, they were
-        # active wherever an elastic row was, 30 linearly dependent active rows at N = 10 (105 active, rank 75),
-        # on which DAQP's active set cycled for seconds (docs/benchmarks.md, "The QP in its own loop").
-        n_rows = nX
+        # s ≥ 0 is implied by Eq. 14's two elastic rows below (s ≥ |d² − q|), so it is marked: a solver may drop
+        # it. ADMM (OSQP) converges faster with it; an active-set method (DAQP) cycles on it, 30 linearly
+        # dependent active rows at N = 10 (105 active, rank 75) (docs/benchmarks.md, "The QP in its own loop").
+        add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc), "equal_distance")
+        n_rows = nX + N * nc
         for k in range(N):
             a_k, a_ref_k = a_lin[2 * k:2 * k + 2], a_ref[2 * k:2 * k + 2]
             for i in range(nc):
@@ -115,6 +116,8 @@ class LinearisedCapture:
         g = ca.substitute(ca.vertcat(*rows), X, Xref + delta)
         self.relax = np.array(relax, dtype=bool)
         self.family = np.array(family)  # each row's constraint family (evaluator names, or "trust_region")
+        self.implied = np.zeros(len(self.family), dtype=bool)     # rows the others imply: the s ≥ 0 rows
+        self.implied[nX:nX + N * nc] = True
         A = ca.jacobian(g, x)
         b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
         # Never worse than now (as nlp): a row that the held plan breaks is relaxed to the held plan's
@@ -138,7 +141,7 @@ class LinearisedCapture:
         P, q, A, l, u, J, c, lin = self.function(theta, Xref)
         return QPData(key, self._csc(self._patterns[0], P), np.array(q).ravel(), self._csc(self._patterns[1], A),
                       np.array(l).ravel(), np.array(u).ravel(),
-                      np.array(J), np.array(c).ravel(), np.array(lin).ravel(), tuple(self.cones))
+                      np.array(J), np.array(c).ravel(), np.array(lin).ravel(), tuple(self.cones), self.implied)
 
 
 @lru_cache(maxsize=32)

@@ -80,8 +80,8 @@ VIOLATION_TOL = {
 BOUNDARY_TOL = {
     "nlp": {"motion_limit": 7e-6, "obstacle_safety": 2e-7, "separation": 1e-7,
             "attacker_distance": 5e-6},   # measured 6.2e-7, 1.7e-8, 8.7e-9, 4.6e-7
-    "qp": {"motion_limit": 1e-8, "obstacle_safety": 1e-3, "separation": 6e-5,
-           "attacker_distance": 5e-5},    # 5.2e-9 (OSQP; the others 3.1e-12), 8.1e-5, 5.7e-6, 4.7e-6
+    "qp": {"motion_limit": 1e-9, "obstacle_safety": 1e-3, "separation": 6e-5,
+           "attacker_distance": 5e-5},    # 3.1e-12, 8.1e-5, 5.7e-6, 4.7e-6
     "socp": {"motion_limit": 1e-9, "obstacle_safety": 1e-3, "separation": 7e-5,
              "attacker_distance": 4e-5},  # 2.9e-12, 9.3e-5, 6.2e-6, 3.3e-6
     "sqp": dict.fromkeys(FAMILIES, 5e-8),  # ≤ 4.4e-9

@@ -213,3 +213,13 @@ def test_train_ppo_refuses_a_damaged_checkpoint_in_one_line(content, tmp_path):
                           "--output", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert run.returncode == 2 and run.stderr.count("\n") == 1 and "Traceback" not in run.stderr
     assert "progress.json: not a training's progress" in run.stderr
+
+
+def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch, capsys):
+    module = study("realtime")
+    progress = tmp_path / "hunts.jsonl"
+    hunt = {"formulation": "qp", "backend": "osqp", "horizon": 5, "scenario": "paper-open"}
+    progress.write_text(json.dumps(hunt) + "\n" + json.dumps(hunt | {"horizon": 10})[:25], encoding="utf-8")
+    monkeypatch.setattr(module, "PROGRESS", progress)
+    assert list(module.finished()) == ["qp:osqp N=5 paper-open"]    # the line a stop cut short runs again
+    usage_error(capsys, "realtime", ["--workers", "3"])

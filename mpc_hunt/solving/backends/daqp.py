@@ -13,6 +13,9 @@ solve, and its proximal-point loop runs many short ones, so its own time limit
 can pass unnoticed for seconds (measured: 2 s against a 0.02 s limit). The time
 limit is therefore also an iteration cap (``CLOCK = False``:
 :meth:`~mpc_hunt.solving.backends.base.Backend.iteration_cap`), set before each solve.
+Rows the formulation marks as implied by the others (``QPData.implied``: ``qp``'s
+s ≥ 0) are left out: linearly dependent active rows, on which its active set
+cycled for seconds (their multipliers are returned as 0).
 """
 
 from __future__ import annotations
@@ -30,10 +33,16 @@ _MESSAGE = {2: "soft optimal", 1: "optimal", -1: "infeasible", -2: "cycling", -3
 ACTIVE, LOWER = 1, 2      # DAQP's constraint flags
 
 
+def _kept(data: QPData) -> np.ndarray:
+    """The rows DAQP is handed: all but those the others imply (degenerate for an active-set method)."""
+    return np.ones(data.A.shape[0], dtype=bool) if data.implied is None else ~data.implied
+
+
 def _dense(data: QPData) -> tuple[np.ndarray, ...]:
     P = data.P.toarray()
     H = P + P.T - np.diag(np.diag(P))
-    return H, data.q, data.A.toarray(), data.u, data.l
+    kept = _kept(data)
+    return H, data.q, data.A.toarray()[kept], data.u[kept], data.l[kept]
 
 
 class DaqpBackend(Backend):
@@ -71,13 +80,17 @@ class DaqpBackend(Backend):
         model.update(H=H, f=f, A=A, bupper=u, blower=l)
 
     def run(self, model, data: QPData, warm: WarmStart) -> Solution:
+        kept = _kept(data)
         if warm.y is not None and len(warm.y) == data.A.shape[0]:
-            sense = np.where(warm.y > 0, ACTIVE, np.where(warm.y < 0, ACTIVE | LOWER, 0)).astype(np.int32)
+            y = warm.y[kept]
+            sense = np.where(y > 0, ACTIVE, np.where(y < 0, ACTIVE | LOWER, 0)).astype(np.int32)
             model.update(sense=sense)
         model.settings = {"iter_limit": self.iteration_cap()}
         x, fval, flag, info = model.solve()
         x = np.array(x)
+        y = np.zeros(data.A.shape[0])
+        y[kept] = info["lam"]
         return Solution(status=_STATUS.get(int(flag), Status.ERROR), message=_MESSAGE.get(int(flag), str(flag)),
                         x=x, formulation_objective=float(fval), iterations=int(info["iterations"]),
-                        duals=WarmStart(x, np.array(info["lam"])),
+                        duals=WarmStart(x, y),
                         extras={"reported_solve_time_s": float(info["solve_time"])})
