@@ -1,6 +1,6 @@
 """The compare benchmark: every installed (formulation, backend) pair on the shipped problem set.
 
-At horizons N = 1, 5 and 10, in both modes (cold, closed-loop), accuracy
+At horizons N = 1, 5 and 10, in both modes (cold, replayed), accuracy
 ``default``, seed 0, no time limit: ``mpc-hunt compare`` as a study. It writes
 into ``studies/compare/`` the Markdown report (README.md) with its figures and
 ``results.json`` (the machine's description, the settings, every row and every

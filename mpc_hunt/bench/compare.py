@@ -2,7 +2,7 @@
 
 Two modes, each a :class:`~mpc_hunt.solving.mpc.CaptureMPC` stepping, as a
 controller does. ``cold``: each problem alone, a fresh one's first step.
-``closed-loop``: each sequence of consecutive states in order with one, its
+``replayed``: each recorded sequence of consecutive states in order with one, its
 memory warm-starting each step (the plan it applied, shifted one step, and the
 duals, while the same defenders are controlled). Pairs take turns on each problem (or
 sequence), so that load on the machine falls on all of them alike. Each pair
@@ -31,7 +31,7 @@ from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
 from mpc_hunt.solving.mpc import CaptureMPC
 
-MODES = ("cold", "closed-loop")
+MODES = ("cold", "replayed")
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,7 @@ class CompareRun:
 def planned_solves(problem_set: ProblemSet, pairs: int, horizons: list[int], modes: list[str], starts: int) -> int:
     """How many solves a full run makes, the reference's starts included: a progress bar's total."""
     cold = len(problem_set.problems) if "cold" in modes else 0
-    loop = sum(map(len, problem_set.sequences().values())) if "closed-loop" in modes else 0
+    loop = sum(map(len, problem_set.sequences().values())) if "replayed" in modes else 0
     return (starts * len(problem_set.problems) + pairs * (cold + loop)) * len(horizons)
 
 
@@ -141,12 +141,12 @@ def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Call
             for pair in run.pairs:
                 run.records.append(_solve(run, _new_mpc(run, pair), "cold", entry, horizon))
                 tick()
-    if "closed-loop" in run.modes:
+    if "replayed" in run.modes:
         for sequence in run.problem_set.sequences().values():
             for pair in run.pairs:
                 mpc = _new_mpc(run, pair)
                 for entry in sequence:
-                    run.records.append(_solve(run, mpc, "closed-loop", entry, horizon))
+                    run.records.append(_solve(run, mpc, "replayed", entry, horizon))
                     tick()
 
 

@@ -123,7 +123,7 @@ def readme(run: CompareRun, machine: dict, rows: list[dict], command: str, figur
         "## Machine", "", *machine_lines(machine), "",
         "## What was run", "",
         f"- Problems: {len(run.problem_set.problems)} ({len(sequences)} sequences of consecutive states, "
-        f"{sum(map(len, sequences.values()))} states, for the closed-loop mode); "
+        f"{sum(map(len, sequences.values()))} states, for the replayed mode); "
         f"{run.problem_set.description}",
         f"- Pairs: {', '.join(f'{f}/{b}' for f, b in run.pairs)}",
         f"- Horizons: {', '.join(map(str, run.horizons))}; modes: {', '.join(run.modes)}",

@@ -19,7 +19,7 @@ in metres, over every plan returned; ``max_primal_residual``, ``max_dual_residua
 and ``max_duality_gap``: the largest of the usable solves' certificates, of the
 problem each solver was handed (:mod:`mpc_hunt.capture.certificate`): the solver's
 inaccuracy, beside the true violations that the linearisation adds.
-``warm_speedup``: on a closed-loop row, the median over the states both modes
+``warm_speedup``: on a replayed row, the median over the states both modes
 solved of the cold time over the warm-started one.
 """
 
@@ -103,7 +103,7 @@ def score(records: list[SolveRecord], best: dict[tuple[str, int], float], accura
 
 def warm_speedup(closed: list[SolveRecord], cold: list[SolveRecord]) -> tuple[float | None, int]:
     """The median, over the states both modes solved, of the cold solve's time over the warm-started one's: the
-    same-state speed-up of the closed-loop mode; and on how many states."""
+    same-state speed-up of the replayed mode; and on how many states."""
     cold_time = {r.problem: r.solve_time for r in cold}
     ratios = [cold_time[r.problem] / r.solve_time for r in closed if r.problem in cold_time and r.solve_time > 0]
     return (float(np.median(ratios)) if ratios else None), len(ratios)
@@ -111,7 +111,7 @@ def warm_speedup(closed: list[SolveRecord], cold: list[SolveRecord]) -> tuple[fl
 
 def rows(run: CompareRun) -> list[dict]:
     """Every row, by horizon, mode, then the pairs in the run's order (a row for each with finished solves). A
-    closed-loop row also holds its same-state speed-up over the cold mode (:func:`warm_speedup`)."""
+    replayed row also holds its same-state speed-up over the cold mode (:func:`warm_speedup`)."""
     best = best_known(run)
     groups: dict[tuple, list[SolveRecord]] = {}
     for r in run.records:
@@ -122,6 +122,6 @@ def rows(run: CompareRun) -> list[dict]:
     for k in keys:
         row = score(groups[k], best, run.accuracy, run.time_limit)
         speedup, states = (warm_speedup(groups[k], groups.get((k[0], "cold", *k[2:]), []))
-                           if k[1] == "closed-loop" else (None, 0))
+                           if k[1] == "replayed" else (None, 0))
         out.append(row | {"warm_speedup": speedup, "warm_speedup_states": states})
     return out

@@ -1,6 +1,6 @@
 """``mpc-hunt compare --mode own-loop``: every pair in its own receding-horizon loop, hunt by hunt, under a deadline.
 
-The replayed modes (``cold``, ``closed-loop``) hand every pair the same recorded states; a control engineer
+The modes ``cold`` and ``replayed`` hand every pair the same recorded states; a control engineer
 embedding a step needs what happens when the pair meets the states its own plans lead to. Here each pair drives
 the capture stage of a solving controller (the paper's by default) through hunts, from the same starts (scenarios:
 data, drawn by the caller; :func:`capture_stage_hunts` starts each where the paper's strategy first reaches the

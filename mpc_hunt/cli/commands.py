@@ -204,7 +204,7 @@ def _compare_parser(sub) -> None:
         "compare", help="score formulations x backends over a problem set, like a solver benchmark",
         formatter_class=argparse.RawDescriptionHelpFormatter,
         description="Run every (formulation, backend) pair asked for over a problem set, at each horizon, in two "
-                    "modes: cold (each problem alone, fresh solver) and closed-loop (the set's sequences, "
+                    "modes: cold (each problem alone, fresh solver) and replayed (the set's recorded sequences, "
                     "warm-started as the controller does). Per pair, mode and horizon: success rate, all-in solve "
                     "time (median, p95, shifted geometric mean), solver time and our overhead, set-up apart, "
                     "iterations, optimality gap against the best known, and the largest true violations. "
@@ -226,7 +226,7 @@ def _compare_parser(sub) -> None:
     cmp.add_argument("--horizon", type=horizon_argument, nargs="+", default=[1], metavar="N",
                      help="one or more horizons (default: 1)")
     cmp.add_argument("--mode", nargs="+", choices=MODES + (OWN_LOOP,), default=list(MODES),
-                     help="cold and closed-loop (the problem set's states, replayed; the default: both), or "
+                     help="cold and replayed (the problem set's recorded states; the default: both), or "
                           "own-loop alone: each pair drives whole hunts in its own receding-horizon loop, from the "
                           "shipped paper scenarios and --hunts random ones (mpc_hunt/bench/own_loop.py)")
     cmp.add_argument("--hunts", type=non_negative(MAX_OWN_LOOP_HUNTS), default=10, metavar="K",
@@ -567,7 +567,7 @@ def _compare(args) -> int:
             write_report(run, machine, where(args.report), "mpc-hunt " + shlex.join(args.argv), extra)
     solves = sum(len(run.records) for run in runs)
     if len({row["solves"] for row in rows if row["mode"] == "cold"}) > 1 \
-            or len({row["solves"] for row in rows if row["mode"] == "closed-loop"}) > 1:
+            or len({row["solves"] for row in rows if row["mode"] == "replayed"}) > 1:
         print("mpc-hunt compare: the rows hold different numbers of solves (see the solves column): compare them "
               "on the solves they share", file=messages())
     if runs[-1].interrupted:

@@ -35,20 +35,24 @@ def _tiny():
 def test_a_small_run_scores_every_pair_in_both_modes(tmp_path):
     shipped, keep = _tiny()
     problem_set = type(shipped)(shipped.scenarios, tuple(keep), "tiny")
-    run = run_compare(problem_set, check_pairs(PAIRS), [1], ["cold", "closed-loop"], np.random.default_rng(0),
+    run = run_compare(problem_set, check_pairs(PAIRS), [1], ["cold", "replayed"], np.random.default_rng(0),
                       starts=2)
     assert not run.interrupted and len(run.records) == 3 * (6 + 4)
     table = rows(run)
     assert [(r["formulation"], r["mode"]) for r in table] == [("nlp", "cold"), ("qp", "cold"), ("sqp", "cold"),
-                                                              ("nlp", "closed-loop"), ("qp", "closed-loop"),
-                                                              ("sqp", "closed-loop")]
+                                                              ("nlp", "replayed"), ("qp", "replayed"),
+                                                              ("sqp", "replayed")]
     for r in table:
         assert set(REQUIRED) <= set(r) and r["solves"] == (6 if r["mode"] == "cold" else 4)
         assert r["solve_time_median_s"] > 0 and r["solve_time_p95_s"] >= r["solve_time_median_s"]
     by = {(r["formulation"], r["mode"]): r for r in table}
     # The exact formulations reach the reference; warm starts happen only in the closed loop (3 of 4 states).
     assert by[("nlp", "cold")]["success_rate"] == 1.0 and abs(by[("nlp", "cold")]["optimality_gap_median"]) < 1e-6
-    assert by[("sqp", "closed-loop")]["warm_started"] == 3 and by[("sqp", "cold")]["warm_started"] == 0
+    assert by[("sqp", "replayed")]["warm_started"] == 3 and by[("sqp", "cold")]["warm_started"] == 0
+    # The same-state speed-up: the replayed states are problems of the set too, so cold times exist for each.
+    assert by[("sqp", "replayed")]["warm_speedup_states"] == 4 and by[("sqp", "replayed")]["warm_speedup"] > 0
+    assert by[("sqp", "cold")]["warm_speedup"] is None
+    assert by[("nlp", "cold")]["max_dual_residual"] is not None                 # every row carries certificates
     # The QP linearises Eq. 14 and the attacker's path: above the best known, never below by more than noise.
     assert by[("qp", "cold")]["optimality_gap_median"] > 1e-4
     assert by[("qp", "cold")]["max_violation_equal_distance"] > 0
