@@ -5,8 +5,10 @@ embedding a step needs what happens when the pair meets the states its own plans
 the capture stage of a solving controller (the paper's by default) through hunts, from the same starts (scenarios:
 data, drawn by the caller; :func:`capture_stage_hunts` starts each where the paper's strategy first reaches the
 capture stage), pairs taking turns on each hunt so that load on the machine falls on all of them alike. Every plan
-is scored by the evaluator (its time kept apart from the step's); the step's time is what the controller waited
-for its plan: the solve and any set-up it did.
+is scored by the evaluator (its time kept apart from the step's); the step's time is the solve's, as the
+controller waits for it, and a new structure's one-off set-up (building its functions; compiling a codegen step)
+is counted apart: set-ups and the longest, since a robot builds its structures before its loop (or loads them
+from the cache).
 
 Per pair and horizon, over its hunts: captures and capture time; the step's time p50, p95, p99 and max; deadline
 misses against the time step T and against the given ``deadline``; solves stopped by their budget (time limit,
@@ -177,7 +179,8 @@ def hunt_summary(hunt: LoopHunt) -> dict:
         "formulation": hunt.formulation, "backend": hunt.backend, "horizon": hunt.horizon, "scenario": hunt.scenario,
         "captured": r.captured, "capture_time_s": r.capture_time, "time_step_s": r.time_step,
         "simulated_s": r.steps * r.time_step, "wall_s": hunt.wall,
-        "step_times_s": [float(t) for t in r.step_times], "iterations": [int(i) for i in r.solve_iterations],
+        "solve_times_s": [float(t) for t in r.solve_times], "iterations": [int(i) for i in r.solve_iterations],
+        "setups": int(np.sum(r.setup_times > 0)), "setup_max_s": _stat(r.setup_times, np.max),
         "budget_hits": r.budget_hits, "failed_solves": r.failed_solves, "fallbacks": r.fallbacks,
         "longest_failure_streak": r.longest_failure_streak, "violating_plans": r.violating_plans,
         "applied_plans_scored": len(scored),
@@ -196,7 +199,7 @@ def _largest(values: list) -> float | None:
 def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
     """The row of one pair at one horizon from its hunts' summaries (:func:`hunt_summary`)."""
     first = hunts[0]
-    waits = np.concatenate([np.asarray(h["step_times_s"], dtype=float) for h in hunts])
+    waits = np.concatenate([np.asarray(h["solve_times_s"], dtype=float) for h in hunts])
     captured = [h for h in hunts if h["captured"]]
     T = first["time_step_s"]
     simulated, wall = sum(h["simulated_s"] for h in hunts), sum(h["wall_s"] for h in hunts)
@@ -211,6 +214,8 @@ def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
         "step_time_max_s": _stat(waits, np.max),
         "deadline_misses_T": int(np.sum(waits > T)),
         "deadline_misses": None if deadline is None else int(np.sum(waits > deadline)),
+        "setups": sum(h["setups"] for h in hunts),
+        "setup_max_s": _largest([h["setup_max_s"] for h in hunts]),
         "budget_hits": sum(h["budget_hits"] for h in hunts),
         "failed_solves": sum(h["failed_solves"] for h in hunts),
         "fallbacks": sum(h["fallbacks"] for h in hunts),
@@ -253,16 +258,17 @@ def _g(x: float | None) -> str:
     return "–" if x is None else f"{x:.1e}"
 
 
-COLUMNS = ("pair", "N", "captured", "p50 ms", "p95 ms", "max ms", "> T", "> deadline", "budget hits",
-           "fallbacks", "streak", "iters", "violating", "max hard viol m", "max primal res", "max dual res",
-           "max gap")
+COLUMNS = ("pair", "N", "captured", "p50 ms", "p95 ms", "p99 ms", "max ms", "> T", "> deadline", "set-ups",
+           "max set-up ms", "budget hits", "fallbacks", "streak", "iters", "violating", "max hard viol m",
+           "max primal res", "max dual res", "max gap")
 
 
 def _cells(r: dict) -> list[str]:
     hard = [r[f"max_violation_{n}"] for n in HARD if r[f"max_violation_{n}"] is not None]
     return [f"{r['formulation']}/{r['backend']}", str(r["horizon"]), f"{r['captured']}/{r['hunts']}",
-            _ms(r["step_time_p50_s"]), _ms(r["step_time_p95_s"]), _ms(r["step_time_max_s"]),
+            _ms(r["step_time_p50_s"]), _ms(r["step_time_p95_s"]), _ms(r["step_time_p99_s"]), _ms(r["step_time_max_s"]),
             str(r["deadline_misses_T"]), "–" if r["deadline_misses"] is None else str(r["deadline_misses"]),
+            str(r["setups"]), _ms(r["setup_max_s"]),
             str(r["budget_hits"]), str(r["fallbacks"]), str(r["longest_failure_streak"]),
             "–" if r["iterations_median"] is None else f"{r['iterations_median']:g}",
             str(r["violating_plans"]), _g(max(hard) if hard else None),

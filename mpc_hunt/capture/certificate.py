@@ -7,7 +7,8 @@ min ½xᵀPx + qᵀx s.t. l ≤ Ax ≤ u with multipliers y (y > 0 on a row at i
 * primal residual: the largest amount by which Ax leaves [l, u] (for a second-order cone's rows t ≥ |v|, by
   which |v| exceeds t), in the rows' units;
 * dual residual: |Px + q + Aᵀy|_∞, stationarity of the Lagrangian;
-* duality gap: |xᵀPx + qᵀx + Σ u_i y_i⁺ − Σ l_i y_i⁻|, the primal objective minus the dual's (cone rows: u_i y_i).
+* duality gap: |xᵀPx + qᵀx + Σ u_i y_i⁺ − Σ l_i y_i⁻| over the finite bounds, the primal objective minus the
+  dual's (cone rows: u_i y_i).
 
 They certify the solve of the problem the solver was handed: for a linearised formulation that is the QP at the
 linearisation point, not the capture problem itself, whose true violations the evaluator reports apart
@@ -47,11 +48,11 @@ class Certificate:
 
 
 def _bound_terms(bound: np.ndarray, multiplier: np.ndarray) -> np.ndarray:
-    """bound_i · multiplier_i where the multiplier is non-zero (0 elsewhere, so an infinite bound with a zero
-    multiplier adds nothing)."""
+    """bound_i · multiplier_i on the finite bounds (0 on an infinite one: a multiplier there, which should be 0, is
+    the dual residual's to report, not a gap of infinity)."""
     out = np.zeros_like(multiplier)
-    nz = multiplier != 0
-    out[nz] = bound[nz] * multiplier[nz]
+    finite = np.isfinite(bound) & (multiplier != 0)
+    out[finite] = bound[finite] * multiplier[finite]
     return out
 
 

@@ -98,15 +98,15 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
 
 
 class _SolveRecord:
-    """Per capture-stage solve: the wait, the status, the certificate, the applied plan's true violations."""
+    """Per capture-stage solve: its set-up, the status, the certificate, the applied plan's true violations."""
 
     def __init__(self):
-        self.waits, self.statuses, self.certificates, self.violations = [], [], [], []
+        self.setups, self.statuses, self.certificates, self.violations = [], [], [], []
         self.violating = 0
 
     def add(self, solution, fallback: bool) -> None:
         self.violating += solution.success and fallback     # usable, yet not applied: beyond the tolerance
-        self.waits.append(solution.solve_time + solution.setup_time)
+        self.setups.append(solution.setup_time)
         self.statuses.append(solution.status.value)
         c = solution.certificate
         self.certificates.append((np.nan,) * 3 if c is None else (c.primal_residual, c.dual_residual, c.duality_gap))
@@ -115,7 +115,7 @@ class _SolveRecord:
                                else tuple(v[name] for name in VIOLATION_NAMES))
 
     def into(self, result: HuntResult, deadline: float | None) -> HuntResult:
-        return replace(result, step_times=np.array(self.waits), solve_statuses=tuple(self.statuses),
+        return replace(result, setup_times=np.array(self.setups), solve_statuses=tuple(self.statuses),
                        certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
                        applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),
                        deadline=deadline, violating_plans=self.violating)

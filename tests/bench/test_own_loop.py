@@ -31,10 +31,11 @@ def test_each_pair_runs_its_own_hunt_and_its_row_counts_what_its_loop_met():
     by = {r["backend"]: r for r in rows(run)}
     for backend, row in by.items():
         result = next(h.result for h in run.hunts if h.backend == backend)
-        assert row["solves"] == len(result.step_times) > 0
+        assert row["solves"] == len(result.solve_times) > 0 and row["setups"] >= 1     # the first structure
         assert row["deadline_misses"] == row["solves"]               # nothing meets a nanosecond
-        assert row["deadline_misses_T"] == int(np.sum(result.step_times > 0.1))
-        assert row["step_time_max_s"] == pytest.approx(result.step_times.max())
+        assert row["deadline_misses_T"] == int(np.sum(result.solve_times > 0.1))
+        assert row["step_time_max_s"] == pytest.approx(result.solve_times.max())
+        assert row["setup_max_s"] == pytest.approx(result.setup_times.max()) and row["setup_max_s"] > 0
         assert row["applied_plans_scored"] == row["solves"] - row["fallbacks"]
         assert row["max_dual_residual"] is not None and row["max_dual_residual"] < 1e-3
     assert "qp/daqp" in table(rows(run)) and "rti/hpipm" in table(rows(run))

@@ -98,8 +98,9 @@ def certificate(h, g, a, lba, uba, lbx, ubx, z, lam_x, lam_a):
     primal = ca.mmax(ca.vertcat(ca.fmax(az - uba, lba - az), ca.fmax(z - ubx, lbx - z), 0))
     dual = ca.norm_inf(ca.mtimes(h, z) + g + ca.mtimes(a.T, lam_a) + lam_x)
 
-    def bound_terms(lam, lower, upper):    # u λ⁺ − l λ⁻, nothing where λ = 0 (an infinite bound)
-        return ca.sum1(ca.if_else(lam > 0, upper * lam, 0) + ca.if_else(lam < 0, lower * lam, 0))
+    def bound_terms(lam, lower, upper):    # u λ⁺ − l λ⁻ over the finite bounds (as the NumPy certificate)
+        return ca.sum1(ca.if_else(ca.logic_and(lam > 0, ca.fabs(upper) < ca.inf), upper * lam, 0)
+                       + ca.if_else(ca.logic_and(lam < 0, ca.fabs(lower) < ca.inf), lower * lam, 0))
 
     gap = ca.fabs(ca.dot(z, ca.mtimes(h, z)) + ca.dot(g, z) + bound_terms(lam_a, lba, uba)
                   + bound_terms(lam_x, lbx, ubx))
