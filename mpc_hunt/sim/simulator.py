@@ -20,6 +20,7 @@ from typing import Callable
 import numpy as np
 
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
+from mpc_hunt.errors import OptionError
 from mpc_hunt.world.behaviours import make_behaviour
 from mpc_hunt.world.behaviours.base import Behaviour
 from mpc_hunt.world.belief import believed
@@ -52,6 +53,9 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
     ``progress``, if given, is called with the simulated time after each step. ``deadline`` (s), if given, is
     the capture stage's budget a step is counted against (:meth:`HuntResult.deadline_misses`), beside T.
     """
+    if deadline is not None and not (isinstance(deadline, (int, float)) and not isinstance(deadline, bool)
+                                     and 0 < deadline < float("inf")):
+        raise OptionError(f"deadline: a positive, finite number of seconds or None, got {deadline!r}")
     controller = controller or HuntingStrategy(believed(scenario), prediction=prediction)
     if behaviour is None:
         behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)

@@ -56,7 +56,7 @@ class Backend:
     """Base of every backend: set up once per key, then update and solve.
 
     ``time_limit`` (s) and ``max_iter`` are the budget of every solve (the module's docstring); ``accuracy``
-    (``default``, ``high``, ``low``) picks the tolerances of the class's ``ACCURACY`` table; other keyword options
+    (:data:`ACCURACIES`) picks the tolerances of the class's ``ACCURACY`` table; other keyword options
     go to the solver as they are, each checked against what the solver takes (:meth:`option_names`).
     """
 
@@ -125,7 +125,7 @@ class Backend:
 
     def iteration_cap(self) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
-        under a time limit the limit over the largest time per iteration measured (:data:`FIRST_CAP` before one)."""
+        under a time limit the limit over its :attr:`pace` (:data:`FIRST_CAP` before one is measured)."""
         cap = self.max_iter or self.MAX_ITER
         if self.time_limit is None or self.CLOCK:
             return cap
