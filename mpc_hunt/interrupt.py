@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 from contextlib import contextmanager
+from typing import Callable
 
 
 @contextmanager
@@ -17,6 +19,25 @@ def stop_at_once(command: str):
     def _exit(signum, frame):
         os.write(2, f"mpc-hunt {command}: interrupted: nothing written\n".encode())
         os._exit(128 + signum)
+
+    previous = signal.signal(signal.SIGINT, _exit)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextmanager
+def stop_keeping(command: str, keep: Callable[[], None]):
+    """Ctrl-C ends the command at once, status 130, after ``keep()`` has written what was finished (a run whose
+    pieces take seconds each, which no solver's own Ctrl-C handling may hold up)."""
+    def _exit(signum, frame):
+        try:
+            keep()
+            sys.stdout.flush()
+        finally:
+            os.write(2, f"mpc-hunt {command}: interrupted: kept what was finished\n".encode())
+            os._exit(128 + signum)
 
     previous = signal.signal(signal.SIGINT, _exit)
     try:

@@ -131,9 +131,9 @@ def capture_stage_hunts(named: list[Scenario], random: Iterable[Scenario], count
 def run_own_loop(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons: list[int], *,
                  controller: str = "paper", accuracy: str = "default", time_limit: float | None = None,
                  max_iter: int | None = None, deadline: float | None = None,
-                 progress: Callable[[], None] | None = None) -> OwnLoopRun:
-    """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one); ``progress()`` is
-    called per hunt."""
+                 progress: Callable[[LoopHunt], None] | None = None) -> OwnLoopRun:
+    """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one); ``progress(hunt)`` is
+    called with each hunt as it finishes."""
     if not scenarios:
         raise BenchmarkError("scenarios: none to hunt in")
     if not pairs:
@@ -145,7 +145,7 @@ def run_own_loop(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizo
     run = OwnLoopRun(list(scenarios), list(pairs), list(horizons), controller, accuracy, time_limit, max_iter,
                      deadline)
     budget = {k: v for k, v in (("time_limit", time_limit), ("max_iter", max_iter)) if v is not None}
-    tick = progress or (lambda: None)
+    tick = progress or (lambda hunt: None)
     try:
         for horizon in run.horizons:
             for scenario in run.scenarios:
@@ -156,7 +156,7 @@ def run_own_loop(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizo
                     result = simulate(scenario, hunter, deadline=deadline, rng=np.random.default_rng(0))
                     run.hunts.append(LoopHunt(formulation, backend, horizon, scenario.name, result,
                                               time.perf_counter() - t0))
-                    tick()
+                    tick(run.hunts[-1])
     except KeyboardInterrupt:
         run.interrupted = True
     return run

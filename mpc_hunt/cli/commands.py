@@ -30,7 +30,7 @@ from mpc_hunt.arguments import CommandParser, count, non_negative, positive_floa
 from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
                                  check_writable, messages, quiet_solvers)
 from mpc_hunt.errors import MpcHuntError, SettingError
-from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.interrupt import stop_at_once, stop_keeping
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec, horizon_argument
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
@@ -580,7 +580,8 @@ def _compare(args) -> int:
 def _compare_own_loop(args, pairs) -> int:
     from mpc_hunt.bench.compare_report import dumps
     from mpc_hunt.bench.machine import describe_machine, load_average
-    from mpc_hunt.bench.own_loop import capture_stage_hunts, rows as loop_rows, run_own_loop, table as loop_table
+    from mpc_hunt.bench.own_loop import capture_stage_hunts, hunt_summary, rows_of, run_own_loop, table as loop_table
+    from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
     from mpc_hunt.sweep.random_scenario import sweep_scenario
 
     if len(args.mode) > 1:
@@ -603,25 +604,34 @@ def _compare_own_loop(args, pairs) -> int:
                                         args.window)
     controller = "paper" if args.objective == "paper" else "enclose"
     machine = describe_machine()
-    total = len(scenarios) * len(pairs) * len(args.horizon)
-    with stop_at_once("compare"), Progress(total, "compare (own loop)", quiet=args.json, unit="hunts") as update:
-        done = itertools.count(1)
-        run = run_own_loop(scenarios, pairs, args.horizon, controller=controller, accuracy=args.accuracy[0],
-                           time_limit=args.time_limit, max_iter=args.max_iter, deadline=args.deadline,
-                           progress=(lambda: update(next(done))) if update else None)
-    machine["load_average_end"] = load_average()
-    rows = loop_rows(run)
     settings = {"mode": OWN_LOOP, "controller": controller, "scenarios": [s.name for s in scenarios],
-                "window_s": args.window,
-                "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon, "accuracy": args.accuracy[0],
-                "violation_tolerance_m": run.tolerance, "time_limit_s": args.time_limit, "max_iter": args.max_iter,
-                "deadline_s": args.deadline, "seed": args.seed}
-    print(dumps({"machine": machine, "settings": settings, "interrupted": run.interrupted, "rows": rows})
-          if args.json else loop_table(rows))
-    if run.interrupted:
-        print(f"mpc-hunt compare: interrupted: kept {len(rows)} rows from {len(run.hunts)} finished hunts",
-              file=messages())
-        return EXIT_ERROR
+                "window_s": args.window, "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon,
+                "accuracy": args.accuracy[0], "violation_tolerance_m": VIOLATION_TOLERANCE[args.accuracy[0]],
+                "time_limit_s": args.time_limit, "max_iter": args.max_iter, "deadline_s": args.deadline,
+                "seed": args.seed}
+    finished: list = []
+
+    def report(interrupted: bool) -> None:
+        """The rows of the hunts finished so far (on Ctrl-C too: nothing computed is lost)."""
+        machine["load_average_end"] = load_average()
+        rows = rows_of([hunt_summary(h) for h in finished], pairs, args.horizon,
+                       settings["violation_tolerance_m"], args.deadline)
+        print(dumps({"machine": machine, "settings": settings, "interrupted": interrupted, "rows": rows})
+              if args.json else loop_table(rows))
+
+    total = len(scenarios) * len(pairs) * len(args.horizon)
+    with stop_keeping("compare", lambda: report(True)), \
+            Progress(total, "compare (own loop)", quiet=args.json, unit="hunts") as update:
+        done = itertools.count(1)
+
+        def keep(hunt) -> None:
+            finished.append(hunt)
+            if update:
+                update(next(done))
+
+        run_own_loop(scenarios, pairs, args.horizon, controller=controller, accuracy=args.accuracy[0],
+                     time_limit=args.time_limit, max_iter=args.max_iter, deadline=args.deadline, progress=keep)
+    report(False)
     return 0
 
 

@@ -63,3 +63,28 @@ def test_the_command_runs_own_loop_alone(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["settings"]["scenarios"] == ["paper-open", "paper-obstacles"] and out["settings"]["max_iter"] == 1
     assert out["rows"][0]["budget_hits"] == out["rows"][0]["solves"] > 0
+
+
+def test_ctrl_c_keeps_the_rows_of_the_hunts_finished(tmp_path):
+    """Ctrl-C during an own-loop run prints the rows of every hunt finished, then exits 130, within a few seconds."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    command = [sys.executable, "-m", "mpc_hunt.cli", "compare", "--mode", "own-loop", "--pair", "qp:daqp",
+               "--pair", "rti:hpipm", "--hunts", "0", "--horizon", "1", "5"]
+    env = {**os.environ, "COLUMNS": "200"}
+    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=open(tmp_path / "err", "w"), text=True,
+                          env=env) as run:
+        deadline = time.monotonic() + 120
+        while "compare (own loop):" not in (tmp_path / "err").read_text() or \
+                " 1/8 " not in (tmp_path / "err").read_text().replace("|", " "):
+            assert time.monotonic() < deadline and run.poll() is None, (tmp_path / "err").read_text()
+            time.sleep(0.2)
+        stopped = time.monotonic()
+        run.send_signal(signal.SIGINT)
+        out, _ = run.communicate(timeout=30)
+    assert run.returncode == 130 and time.monotonic() - stopped < 5
+    assert "qp/daqp" in out and "interrupted: kept what was finished" in (tmp_path / "err").read_text()
