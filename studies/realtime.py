@@ -6,9 +6,9 @@ sweep draws hunts 0, 1, … of ``RANDOM_SEED``) that reach the capture stage, ea
 strategy first reaches it, for at most ``WINDOW`` seconds, each pair meeting the states its own plans lead to
 (:mod:`mpc_hunt.bench.own_loop`, what ``mpc-hunt compare --mode own-loop`` runs). Every solve is handed the
 robots' budget, ``BUDGET`` s (50 Hz) as its time limit, and every step is counted against it and against the
-time step T. A pair is *fit to embed* at a horizon when, on every hunt, no step waited past the budget, no run of
-failed solves was longer than ``STREAK`` steps and no usable plan broke a hard constraint beyond the tolerance
-(captures are the paper's controller's, reported beside it).
+time step T. A pair is *fit to embed* at a horizon when at most ``MISSES`` of its steps took longer than the budget (its p99
+within it), no run of failed solves was longer than ``STREAK`` steps and no usable plan broke a hard constraint
+beyond the tolerance (captures are the paper's controller's, reported beside it).
 Pairs take turns on each hunt. It writes ``studies/realtime/`` (README.md, results.json with the machine's
 description) and the own-loop table of ``docs/benchmarks.md``; each finished hunt goes to ``hunts.jsonl`` as it
 ends, so a stopped run resumes where it stopped (``--fresh`` starts over). About an hour on one core.
@@ -50,6 +50,7 @@ RANDOM_SEED, RANDOM_HUNTS = 1, 10
 HORIZONS = [1, 5, 10]
 BUDGET = 0.02          # s: the robots' 50 Hz, as each solve's time limit and the step's deadline
 STREAK = 5             # the longest run of failed solves a pair fit to embed may have (0.5 s on its fallback)
+MISSES = 0.01          # the share of its steps a pair fit to embed may take past the budget (its p99 within it)
 TOLERANCE = VIOLATION_TOLERANCE["default"]
 COMMAND = "python studies/realtime.py"
 MAX_WORKERS = 2
@@ -127,9 +128,12 @@ def run(workers: int) -> list[dict]:
 
 
 def fit(row: dict) -> bool:
-    """Fit to embed: no step past the budget, no failure streak over STREAK, no usable plan beyond the tolerance
-    (captures are the controller's: reported beside it, against the other pairs')."""
-    return row["deadline_misses"] == 0 and row["longest_failure_streak"] <= STREAK and row["violating_plans"] == 0
+    """Fit to embed: at most ``MISSES`` of the steps past the budget (the p99 within it: this machine is shared,
+    and a step here and there is held up by the operating system, not the solver), no failure streak over
+    ``STREAK``, no usable plan beyond the tolerance (captures are the controller's: reported beside, against the
+    other pairs')."""
+    return (row["deadline_misses"] <= MISSES * row["solves"] and row["longest_failure_streak"] <= STREAK
+            and row["violating_plans"] == 0)
 
 
 def table(rows: list[dict]) -> list[str]:
@@ -141,7 +145,7 @@ def table(rows: list[dict]) -> list[str]:
 
 def settings() -> dict:
     return {"scenarios": [s.name for s in scenarios()], "window_s": WINDOW, "pairs": [f"{f}:{b}" for f, b in pairs()],
-            "horizons": HORIZONS, "budget_s": BUDGET, "streak": STREAK, "tolerance_m": TOLERANCE}
+            "horizons": HORIZONS, "budget_s": BUDGET, "streak": STREAK, "misses": MISSES, "tolerance_m": TOLERANCE}
 
 
 def headline(results: dict) -> str:
@@ -169,8 +173,9 @@ def write(summaries: list[dict], machine: dict) -> None:
             f"usable plans the loop refused, a hard constraint (Eqs. 13, 15, separation, attacker distance) broken "
             f"beyond {TOLERANCE:g} m; `max hard viol`: the largest such violation of an applied plan; the residuals "
             f"are the certificates' of the usable solves, of the QP each solver was handed "
-            f"(mpc_hunt/capture/certificate.py). Fit to embed: no step past {BUDGET:g} s, no run of more than "
-            f"{STREAK} failed solves, no violating plan (captures are the paper's controller's, reported beside).", "",
+            f"(mpc_hunt/capture/certificate.py). Fit to embed: at most {MISSES:.0%} of the steps past {BUDGET:g} s "
+            f"(the p99 within it), no run of more than {STREAK} failed solves, no violating plan (captures are the "
+            f"paper's controller's, reported beside).", "",
             "## Machine", "", *machine_lines(machine), "", "## Results", "", *table(rows), "",
             "Fit to embed: " + (", ".join(fits) if fits else "none") + ".", ""]
     (OUT / "README.md").write_text("\n".join(text), encoding="utf-8")
