@@ -1,4 +1,5 @@
-"""Ctrl-C that ends a command (of ``mpc-hunt`` or a study) at once, with nothing written."""
+"""Ctrl-C that ends a command (of ``mpc-hunt`` or a study) at once: with nothing written, or after writing what
+was finished."""
 
 from __future__ import annotations
 
@@ -10,6 +11,15 @@ from typing import Callable
 
 
 @contextmanager
+def _on_interrupt(handler: Callable[[int, object], None]):
+    """``handler`` takes Ctrl-C (SIGINT) inside the block; the previous one is back after it."""
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def stop_at_once(command: str):
     """Ctrl-C ends the command at once, status 130, with nothing written.
 
@@ -20,14 +30,9 @@ def stop_at_once(command: str):
         os.write(2, f"mpc-hunt {command}: interrupted: nothing written\n".encode())
         os._exit(128 + signum)
 
-    previous = signal.signal(signal.SIGINT, _exit)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
+    return _on_interrupt(_exit)
 
 
-@contextmanager
 def stop_keeping(command: str, keep: Callable[[], None]):
     """Ctrl-C ends the command at once, status 130, after ``keep()`` has written what was finished (a run whose
     pieces take seconds each, which no solver's own Ctrl-C handling may hold up)."""
@@ -39,8 +44,4 @@ def stop_keeping(command: str, keep: Callable[[], None]):
             os.write(2, f"mpc-hunt {command}: interrupted: kept what was finished\n".encode())
             os._exit(128 + signum)
 
-    previous = signal.signal(signal.SIGINT, _exit)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
+    return _on_interrupt(_exit)

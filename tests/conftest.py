@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -24,6 +26,16 @@ def small_scenario(obstacles=((6.0, 11.8, 0.3),), defenders: int = 3) -> Scenari
 ATTACKER = np.array([5.0, 11.0])
 # On a circle of radius 0.7 around the attacker, 120° apart: a feasible start.
 DEFENDERS = ATTACKER + 0.7 * np.array([[np.cos(a), np.sin(a)] for a in np.radians([-90.0, 30.0, 150.0])])
+
+
+def capture_stage_scenario(seconds: float) -> Scenario:
+    """The small scenario from the capture stage on (its defenders round the attacker as in DEFENDERS), ``seconds``
+    long: a hunt whose every step solves the capture problem."""
+    s = small_scenario()
+    return dataclasses.replace(s, hunt=dataclasses.replace(s.hunt, time_limit=seconds),
+                               attacker=dataclasses.replace(s.attacker, start=tuple(ATTACKER)),
+                               defenders=tuple(dataclasses.replace(d, start=tuple(p))
+                                               for d, p in zip(s.defenders, DEFENDERS)))
 
 
 @pytest.fixture

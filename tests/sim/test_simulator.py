@@ -3,27 +3,18 @@ plan's true violations; a deadline checked when the hunt starts."""
 
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 import pytest
 
-from conftest import ATTACKER, DEFENDERS, small_scenario
+from conftest import capture_stage_scenario
 from mpc_hunt import simulate
 from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.errors import OptionError
 
 
-def _capture_stage(seconds: float = 2.0):
-    s = small_scenario()
-    return dataclasses.replace(s, hunt=dataclasses.replace(s.hunt, time_limit=seconds),
-                               attacker=dataclasses.replace(s.attacker, start=tuple(ATTACKER)),
-                               defenders=tuple(dataclasses.replace(d, start=tuple(p))
-                                               for d, p in zip(s.defenders, DEFENDERS)))
-
-
 def test_every_solve_is_recorded_with_its_set_up_status_certificate_and_violations():
-    scenario = _capture_stage()
+    scenario = capture_stage_scenario(2.0)
     result = simulate(scenario, make_controller("paper", scenario, formulation="qp", backend="daqp", horizon=3,
                                                 score=True), deadline=1.0)
     n = len(result.solve_times)
@@ -36,4 +27,4 @@ def test_every_solve_is_recorded_with_its_set_up_status_certificate_and_violatio
 @pytest.mark.parametrize("deadline", [0.0, -1.0, float("inf"), float("nan"), True, "0.02"])
 def test_a_deadline_that_is_no_duration_is_refused(deadline):
     with pytest.raises(OptionError, match="deadline"):
-        simulate(_capture_stage(), deadline=deadline)
+        simulate(capture_stage_scenario(2.0), deadline=deadline)
