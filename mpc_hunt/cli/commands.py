@@ -372,7 +372,7 @@ def _summary(result, report: dict, scenario) -> str:
                      f"p95 {stats['p95_s'] * 1e3:.2f} ms, max {stats['max_s'] * 1e3:.2f} ms; "
                      f"failed {result.failed_solves}, fallbacks {result.fallbacks}")
         misses = stats["deadline_misses"]
-        lines.append(f"steps that waited longer than T = {misses['time_step_s']:g} s: {misses['over_time_step']}"
+        lines.append(f"solves longer than T = {misses['time_step_s']:g} s: {misses['over_time_step']}"
                      + ("" if misses["deadline_s"] is None else
                         f", than the deadline {misses['deadline_s']:g} s: {misses['over_deadline']}")
                      + f"; budget hits {result.budget_hits}; longest failure streak {result.longest_failure_streak}")
