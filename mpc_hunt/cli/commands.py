@@ -112,7 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
                      help="iteration cap of each capture-stage solve (every backend's, under this one name)")
     sim.add_argument("--deadline", type=positive_float, metavar="SECONDS",
                      help="the capture stage's budget per step (e.g. 0.02 for 50 Hz): the report counts the steps "
-                          "that waited longer, beside those longer than the time step T")
+                          "whose solve took longer, beside those longer than the time step T")
     sim.add_argument("--score", action="store_true",
                      help="score every capture-stage plan with the evaluator (without it only a failed solve's "
                           "plan is scored, for the fallback; rti and stage-sqp run as a control loop either way)")
