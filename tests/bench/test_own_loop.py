@@ -49,7 +49,7 @@ def test_the_command_runs_own_loop_alone(capsys):
     assert main(["compare", "--mode", "own-loop", "cold"]) == 2
     assert "give it alone" in capsys.readouterr().err
     assert main(["compare", "--mode", "own-loop", "--pair", "qp:osqp", "--hunts", "0", "--horizon", "1",
-                 "--max-iter", "1", "--json"]) == 0
+                 "--max-iter", "1", "--window", "5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["settings"]["scenarios"] == ["paper-open", "paper-obstacles"] and out["settings"]["max_iter"] == 1
     assert out["rows"][0]["budget_hits"] == out["rows"][0]["solves"] > 0
