@@ -54,6 +54,10 @@ class SweepStopped(MpcHuntError):
     """A sweep could not go on (its workers kept dying, its cluster went away); its finished rows are kept."""
 
 
+class WorkersDied(MpcHuntError):
+    """Local worker processes kept dying (killed? out of memory?); what they finished was handed back."""
+
+
 class UnknownNameError(MpcHuntError, KeyError):
     """A formulation, backend, controller or scenario name is not registered."""
 

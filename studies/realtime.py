@@ -1,12 +1,13 @@
 """Every formulation × backend in its own receding-horizon loop, under a 50 Hz budget: which pair is fit to embed.
 
-Each installed pair (but CVXPY's, :func:`pairs`) drives the capture stage of the paper's strategy (prediction on) through hunts, at N = 1, 5
+Each installed pair drives the capture stage of the paper's strategy (prediction on) through hunts, at N = 1, 5
 and 10, from the same starts: the two paper scenarios and the first ``RANDOM_HUNTS`` random ones (drawn as the
 sweep draws hunts 0, 1, … of ``RANDOM_SEED``) that reach the capture stage, each from where the paper's own
 strategy first reaches it, for at most ``WINDOW`` seconds, each pair meeting the states its own plans lead to
 (:mod:`mpc_hunt.bench.own_loop`, what ``mpc-hunt compare --mode own-loop`` runs). Every solve is handed the
 robots' budget, ``BUDGET`` s (50 Hz) as its time limit, and every step is counted against it and against the
-time step T. A pair is *fit to embed* at a horizon when at most ``MISSES`` of its steps took longer than the budget (its p99
+time step T; a hunt whose capture stage has failed ``ABANDON_AFTER`` s in a row is stopped, *abandoned*. A pair is
+*fit to embed* at a horizon when at most ``MISSES`` of its steps took longer than the budget (its p99
 within it), no run of failed solves was longer than ``STREAK`` steps and no usable plan broke a hard constraint
 beyond the tolerance (captures are the paper's controller's, reported beside it).
 Pairs take turns on each hunt. It writes ``studies/realtime/`` (README.md, results.json with the machine's
@@ -23,7 +24,6 @@ import itertools
 import json
 import sys
 from functools import cache
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
@@ -33,7 +33,8 @@ from mpc_hunt import builtin_scenario
 
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
-from mpc_hunt.bench.own_loop import WINDOW, capture_stage_hunts, hunt_summary, markdown_table, rows_of, run_own_loop
+from mpc_hunt.bench.own_loop import (ABANDON_AFTER, WINDOW, capture_stage_hunts, hunt_summary, loop_tasks,
+                                     markdown_table, rows_of, run_tasks)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.solving import registry
@@ -54,7 +55,6 @@ MISSES = 0.01          # the share of its steps a pair fit to embed may take pas
 TOLERANCE = VIOLATION_TOLERANCE["default"]
 COMMAND = "python studies/realtime.py"
 MAX_WORKERS = 2
-NOT_EMBEDDED = ("cvxpy",)
 
 
 @cache
@@ -65,27 +65,21 @@ def scenarios() -> list:
 
 
 def pairs() -> list[tuple[str, str]]:
-    """Every installed pair of the paper's objective but CVXPY's, which rebuilds its problem's canonical form at
-    every solve (measured: 2.3–10 ms a step at N = 1, up to 55 s a hunt): a reference for the assembled matrices
-    (mpc_hunt/solving/backends/cvxpy.py), not a step to embed; ``mpc-hunt compare --mode own-loop`` runs it."""
-    return [pair for pair in registry.pairs(objective="paper") if pair[1] not in NOT_EMBEDDED]
+    """Every installed pair of the paper's objective."""
+    return registry.pairs(objective="paper")
 
 
-def tasks() -> list[tuple[int, int, tuple[str, str]]]:
-    """(horizon, hunt index, pair): the pairs take turns on each hunt."""
-    return [(n, i, pair) for n in HORIZONS for i in range(len(scenarios())) for pair in pairs()]
+def tasks() -> list:
+    """Every pair × horizon through every hunt, the pairs taking turns on each hunt (mpc_hunt/bench/own_loop.py)."""
+    return loop_tasks(scenarios(), pairs(), HORIZONS, time_limit=BUDGET, deadline=BUDGET, abandon_after=ABANDON_AFTER)
 
 
 def key(horizon: int, scenario: str, pair: tuple[str, str]) -> str:
     return f"{pair[0]}:{pair[1]} N={horizon} {scenario}"
 
 
-def one_hunt(task: tuple[int, int, tuple[str, str]]) -> dict:
-    horizon, index, pair = task
-    run = run_own_loop([scenarios()[index]], [pair], [horizon], time_limit=BUDGET, deadline=BUDGET)
-    if run.interrupted:
-        raise KeyboardInterrupt
-    return hunt_summary(run.hunts[0])
+def task_key(task) -> str:
+    return key(task.horizon, task.scenario.name, (task.formulation, task.backend))
 
 
 def finished() -> dict[str, dict]:
@@ -103,27 +97,19 @@ def finished() -> dict[str, dict]:
 
 def run(workers: int) -> list[dict]:
     OUT.mkdir(parents=True, exist_ok=True)
-    names = [s.name for s in scenarios()]
-    wanted = {key(t[0], names[t[1]], t[2]) for t in tasks()}
+    wanted = {task_key(t) for t in tasks()}
     done = {name: h for name, h in finished().items() if name in wanted}   # the study's own hunts only
-    todo = [t for t in tasks() if key(t[0], names[t[1]], t[2]) not in done]
+    todo = [t for t in tasks() if task_key(t) not in done]
     print(f"{len(done)} hunts kept, {len(todo)} to run", file=sys.stderr, flush=True)
     with open(PROGRESS, "a", encoding="utf-8") as out:
-        def keep(summary: dict) -> None:
+        for hunt in run_tasks(todo, workers):
+            summary = hunt_summary(hunt)
             out.write(json.dumps(summary) + "\n")
             out.flush()
             name = key(summary["horizon"], summary["scenario"], (summary["formulation"], summary["backend"]))
             done[name] = summary
-            print(f"{len(done)}/{len(tasks())} {name}: captured {summary['captured']}, {summary['wall_s']:.1f} s",
+            print(f"{len(done)}/{len(wanted)} {name}: captured {summary['captured']}, {summary['wall_s']:.1f} s",
                   file=sys.stderr, flush=True)
-
-        if workers == 1:
-            for task in todo:
-                keep(one_hunt(task))
-        else:
-            with ProcessPoolExecutor(workers) as pool:
-                for future in as_completed([pool.submit(one_hunt, t) for t in todo]):
-                    keep(future.result())
     return list(done.values())
 
 
@@ -145,7 +131,7 @@ def table(rows: list[dict]) -> list[str]:
 
 def settings() -> dict:
     return {"scenarios": [s.name for s in scenarios()], "window_s": WINDOW, "pairs": [f"{f}:{b}" for f, b in pairs()],
-            "horizons": HORIZONS, "budget_s": BUDGET, "streak": STREAK, "misses": MISSES, "tolerance_m": TOLERANCE}
+            "horizons": HORIZONS, "budget_s": BUDGET, "abandon_after_s": ABANDON_AFTER, "streak": STREAK, "misses": MISSES, "tolerance_m": TOLERANCE}
 
 
 def headline(results: dict) -> str:
@@ -167,7 +153,8 @@ def write(summaries: list[dict], machine: dict) -> None:
             f"{len(scenarios())} hunts ({', '.join(PAPER_SCENARIOS)} and the first {RANDOM_HUNTS} random hunts of the "
             f"sweep with seed {RANDOM_SEED} that reach the capture stage, each from where the paper's strategy first "
             f"reaches it, for at most {WINDOW:g} s) at N = {', '.join(map(str, HORIZONS))}, every solve handed a "
-            f"{BUDGET:g} s time limit, every step counted against that deadline and the time step T. Times are the capture-stage solves', "
+            f"{BUDGET:g} s time limit, every step counted against that deadline and the time step T, a hunt whose "
+            f"capture stage failed {ABANDON_AFTER:g} s in a row stopped (abandoned). Times are the capture-stage solves', "
             f"as the controller waits for them (the evaluator's scoring apart; a new structure's one-off set-up, "
             f"which a robot does before its loop, counted apart). `violating`: "
             f"usable plans the loop refused, a hard constraint (Eqs. 13, 15, separation, attacker distance) broken "

@@ -67,7 +67,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Defender
 
-from studies.study_check import check_result
+from studies.study_check import check_result, run_study
 
 SCENARIO = "paper-obstacles"
 REPEATS = 3                 # HPIPM alone: the fastest of this many solves of each QP (the least disturbed)
@@ -615,4 +615,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run_study(main))

@@ -43,7 +43,7 @@ from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
 from mpc_hunt.sweep.reachability import reachable
-from mpc_hunt.sweep.runner import run_local
+from mpc_hunt.workers import run_local
 from mpc_hunt.world.behaviours.learned import FEATURES, PARAMETERS, LearnedAttacker, shipped_weights
 from mpc_hunt.world.scenario import Scenario
 
@@ -130,7 +130,7 @@ def train(generations: int, population: int, episodes: int, workers: int, progre
     for g in range(len(finished), generations):
         candidates, tasks = generation_tasks(g, mean, spread, population, episodes)
         fitness = np.zeros((population, episodes))
-        for row in run_local(tasks, workers, work=episode):
+        for row in run_local(tasks, episode, workers):
             fitness[row["candidate"], row["episode"]] = row["fitness"]
         score = fitness.mean(axis=1)
         best = np.argsort(-score)[:elite]

@@ -1,48 +1,32 @@
-"""Committed numbers stay true: the studies' --check reruns them and compares with what is committed."""
+"""Committed numbers stay true: the studies' --check (run by studies/check_all.py, CI's step after the tests) and what
+the checks themselves must catch."""
 
 from __future__ import annotations
 
 import dataclasses
 import importlib
 import json
-import os
 import subprocess
 import sys
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-import pytest
 
 from mpc_hunt import builtin_scenario, simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-STUDIES = ["studies/attackers.py", "studies/team_sweep.py", "studies/team_size.py", "studies/step_latency.py",
-           "studies/reproduce_paper.py", "studies/default_problems.py", "studies/sweep.py", "studies/compare.py",
-           "studies/realtime.py", "studies/train_attacker.py", "studies/train_ppo.py", "studies/env_throughput.py"]
-CHECKS_AT_ONCE = 2        # the studies' checks run side by side (none times anything), the slowest first
-
-
-def _check(study: str) -> subprocess.CompletedProcess:
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
-    # The study imports this tree's code, not whichever copy of mpc_hunt is installed.
-    return subprocess.run([sys.executable, study, "--check"], cwd=ROOT, capture_output=True, text=True, env=env)
-
-
-@pytest.fixture(scope="module")
-def checks(request):
-    """The ``--check`` of every study the session selected, started at once on ``CHECKS_AT_ONCE`` workers."""
-    chosen = [item.callspec.params["study"] for item in request.session.items
-              if getattr(item, "originalname", None) == "test_committed_results_match_the_code"]
-    with ThreadPoolExecutor(max_workers=CHECKS_AT_ONCE) as pool:
-        yield {study: pool.submit(_check, study) for study in chosen}
-
-
-@pytest.mark.parametrize("study", STUDIES)
-def test_committed_results_match_the_code(study, checks):
-    run = checks[study].result()
-    assert run.returncode == 0, run.stderr[-2000:]
+def test_the_checks_run_every_study_that_takes_one_and_fail_when_one_fails(monkeypatch, capsys):
+    """``studies/check_all.py`` (CI's step after the tests): every study with a --check, its status 1 on a failure."""
+    check_all = _study("check_all")
+    assert {"reproduce_paper", "compare", "realtime", "attackers", "team_size", "sweep"} <= set(check_all.checked())
+    assert "check_all" not in check_all.checked() and "study_check" not in check_all.checked()
+    assert check_all.main(["no_such_study"]) == 2
+    monkeypatch.setattr(check_all, "check", lambda name: (name, subprocess.CompletedProcess(
+        [], 1 if name == "compare" else 0, "", "differs"), 0.0))
+    assert check_all.main(["compare", "sweep"]) == 1
+    out = capsys.readouterr().out
+    assert "FAILED compare" in out and "ok sweep" in out and "1 of 2 studies' checks pass" in out
 
 
 def _study(name: str):

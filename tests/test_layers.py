@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import ast
+import importlib.util
+import os
 import pkgutil
 import subprocess
 import sys
@@ -29,13 +31,33 @@ def _modules() -> list[str]:
     return names
 
 
-def test_every_module_imports_alone_in_a_fresh_interpreter():
+def _third_party(modules: list[str]) -> list[str]:
+    """What our modules import from outside our package (``a.b.c`` for ``from a.b import c``)."""
+    names = set()
+    for module in modules:
+        spec = importlib.util.find_spec(module)
+        names |= set(_imported(Path(spec.origin).read_text(encoding="utf-8")))
+    return sorted(n for n in names if n.split(".")[0] != "mpc_hunt")
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="forks a process per module")
+def test_every_module_imports_alone():
+    """Each module imported first, alone: no import cycle or missing import hidden by another module's being
+    imported before it (tests/import_alone.py: a process per module, forked after the third-party packages)."""
     modules = _modules()
     assert {"mpc_hunt.formulations.nlp", "mpc_hunt.solving.backends.daqp", "mpc_hunt.cli.commands"} <= set(modules)
-    running = {m: subprocess.Popen([sys.executable, "-c", f"import {m}"], cwd=ROOT, stderr=subprocess.PIPE,
-                                   text=True) for m in modules}
-    failed = {m: p.communicate()[1].strip().splitlines()[-1:] for m, p in running.items()}
-    assert {m: err for m, err in failed.items() if running[m].returncode} == {}
+    run = subprocess.run([sys.executable, str(ROOT / "tests" / "import_alone.py"), *_third_party(modules)],
+                         input="\n".join(modules), cwd=ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr[-2000:]
+
+
+def test_a_module_that_cannot_import_alone_is_named(tmp_path):
+    """The check above fails when a module's import fails."""
+    (tmp_path / "broken_alone.py").write_text("import mpc_hunt.no_such_module\n", encoding="utf-8")
+    run = subprocess.run([sys.executable, str(ROOT / "tests" / "import_alone.py"), "numpy"],
+                         input="json\nbroken_alone", cwd=tmp_path, capture_output=True, text=True,
+                         env={**os.environ, "PYTHONPATH": str(tmp_path)})
+    assert run.returncode == 1 and run.stdout.startswith("broken_alone: ModuleNotFoundError"), run.stdout
 
 
 def test_the_import_contracts_hold():

@@ -10,7 +10,11 @@ controller waits for it, and a new structure's one-off set-up (building its func
 is counted apart: set-ups and the longest, since a robot builds its structures before its loop (or loads them
 from the cache).
 
-Per pair and horizon, over its hunts: captures and capture time; the step's time p50, p95, p99 and max; deadline
+A hunt whose capture stage has failed for ``abandon_after`` seconds in a row (:data:`ABANDON_AFTER`) is stopped and
+counted *abandoned* (not captured): from there on it would measure the fallback, not the pair, at the pair's full
+budget a step. Hunts run one after another, or on worker processes (``workers``), each hunt whole on one.
+
+Per pair and horizon, over its hunts: captures, abandoned hunts and capture time; the step's time p50, p95, p99 and max; deadline
 misses against the time step T and against the given ``deadline``; solves stopped by their budget (time limit,
 iteration cap); failed solves, fallbacks and the longest run of failed solves; iterations; the usable plans the
 loop refused as violating (:class:`~mpc_hunt.solving.mpc.CaptureMPC`'s rule) and the applied plans' true
@@ -24,7 +28,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import Callable, Iterable
+from typing import Callable, Iterable, Iterator
 
 import numpy as np
 
@@ -38,6 +42,7 @@ from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.world.attacker import perceives
 from mpc_hunt.world.scenario import Scenario
+from mpc_hunt.workers import run_local
 
 
 @dataclass(frozen=True)
@@ -64,6 +69,7 @@ class OwnLoopRun:
     time_limit: float | None
     max_iter: int | None
     deadline: float | None
+    abandon_after: float | None
     hunts: list[LoopHunt] = field(default_factory=list)
     interrupted: bool = False
 
@@ -128,35 +134,82 @@ def capture_stage_hunts(named: list[Scenario], random: Iterable[Scenario], count
     return hunts
 
 
-def run_own_loop(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons: list[int], *,
-                 controller: str = "paper", accuracy: str = "default", time_limit: float | None = None,
-                 max_iter: int | None = None, deadline: float | None = None,
-                 progress: Callable[[LoopHunt], None] | None = None) -> OwnLoopRun:
-    """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one); ``progress(hunt)`` is
-    called with each hunt as it finishes."""
+ABANDON_AFTER = 10.0    # s: a hunt whose capture stage has failed this long in a row stops, "abandoned" (100 steps
+                        # at T = 0.1 s, twenty times the longest streak a pair fit to embed may have: what follows
+                        # is the fallback's hunt, not the pair's, and would only cost the run its time)
+
+
+@dataclass(frozen=True)
+class LoopTask:
+    """One hunt of one pair at one horizon, as a worker runs it (:func:`run_hunt`)."""
+
+    scenario: Scenario
+    formulation: str
+    backend: str
+    horizon: int
+    controller: str
+    accuracy: str
+    budget: tuple               # (("time_limit", s), ("max_iter", n)): the ones given
+    deadline: float | None
+    abandon_after: float | None
+
+
+def loop_tasks(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons: list[int], *,
+               controller: str = "paper", accuracy: str = "default", time_limit: float | None = None,
+               max_iter: int | None = None, deadline: float | None = None,
+               abandon_after: float | None = ABANDON_AFTER) -> list[LoopTask]:
+    """Every pair × horizon through every scenario's hunt, by horizon, then hunt, the pairs taking turns on each
+    hunt (so that load on the machine falls on all of them alike)."""
     if not scenarios:
         raise BenchmarkError("scenarios: none to hunt in")
     if not pairs:
         raise BenchmarkError("pairs: none to run")
     if accuracy not in VIOLATION_TOLERANCE:
         raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
-    if deadline is not None and not (isinstance(deadline, (int, float)) and 0 < deadline < math.inf):
-        raise BenchmarkError(f"deadline: a positive number of seconds, got {deadline!r}")
+    for name, value in (("deadline", deadline), ("abandon_after", abandon_after)):
+        if value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
+                                      and 0 < value < math.inf):
+            raise BenchmarkError(f"{name}: a positive number of seconds, got {value!r}")
+    budget = tuple((k, v) for k, v in (("time_limit", time_limit), ("max_iter", max_iter)) if v is not None)
+    return [LoopTask(scenario, formulation, backend, horizon, controller, accuracy, budget, deadline, abandon_after)
+            for horizon in horizons for scenario in scenarios for formulation, backend in pairs]
+
+
+def run_hunt(task: LoopTask) -> LoopHunt:
+    """The task's hunt, its pair driving ``task.controller``'s capture stage, every plan scored."""
+    hunter = make_controller(task.controller, task.scenario, formulation=task.formulation, backend=task.backend,
+                             horizon=task.horizon, score=True, accuracy=task.accuracy, **dict(task.budget))
+    t0 = time.perf_counter()
+    result = simulate(task.scenario, hunter, deadline=task.deadline, abandon_after=task.abandon_after,
+                      rng=np.random.default_rng(0))
+    return LoopHunt(task.formulation, task.backend, task.horizon, task.scenario.name, result,
+                    time.perf_counter() - t0)
+
+
+def run_tasks(tasks: Iterable[LoopTask], workers: int = 1) -> Iterator[LoopHunt]:
+    """Each task's hunt as it finishes: in this process (``workers`` = 1, in order) or on ``workers`` local
+    processes (:func:`mpc_hunt.workers.run_local`; each hunt's times then taken beside the others')."""
+    if workers == 1:
+        return map(run_hunt, tasks)
+    return run_local(tasks, run_hunt, workers)
+
+
+def run_own_loop(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons: list[int], *,
+                 controller: str = "paper", accuracy: str = "default", time_limit: float | None = None,
+                 max_iter: int | None = None, deadline: float | None = None,
+                 abandon_after: float | None = ABANDON_AFTER, workers: int = 1,
+                 progress: Callable[[LoopHunt], None] | None = None) -> OwnLoopRun:
+    """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one), on ``workers``
+    processes (:func:`run_tasks`); ``progress(hunt)`` is called with each hunt as it finishes."""
+    tasks = loop_tasks(scenarios, pairs, horizons, controller=controller, accuracy=accuracy, time_limit=time_limit,
+                       max_iter=max_iter, deadline=deadline, abandon_after=abandon_after)
     run = OwnLoopRun(list(scenarios), list(pairs), list(horizons), controller, accuracy, time_limit, max_iter,
-                     deadline)
-    budget = {k: v for k, v in (("time_limit", time_limit), ("max_iter", max_iter)) if v is not None}
+                     deadline, abandon_after)
     tick = progress or (lambda hunt: None)
     try:
-        for horizon in run.horizons:
-            for scenario in run.scenarios:
-                for formulation, backend in run.pairs:
-                    hunter = make_controller(controller, scenario, formulation=formulation, backend=backend,
-                                             horizon=horizon, score=True, accuracy=accuracy, **budget)
-                    t0 = time.perf_counter()
-                    result = simulate(scenario, hunter, deadline=deadline, rng=np.random.default_rng(0))
-                    run.hunts.append(LoopHunt(formulation, backend, horizon, scenario.name, result,
-                                              time.perf_counter() - t0))
-                    tick(run.hunts[-1])
+        for hunt in run_tasks(tasks, workers):
+            run.hunts.append(hunt)
+            tick(hunt)
     except KeyboardInterrupt:
         run.interrupted = True
     return run
@@ -177,7 +230,7 @@ def hunt_summary(hunt: LoopHunt) -> dict:
     hard = scored[:, [VIOLATION_NAMES.index(n) for n in HARD]]
     return {
         "formulation": hunt.formulation, "backend": hunt.backend, "horizon": hunt.horizon, "scenario": hunt.scenario,
-        "captured": r.captured, "capture_time_s": r.capture_time, "time_step_s": r.time_step,
+        "captured": r.captured, "abandoned": r.termination == "abandoned", "capture_time_s": r.capture_time, "time_step_s": r.time_step,
         "simulated_s": r.steps * r.time_step, "wall_s": hunt.wall,
         "solve_times_s": [float(t) for t in r.solve_times], "iterations": [int(i) for i in r.solve_iterations],
         "setups": int(np.sum(r.setup_times > 0)), "setup_max_s": _stat(r.setup_times, np.max),
@@ -205,7 +258,7 @@ def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
     simulated, wall = sum(h["simulated_s"] for h in hunts), sum(h["wall_s"] for h in hunts)
     row = {
         "formulation": first["formulation"], "backend": first["backend"], "horizon": first["horizon"],
-        "hunts": len(hunts), "captured": len(captured),
+        "hunts": len(hunts), "captured": len(captured), "abandoned": sum(h["abandoned"] for h in hunts),
         "capture_time_median_s": _stat([h["capture_time_s"] for h in captured], np.median),
         "solves": len(waits),
         "step_time_p50_s": _stat(waits, np.median),
@@ -258,14 +311,14 @@ def _g(x: float | None) -> str:
     return "–" if x is None else f"{x:.1e}"
 
 
-COLUMNS = ("pair", "N", "captured", "p50 ms", "p95 ms", "p99 ms", "max ms", "> T", "> deadline", "set-ups",
+COLUMNS = ("pair", "N", "captured", "abandoned", "p50 ms", "p95 ms", "p99 ms", "max ms", "> T", "> deadline", "set-ups",
            "max set-up ms", "budget hits", "fallbacks", "streak", "iters", "violating", "max hard viol m",
            "max primal res", "max dual res", "max gap")
 
 
 def _cells(r: dict) -> list[str]:
     hard = [r[f"max_violation_{n}"] for n in HARD if r[f"max_violation_{n}"] is not None]
-    return [f"{r['formulation']}/{r['backend']}", str(r["horizon"]), f"{r['captured']}/{r['hunts']}",
+    return [f"{r['formulation']}/{r['backend']}", str(r["horizon"]), f"{r['captured']}/{r['hunts']}", str(r["abandoned"]),
             _ms(r["step_time_p50_s"]), _ms(r["step_time_p95_s"]), _ms(r["step_time_p99_s"]), _ms(r["step_time_max_s"]),
             str(r["deadline_misses_T"]), "–" if r["deadline_misses"] is None else str(r["deadline_misses"]),
             str(r["setups"]), _ms(r["setup_max_s"]),

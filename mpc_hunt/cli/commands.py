@@ -11,6 +11,7 @@ import argparse
 import copy
 import itertools
 import json
+import os
 import shlex
 import sys
 from pathlib import Path
@@ -198,6 +199,7 @@ def _compare_parser(sub) -> None:
     from mpc_hunt.solving.accuracy import accuracy_table
     from mpc_hunt.solving.backends.base import ACCURACIES
     from mpc_hunt.bench.compare import MODES
+    from mpc_hunt.bench.own_loop import ABANDON_AFTER
     from mpc_hunt.capture.evaluator import OBJECTIVE
 
     cmp = sub.add_parser(
@@ -237,6 +239,13 @@ def _compare_parser(sub) -> None:
                           "for at most this long (default: 120)")
     cmp.add_argument("--deadline", type=positive_float, metavar="SECONDS",
                      help="own-loop: the step's budget (e.g. 0.02 for 50 Hz), counted beside the time step T")
+    cmp.add_argument("--abandon-after", type=positive_float, metavar="SECONDS",
+                     help="own-loop: stop a hunt whose capture stage has failed this long in a row, counted "
+                          f"abandoned (default: {ABANDON_AFTER:g})")
+    cmp.add_argument("--workers", type=count(os.cpu_count() or 1), metavar="K",
+                     help="own-loop: hunts at once on K processes (at most one a core), each hunt whole on one "
+                          "(default: 1; each "
+                          "hunt's times are then taken beside the others')")
     cmp.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="each solve's iteration cap")
     cmp.add_argument("--accuracy", choices=ACCURACIES, nargs="+", default=["default"],
                      help="one or more profiles, each run on the same problems: default (ours, per backend), high, "
@@ -530,6 +539,10 @@ def _compare(args) -> int:
     pairs = check_pairs(args.pair, args.objective)
     if OWN_LOOP in args.mode:
         return _compare_own_loop(args, pairs)
+    for flag, given in (("--deadline", args.deadline), ("--abandon-after", args.abandon_after),
+                        ("--workers", args.workers)):
+        if given is not None:
+            raise MpcHuntError(f"{flag}: own-loop only (--mode own-loop)")
     check_output(args.csv, (".csv",), "--csv")
     check_folder(args.report, "--report")
     check_folder(args.plot, "--plot")
@@ -580,7 +593,8 @@ def _compare(args) -> int:
 def _compare_own_loop(args, pairs) -> int:
     from mpc_hunt.bench.compare_report import dumps
     from mpc_hunt.bench.machine import describe_machine, load_average
-    from mpc_hunt.bench.own_loop import capture_stage_hunts, hunt_summary, rows_of, run_own_loop, table as loop_table
+    from mpc_hunt.bench.own_loop import (ABANDON_AFTER, capture_stage_hunts, hunt_summary, rows_of, run_own_loop,
+                                         table as loop_table)
     from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
     from mpc_hunt.sweep.random_scenario import sweep_scenario
 
@@ -603,11 +617,14 @@ def _compare_own_loop(args, pairs) -> int:
                                         (sweep_scenario(args.seed, i) for i in itertools.count()), args.hunts,
                                         args.window)
     controller = "paper" if args.objective == "paper" else "enclose"
+    abandon_after = ABANDON_AFTER if args.abandon_after is None else args.abandon_after
+    workers = 1 if args.workers is None else args.workers
     machine = describe_machine()
     settings = {"mode": OWN_LOOP, "controller": controller, "scenarios": [s.name for s in scenarios],
                 "window_s": args.window, "pairs": [f"{f}:{b}" for f, b in pairs], "horizons": args.horizon,
                 "accuracy": args.accuracy[0], "violation_tolerance_m": VIOLATION_TOLERANCE[args.accuracy[0]],
                 "time_limit_s": args.time_limit, "max_iter": args.max_iter, "deadline_s": args.deadline,
+                "abandon_after_s": abandon_after, "workers": workers,
                 "seed": args.seed}
     finished: list = []
 
@@ -630,7 +647,8 @@ def _compare_own_loop(args, pairs) -> int:
                 update(next(done))
 
         run_own_loop(scenarios, pairs, args.horizon, controller=controller, accuracy=args.accuracy[0],
-                     time_limit=args.time_limit, max_iter=args.max_iter, deadline=args.deadline, progress=keep)
+                     time_limit=args.time_limit, max_iter=args.max_iter, deadline=args.deadline,
+                     abandon_after=abandon_after, workers=workers, progress=keep)
     report(False)
     return 0
 

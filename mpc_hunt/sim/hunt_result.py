@@ -23,7 +23,8 @@ class HuntResult:
     defenders: np.ndarray             # (K+1, n, 2)
     capture_stage: np.ndarray         # (K, n) bool
     intercepts: np.ndarray            # (K, n, 2): approach targets, NaN in the capture stage
-    termination: str                  # "captured", "time_limit", "non_finite_state", "attacker_escaped", "stopped"
+    termination: str                  # "captured", "time_limit", "non_finite_state", "attacker_escaped", "stopped",
+                                      # "abandoned"
     captured: bool
     capture_time: float | None
     path_lengths: np.ndarray          # (n,)

@@ -40,7 +40,7 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
              until: Callable[[Observation], bool] | None = None,
              progress: Callable[[float], None] | None = None,
              rng: np.random.Generator | None = None, behaviour: Behaviour | None = None,
-             deadline: float | None = None) -> HuntResult:
+             deadline: float | None = None, abandon_after: float | None = None) -> HuntResult:
     """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT) built on the
     defenders' default belief (:func:`mpc_hunt.world.belief.believed`), never on the world's behaviour.
 
@@ -52,10 +52,15 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
     observation it returns true for; that observation is the last recorded state.
     ``progress``, if given, is called with the simulated time after each step. ``deadline`` (s), if given, is
     the capture stage's budget a step is counted against (:meth:`HuntResult.deadline_misses`), beside T.
+    ``abandon_after`` (s), if given, stops the run (termination ``"abandoned"``) once the capture stage's solves
+    have failed for that long in a row: the hunt is then the fallback's, not the capture stage's.
     """
     if deadline is not None and not (isinstance(deadline, (int, float)) and not isinstance(deadline, bool)
                                      and 0 < deadline < float("inf")):
         raise OptionError(f"deadline: a positive, finite number of seconds or None, got {deadline!r}")
+    if abandon_after is not None and not (isinstance(abandon_after, (int, float)) and not isinstance(abandon_after, bool)
+                                          and 0 < abandon_after < float("inf")):
+        raise OptionError(f"abandon_after: a positive, finite number of seconds or None, got {abandon_after!r}")
     controller = controller or HuntingStrategy(believed(scenario), prediction=prediction)
     if behaviour is None:
         behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)
@@ -94,6 +99,9 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
             progress((step + 1) * T)
         if ended is not None:
             termination = ended
+            break
+        if abandon_after is not None and streak * T >= abandon_after - 1e-9:
+            termination = "abandoned"
             break
     result = _result(scenario, controller, np.array(attacker_path), np.array(defender_paths), np.array(stages),
                      np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks,

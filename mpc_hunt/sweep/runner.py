@@ -17,48 +17,39 @@ finished and resumes where it stopped.
 
 A worker that dies loses only the hunts it was running. On local processes a
 death breaks the whole pool: the hunts then running go to a new pool, and after
-``MAX_WORKER_DEATHS`` deaths the sweep stops (:class:`SweepStopped`). On Dask the
+``MAX_WORKER_DEATHS`` deaths (:mod:`mpc_hunt.workers`) the sweep stops (:class:`SweepStopped`). On Dask the
 scheduler reruns them; a hunt whose workers died too often (Dask's
 ``allowed-failures``) is a row with cause ``error``.
 """
 
 from __future__ import annotations
 
-import ctypes
 import itertools
-import os
-import signal
-import sys
 import time
-from collections import deque
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from typing import Any, Callable, Generator, Iterable, Iterator, Sequence
+from typing import Any, Callable, Iterable, Iterator, Sequence
 
 import numpy as np
 
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.world.ensemble import perturbed
-from mpc_hunt.errors import MpcHuntError, SweepStopped
+from mpc_hunt.errors import MpcHuntError, SweepStopped, WorkersDied
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, with_behaviour
 from mpc_hunt.world.belief import WORLD, Belief, belief_rng, parse_belief
+from mpc_hunt.workers import run_local as workers_run_local
 
 # The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
 # (paper:nlp:ipopt:1) stalls at IPOPT's iteration limit on the field's kink in many random hunts, at up
 # to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
 DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
-MAX_WORKER_DEATHS = 3
 MAX_TASKS = 10_000_000   # hunts in one sweep, every strategy, attacker and belief (a row each in its SQLite file)
 DASK_IN_FLIGHT = 1_000   # hunts handed to a Dask cluster at once (more are handed as they finish)
-PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
 EXACT = Belief().label()
-_END = object()          # the end of a task iterator
 
 
 def hunt_rngs(seed: int, index: int, member: int = 0) -> tuple[np.random.Generator, np.random.Generator]:
@@ -198,75 +189,13 @@ def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, 
 
 def run_local(todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None
               ) -> Iterator[dict]:
-    """Rows as hunts finish, on local worker processes; stops cleanly when the caller stops iterating. ``work``
-    (default :func:`run_hunt`; a module-level function, so that it pickles) turns a task into its row. ``todo``
-    is read as workers are free (at most two tasks a worker wait at once)."""
-    workers = workers or os.cpu_count() or 1
-    pending, retry = iter(todo), deque()
-    for _ in range(MAX_WORKER_DEATHS + 1):
-        if not (yield from _run_pool(pending, retry, workers, work or run_hunt)):
-            return
-    raise SweepStopped(f"local worker processes died {MAX_WORKER_DEATHS + 1} times (killed? out of memory?)")
-
-
-def _run_pool(pending: Iterator, retry: deque, workers: int, work: Callable[[Any], dict]
-              ) -> Generator[dict, None, bool]:
-    """Run the hunts of ``retry`` then ``pending`` on one pool, yielding rows; True if a worker died (its unfinished
-    hunts go back to ``retry``)."""
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_start_worker, initargs=(os.getpid(),))
-    running: dict[Future, Any] = {}
-    broken = False
+    """Rows as hunts finish, on local worker processes (:func:`mpc_hunt.workers.run_local`); stops cleanly when the
+    caller stops iterating. ``work`` (default :func:`run_hunt`; a module-level function, so that it pickles) turns
+    a task into its row."""
     try:
-        while not broken:
-            while len(running) < 2 * workers:
-                task = retry.popleft() if retry else next(pending, _END)
-                if task is _END:
-                    break
-                running[pool.submit(_interruptible, work, task)] = task
-            if not running:
-                break
-            finished, _ = wait(running, return_when=FIRST_COMPLETED)
-            broken = any(isinstance(f.exception(), BrokenProcessPool) for f in finished)
-            if broken:      # every running hunt is lost with the pool; some may have finished first
-                finished, _ = wait(running)
-            for future in finished:
-                task = running.pop(future)
-                if isinstance(future.exception(), BrokenProcessPool):
-                    retry.appendleft(task)
-                else:
-                    yield future.result()
-        return broken
-    finally:
-        for future in running:
-            future.cancel()
-        pool.shutdown(wait=True, cancel_futures=True)
-
-
-def _start_worker(sweep_pid: int) -> None:
-    """A local worker ignores Ctrl-C while idle and, on Linux, dies with the sweep that started it: a sweep
-    killed outright (SIGKILL, out of memory) leaves no worker waiting for work that will never come."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if sys.platform.startswith("linux"):
-        ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
-        if os.getppid() != sweep_pid:      # the sweep died before the request was made
-            os._exit(1)
-
-
-def _interruptible(work: Callable[[Any], dict], task) -> dict:
-    """``work(task)`` in a local worker, which ignores Ctrl-C except while it runs a hunt: then it exits at once.
-
-    Not by KeyboardInterrupt: a solver such as IPOPT catches it as a request to end its solve, and the
-    hunt would run on to its end before the sweep could stop.
-    """
-    signal.signal(signal.SIGINT, _exit_now)
-    try:
-        return work(task)
-    finally:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _exit_now(signum, frame):
-    os._exit(128 + signum)
+        yield from workers_run_local(todo, work or run_hunt, workers)
+    except WorkersDied as exc:
+        raise SweepStopped(str(exc)) from None
 
 
 def connect_dask(address: str):

@@ -78,3 +78,35 @@ def test_ctrl_c_keeps_the_rows_of_the_hunts_finished(tmp_path):
         out, _ = run.communicate(timeout=30)
     assert run.returncode == 130 and time.monotonic() - stopped < 5
     assert "qp/daqp" in out and "interrupted: kept what was finished" in (tmp_path / "err").read_text()
+
+
+def test_a_hunt_whose_capture_stage_keeps_failing_is_abandoned_at_its_time():
+    """Every solve capped at 2 iterations fails: after ``abandon_after`` s of them in a row the hunt stops."""
+    run = run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [5], max_iter=2, abandon_after=0.5)
+    result = run.hunts[0].result
+    assert result.termination == "abandoned" and not result.captured
+    assert len(result.solve_times) == result.steps == 5         # 0.5 s of T = 0.1 s steps, the last one applied
+    row = rows(run)[0]
+    assert row["abandoned"] == 1 and row["captured"] == 0 and row["longest_failure_streak"] == 5
+    with pytest.raises(BenchmarkError, match="abandon_after"):
+        run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [1], abandon_after=0.0)
+
+
+def test_hunts_on_two_worker_processes_are_the_hunts_of_one():
+    """The same tasks on two processes: the same hunts (no time limit, so nothing depends on the clock)."""
+    scenario = capture_stage_scenario(2.0)
+    pairs = [("qp", "daqp"), ("rti", "hpipm")]
+    one = run_own_loop([scenario], pairs, [1, 3])
+    two = run_own_loop([scenario], pairs, [1, 3], workers=2)
+    key = lambda h: (h.formulation, h.backend, h.horizon)      # noqa: E731
+    assert sorted(map(key, two.hunts)) == sorted(map(key, one.hunts)) and len(one.hunts) == 4
+    by = {key(h): h.result for h in one.hunts}
+    for hunt in two.hunts:
+        np.testing.assert_array_equal(hunt.result.defenders, by[key(hunt)].defenders)
+        assert hunt.result.termination == by[key(hunt)].termination
+
+
+def test_own_loop_settings_are_refused_in_the_other_modes(capsys):
+    for flag, value in (("--workers", "1"), ("--abandon-after", "5"), ("--deadline", "0.02")):
+        assert main(["compare", "--mode", "cold", flag, value]) == 2
+        assert f"{flag}: own-loop only" in capsys.readouterr().err

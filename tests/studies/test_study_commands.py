@@ -141,7 +141,7 @@ class FakeHunts:
     def __init__(self, stop: int | None):
         self.stop, self.generation = stop, 0
 
-    def __call__(self, tasks, workers, work):
+    def __call__(self, tasks, work, workers):
         if self.generation == self.stop:
             self.stop = None
             raise KeyboardInterrupt
