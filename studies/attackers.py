@@ -40,7 +40,7 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep
 from mpc_hunt.sweep.reachability import reachable
 from mpc_hunt.sweep.runner import Hunt
 from mpc_hunt.sweep.store import stored_rows
-from mpc_hunt.sweep.summary import summarise, table
+from mpc_hunt.sweep.summary import Z95, summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
@@ -171,7 +171,7 @@ def paired_interval(differences: list[int]) -> tuple[float, float, float]:
     """The mean of paired differences (each −1, 0 or 1: one controller's capture minus another's on the same hunt)
     and its 95 % interval by the normal approximation."""
     mean = statistics.fmean(differences)
-    half = 1.96 * (statistics.stdev(differences) / len(differences) ** 0.5 if len(differences) > 1 else 1.0)
+    half = Z95 * (statistics.stdev(differences) / len(differences) ** 0.5 if len(differences) > 1 else 1.0)
     return mean, mean - half, mean + half
 
 

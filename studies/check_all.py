@@ -16,6 +16,11 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
+    sys.path[0] = str(Path(__file__).resolve().parents[1])
+
+from mpc_hunt.arguments import CommandParser
+
 ROOT = Path(__file__).resolve().parents[1]
 AT_ONCE = 2         # checks side by side (none times anything)
 
@@ -35,13 +40,13 @@ def check(name: str) -> tuple[str, subprocess.CompletedProcess, float]:
     return name, run, time.perf_counter() - t0
 
 
-def main(argv: list[str]) -> int:
-    names = argv or checked()
+def main(argv: list[str] | None = None) -> int:
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("names", nargs="*", metavar="NAME", help="the studies to check (default: every one)")
+    names = parser.parse_args(argv).names or checked()
     unknown = sorted(set(names) - set(checked()))
     if unknown:
-        print(f"check_all.py: error: no study {unknown[0]!r} takes --check (known: {', '.join(checked())})",
-              file=sys.stderr)
-        return 2
+        parser.error(f"no study {unknown[0]!r} takes --check (known: {', '.join(checked())})")
     failed = 0
     with ThreadPoolExecutor(max_workers=AT_ONCE) as pool:
         for name, run, seconds in pool.map(check, names):
@@ -55,4 +60,4 @@ def main(argv: list[str]) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(main())

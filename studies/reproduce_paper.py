@@ -9,7 +9,7 @@ writes into the output folder the four trajectory figures (nominal runs),
 the ensemble shows robust) and ``README.md`` setting our numbers (median and
 range) beside the published ones, with the paper's claims decided from them.
 
-    python studies/reproduce_paper.py [--out studies/reproduction]
+    python studies/reproduce_paper.py [--output studies/reproduction]
     python studies/reproduce_paper.py --check    # rerun the nominal runs: each robust outcome as committed,
                                                  # each figure inside its committed band; README.md is results.json's
     python studies/reproduce_paper.py --nominal  # print the nominal runs' reports as JSON (nothing written)
@@ -354,7 +354,7 @@ def check(out: Path, workers: int) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=output_folder, default=DEFAULT_OUT,
+    parser.add_argument("--output", type=output_folder, default=DEFAULT_OUT,
                         help="output folder (default: studies/reproduction/ beside this script)")
     mode = parser.add_mutually_exclusive_group()
     mode.add_argument("--check", action="store_true",
@@ -367,14 +367,14 @@ def main(argv: list[str] | None = None) -> int:
             print(json.dumps(nominal_reports(1)))
             return 0
         if args.check:
-            return check_result(check(args.out, workers), str(args.out), COMMAND)
+            return check_result(check(args.output, workers), str(args.output), COMMAND)
         results, nominal = study(workers)
-    args.out.mkdir(parents=True, exist_ok=True)
+    args.output.mkdir(parents=True, exist_ok=True)
     for key in KEYS:
-        plot_hunt(nominal[run_name(*key)], builtin_scenario(key[0]), args.out / f"{run_name(*key)}.png")
-    (args.out / "results.json").write_text(json.dumps(results, indent=1) + "\n", encoding="utf-8")
-    (args.out / "README.md").write_text(readme(results), encoding="utf-8")
-    print(f"wrote {args.out}")
+        plot_hunt(nominal[run_name(*key)], builtin_scenario(key[0]), args.output / f"{run_name(*key)}.png")
+    (args.output / "results.json").write_text(json.dumps(results, indent=1) + "\n", encoding="utf-8")
+    (args.output / "README.md").write_text(readme(results), encoding="utf-8")
+    print(f"wrote {args.output}")
     return 0
 
 

@@ -10,7 +10,7 @@ failed solves, iterations and solve time (medians), and how much worse each
 plan is than ``nlp``'s under the paper's field (the evaluator's objective,
 median and worst relative gap, where both succeeded).
 
-    python studies/smoothing.py [--out studies/smoothing]
+    python studies/smoothing.py [--output studies/smoothing]
 """
 
 from __future__ import annotations
@@ -101,12 +101,12 @@ def table(rows: list[dict]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=output_folder, default=Path(__file__).parent / "smoothing")
+    parser.add_argument("--output", type=output_folder, default=Path(__file__).parent / "smoothing")
     args = parser.parse_args(argv)
     with stop_at_once("smoothing study"):        # Ctrl-C: at once, nothing written
         rows = run()
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "results.json").write_text(json.dumps(rows, indent=1) + "\n")
+    args.output.mkdir(parents=True, exist_ok=True)
+    (args.output / "results.json").write_text(json.dumps(rows, indent=1) + "\n")
     text = ["# Rounding the field's kink: effect on the NLP's solves", "",
             "Regenerate with `python studies/smoothing.py`. Measured in one run on "
             f"{platform.machine()}, Python {platform.python_version()}; times are per solve (solver and our "
@@ -114,8 +114,8 @@ def main(argv: list[str] | None = None) -> int:
             "but optimal. The gap compares the evaluator's objective (the paper's field) with `nlp`'s plan at the "
             "same state; the violation is the largest of any constraint family, against the paper's field.", "",
             table(rows), ""]
-    (args.out / "README.md").write_text("\n".join(text))
-    print(f"wrote {args.out / 'README.md'}")
+    (args.output / "README.md").write_text("\n".join(text))
+    print(f"wrote {args.output / 'README.md'}")
     return 0
 
 

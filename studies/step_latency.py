@@ -27,7 +27,7 @@ The states are written to ``states.json`` (a problem set: one sequence) and
 read back with ``--reuse-states``, so that another checkout of the code can be
 measured on the very same states.
 
-    python studies/step_latency.py [--out studies/step_latency] [--states 60] [--pairs qp/osqp …]
+    python studies/step_latency.py [--output studies/step_latency] [--states 60] [--pairs qp/osqp …]
                                    [--reuse-states] [--no-growth] [--no-peer]
     python studies/step_latency.py --check      # the committed pairs are the registry's; the cheap ones, rerun
                                                 # on the committed states, give the same failures and objectives
@@ -358,7 +358,7 @@ def pair(text: str) -> tuple[str, str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=output_folder, default=Path(__file__).parent / "step_latency")
+    parser.add_argument("--output", type=output_folder, default=Path(__file__).parent / "step_latency")
     parser.add_argument("--states", type=count(MAX_STATES), default=60,
                         help=f"consecutive closed-loop states, 2 to {MAX_STATES}")
     parser.add_argument("--pairs", nargs="+", type=pair, metavar="FORMULATION/BACKEND")
@@ -373,15 +373,15 @@ def main(argv: list[str] | None = None) -> int:
                              f"{CHECK_BELOW_MS} ms a step; about a minute)")
     args = parser.parse_args(argv)
     if args.check:
-        return check_result(check(args.out), "studies/step_latency", "python studies/step_latency.py --reuse-states")
+        return check_result(check(args.output), "studies/step_latency", "python studies/step_latency.py --reuse-states")
     if args.blasfeo is not None and not (args.blasfeo / "libblasfeo.so.0").exists():
         parser.error(f"--blasfeo {args.blasfeo}: no libblasfeo.so.0 there")
     if args.states < 2:
         parser.error(f"--states: at least 2 (the first sets up and is not timed), got {args.states}")
     try:
-        args.out.mkdir(parents=True, exist_ok=True)
+        args.output.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        parser.error(f"--out {args.out}: cannot create ({exc.strerror or exc})")
+        parser.error(f"--output {args.output}: cannot create ({exc.strerror or exc})")
     try:
         with stop_at_once("step_latency"):            # Ctrl-C: nothing written, the committed files kept
             problem_set, result = run(args)
@@ -389,7 +389,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"step_latency.py: error: {exc}", file=sys.stderr)
         return 2
     if not args.reuse_states:
-        save_problem_set(problem_set, args.out / "states.json")
+        save_problem_set(problem_set, args.output / "states.json")
     write_report(args, problem_set, result)
     return 0
 
@@ -397,7 +397,7 @@ def main(argv: list[str] | None = None) -> int:
 def run(args) -> tuple[ProblemSet, dict]:
     """The study's measurements: the states (read or built) and every section's figures."""
     if args.reuse_states:
-        problem_set = load_problem_set(args.out / "states.json")
+        problem_set = load_problem_set(args.output / "states.json")
     else:
         problem_set = closed_loop_states(args.states)
     pairs = args.pairs or registry.pairs(objective="paper")
@@ -422,10 +422,10 @@ def run(args) -> tuple[ProblemSet, dict]:
 
 
 def write_report(args, problem_set: ProblemSet, result: dict) -> None:
-    """``results.json`` and the README of ``args.out``."""
+    """``results.json`` and the README of ``args.output``."""
     rows = result["latency"]
     peer = any((r["formulation"], r["backend"]) == PEER for r in rows)
-    (args.out / "results.json").write_text(json.dumps(result, indent=1) + "\n")
+    (args.output / "results.json").write_text(json.dumps(result, indent=1) + "\n")
     m = result["machine"]
     text = ["# Step latency of the capture stage", "",
             "Regenerate with `python studies/step_latency.py` (all pairs, growth included"
@@ -454,8 +454,8 @@ def write_report(args, problem_set: ProblemSet, result: dict) -> None:
                  "log N (log N_d).", "", growth_tables(result["growth"]), ""]
     text += ["## Targets", "", *targets(rows, result.get("growth"), result.get("profile")),
              *loop_targets(result["loop"], rows, result["exported_c"]), ""]
-    (args.out / "README.md").write_text("\n".join(text))
-    print(f"wrote {args.out / 'README.md'}")
+    (args.output / "README.md").write_text("\n".join(text))
+    print(f"wrote {args.output / 'README.md'}")
 
 
 if __name__ == "__main__":

@@ -33,7 +33,7 @@ Each step is a :class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, warm-started from th
 as the controller does; the ones compared on the same starts (HPIPM's robot step, the rounds) follow the
 default's or the optimum's closed loop (``CaptureMPC.follow``). Exponents: the least-squares slope of log(time) on log(N_d).
 
-    python studies/team_size.py [--out studies/team_size] [--sizes 3 6 …] [--states 20] [--reuse-states]
+    python studies/team_size.py [--output studies/team_size] [--sizes 3 6 …] [--states 20] [--reuse-states]
     python studies/team_size.py --check     # the rounds table and the plans agreement, on the committed states
 """
 
@@ -580,7 +580,7 @@ def check(out: Path) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=output_folder, default=Path(__file__).resolve().parent / "team_size")
+    parser.add_argument("--output", type=output_folder, default=Path(__file__).resolve().parent / "team_size")
     parser.add_argument("--sizes", type=count(MAX_SIZE), nargs="+", default=list(SIZES))
     parser.add_argument("--states", type=count(MAX_STATES), default=STATES,
                         help=f"consecutive states per team size, 2 to {MAX_STATES} (the first sets up and is not timed)")
@@ -592,9 +592,9 @@ def main(argv: list[str] | None = None) -> int:
     with stop_at_once("team_size"):             # Ctrl-C: nothing written, the committed files kept
         try:
             if args.check:
-                return check(args.out)
+                return check(args.output)
             if args.reuse_states:
-                states = load_states(args.out / "states.json")
+                states = load_states(args.output / "states.json")
             else:
                 states = {n: hunt_states(n, args.states) for n in args.sizes}
             before = load_average()
@@ -606,10 +606,10 @@ def main(argv: list[str] | None = None) -> int:
         except MpcHuntError as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2
-    args.out.mkdir(parents=True, exist_ok=True)
-    save_states(args.out / "states.json", states)
-    (args.out / "results.json").write_text(json.dumps(results, indent=1) + "\n", encoding="utf-8")
-    (args.out / "README.md").write_text(readme(results), encoding="utf-8")
+    args.output.mkdir(parents=True, exist_ok=True)
+    save_states(args.output / "states.json", states)
+    (args.output / "results.json").write_text(json.dumps(results, indent=1) + "\n", encoding="utf-8")
+    (args.output / "README.md").write_text(readme(results), encoding="utf-8")
     print(readme(results))
     return 0
 

@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 
 from mpc_hunt import builtin_scenario, simulate
 
@@ -21,7 +22,9 @@ def test_the_checks_run_every_study_that_takes_one_and_fail_when_one_fails(monke
     check_all = _study("check_all")
     assert {"reproduce_paper", "compare", "realtime", "attackers", "team_size", "sweep"} <= set(check_all.checked())
     assert "check_all" not in check_all.checked() and "study_check" not in check_all.checked()
-    assert check_all.main(["no_such_study"]) == 2
+    with pytest.raises(SystemExit) as exc:
+        check_all.main(["no_such_study"])
+    assert exc.value.code == 2 and "no study 'no_such_study' takes --check" in capsys.readouterr().err
     monkeypatch.setattr(check_all, "check", lambda name: (name, subprocess.CompletedProcess(
         [], 1 if name == "compare" else 0, "", "differs"), 0.0))
     assert check_all.main(["compare", "sweep"]) == 1
