@@ -32,6 +32,7 @@ def _tiny():
     return shipped.select(), [p for p in shipped.problems if p.id in keep]
 
 
+@pytest.mark.slow
 def test_a_small_run_scores_every_pair_in_both_modes(tmp_path):
     shipped, keep = _tiny()
     problem_set = type(shipped)(shipped.scenarios, tuple(keep), "tiny")

@@ -55,6 +55,7 @@ def test_the_command_runs_own_loop_alone(capsys):
     assert out["rows"][0]["budget_hits"] == out["rows"][0]["solves"] > 0
 
 
+@pytest.mark.slow
 def test_ctrl_c_keeps_the_rows_of_the_hunts_finished(tmp_path):
     """Ctrl-C during an own-loop run prints the rows of every hunt finished, then exits 130, within a few seconds."""
     import os

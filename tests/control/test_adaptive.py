@@ -10,6 +10,7 @@ from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario_io import builtin_scenario
 
 
+@pytest.mark.slow
 def test_a_wrong_belief_is_corrected_from_the_track_and_the_hunt_is_captured():
     """The paper's obstacle hunt, the defenders believing R_agg 1.3 times too small and η three times too small:
     by the capture the model the capture problem predicts with holds the world's parameters."""

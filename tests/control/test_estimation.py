@@ -101,6 +101,7 @@ def test_recovers_intent_gain_and_perception_radius(truth):
     assert result.residual < 1e-10
 
 
+@pytest.mark.slow
 @settings(deadline=None, max_examples=15)
 @example(speed=0.001953125, heading=0.0, log_gain=0.0, radius=1.5625, seed=0)   # corners hypothesis found, where a
 @example(speed=0.001953125, heading=0.0, log_gain=0.0, radius=1.625, seed=0)    # 12-step search stopped short

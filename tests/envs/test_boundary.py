@@ -156,6 +156,7 @@ def _gymnasium(kind: str, source: dict):
     return DefenderEnv(**source)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["attacker", "defenders"])
 @BOUNDARY
 @given(data=st.data(), source=sources, seed=seeds, attacker=st.sampled_from([None, *BEHAVIOURS]))
@@ -213,6 +214,7 @@ def _parallel_illegal(env, data):
     return list(legal_ones.values()), "a dict of one action per agent"
 
 
+@pytest.mark.slow
 @BOUNDARY
 @given(data=st.data(), source=sources, seed=seeds)
 def test_the_parallel_environment_holds_its_invariants_under_random_actions(data, source, seed):

@@ -32,6 +32,7 @@ def test_a_given_hunt_with_nothing_to_decide_is_one_clear_error():
         env.reset(seed=0, options={"scenario": _hunt(5, limit=5.0)})
 
 
+@pytest.mark.slow
 def test_the_attacker_view_env_passes_gymnasiums_checker():
     env = AttackerViewEnv(controller="voronoi", teams=(2, 4))
     check_env(env)
@@ -45,6 +46,7 @@ def test_a_bad_decision_step_is_refused_naming_it(bad):
         AttackerViewEnv(controller="voronoi", decision_steps=bad)
 
 
+@pytest.mark.slow
 def test_the_ppo_attacker_plays_the_hunt_its_environment_gives():
     """The shipped network through the behaviour in the simulator, and through the training environment: the same
     attacker path to the bit (its view, its decision steps, its velocity)."""
@@ -169,6 +171,7 @@ def _network(tmp_path, bias=(0.0, 0.0)):
     return str(path)
 
 
+@pytest.mark.slow
 def test_with_no_correction_the_ppo_team_is_the_voronoi_baseline(tmp_path):
     scenario = with_behaviour(_hunt(9, limit=300.0), "gap")
     ours = simulate(scenario, PpoTeam(scenario, policy=_network(tmp_path)), rng=np.random.default_rng(0))

@@ -17,6 +17,7 @@ from mpc_hunt.cli.commands import main
     ("two-defenders", ["--controller", "paper"]),
     ("paper-open", []), ("paper-obstacles", []),
 ])
+@pytest.mark.slow
 def test_the_default_captures_every_built_in_hunt_and_the_paper_two_defenders(capsys, name, flags):
     """The default of ``mpc-hunt simulate`` captures every built-in scenario, and the paper's strategy captures
     ``two-defenders`` (obstacles complete the circle); in each, starts moved by a nanometre capture too."""
@@ -26,6 +27,7 @@ def test_the_default_captures_every_built_in_hunt_and_the_paper_two_defenders(ca
     assert report["min_obstacle_clearance_m"] is None or report["min_obstacle_clearance_m"] > 0
 
 
+@pytest.mark.slow
 def test_the_paper_strategy_with_a_failed_robot_holds_the_attacker_inside_its_perception_radius(capsys):
     """Whether the paper's strategy captures ``failed-defender`` before the time limit is not a property of the
     hunt: of starts a nanometre apart some capture and the others reach the time limit, and the nominal run

@@ -20,6 +20,7 @@ def _check_capture(result, scenario):
     assert result.min_defender_separation > 0 and result.min_attacker_distance > 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["paper-open", "paper-obstacles"])
 @pytest.mark.parametrize("prediction", [True, False])
 def test_paper_simulations_capture_without_collision(name, prediction):
@@ -62,6 +63,7 @@ def test_until_stops_at_the_first_formed_circle():
     np.testing.assert_array_equal(result.attacker[-1], state.attacker)
 
 
+@pytest.mark.slow
 def test_a_starved_solver_falls_back_and_the_hunt_goes_on():
     scenario = builtin_scenario("paper-open")
     starved = HuntingStrategy(scenario, formulation="nlp", time_limit=1e-9)
