@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import time
 
-import casadi as ca
 import numpy as np
 
 from mpc_hunt.formulations.capture_model import parameter_vector
@@ -39,12 +38,12 @@ def rti_profile(problems: list) -> dict:
     """Median ms of the linearisation and of HPIPM alone, and HPIPM's median iterations, over the warm-started
     states ``problems`` (callables that pose each state), the first (set-up) excluded."""
     mpc = CaptureMPC("rti", "hpipm")
-    graph = linearise = hpipm = None
+    linearise = hpipm = None
     pieces = {"linearise_ms": [], "hpipm_ms": [], "hpipm_iterations": []}
     for make in problems:
         problem: CaptureProblem = make()
         start = mpc.step(problem).start          # the controller's step; its start is the one taken apart
-        if graph is not None:
+        if linearise is not None:
             theta = np.append(parameter_vector(problem), SMOOTHING)
             reference = problem.x_from_plan(problem.held_plan() if start is None else start)
             seconds, qp = _fastest(lambda: linearise(theta, reference))
@@ -54,9 +53,5 @@ def rti_profile(problems: list) -> dict:
             pieces["hpipm_ms"].append(1e3 * seconds)
             pieces["hpipm_iterations"].append(hpipm.stats()["iter_count"])
         else:
-            graph = linearised_stages(problem.structure)
-            qp = [graph.qp[key] for key in QP_KEYS]
-            linearise = ca.Function("linearise", graph.inputs, qp)
-            hpipm = ca.conic("capture", "hpipm", {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
-                             {"error_on_fail": False, **HpipmBackend().conic_options(graph)})
+            linearise, hpipm = HpipmBackend().linearised(linearised_stages(problem.structure))
     return {"repeats": REPEATS, **{k: float(np.median(v)) for k, v in pieces.items()}}

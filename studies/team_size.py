@@ -52,7 +52,6 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
-import casadi as ca
 import numpy as np
 
 from mpc_hunt.formulations.rti import linearised_stages
@@ -127,11 +126,7 @@ class HpipmAlone:
     solved by CasADi's ``hpipm`` plugin with the backend's options; the fastest of :data:`REPEATS` solves."""
 
     def __init__(self, structure):
-        graph = linearised_stages(structure)
-        qp = [graph.qp[key] for key in QP_KEYS]
-        self.linearise = ca.Function("linearise", graph.inputs, qp)
-        self.hpipm = ca.conic("capture", "hpipm", {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
-                              {"error_on_fail": False, **HpipmBackend().conic_options(graph)})
+        self.linearise, self.hpipm = HpipmBackend().linearised(linearised_stages(structure))
 
     def time(self, theta: np.ndarray, reference: np.ndarray) -> float:
         data = dict(zip(QP_KEYS, self.linearise(theta, reference)))

@@ -3,12 +3,14 @@ statuses; options checked against what each solver takes."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from conftest import problem_at, small_scenario
 from mpc_hunt import CaptureSolver, Status, make_controller
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.solving import registry
+from mpc_hunt.solving.backends.base import PACE_MARGIN
 from mpc_hunt.solving.backends.daqp import DaqpBackend
 
 INSTALLED = [b for b in registry.BACKENDS if registry.installed(b)]
@@ -59,24 +61,37 @@ def test_a_usable_solve_past_its_time_limit_is_a_time_limit_not_optimal(scenario
     assert step.status is Status.TIME_LIMIT and "past the 1e-07 s limit" in step.message
 
 
-def test_daqp_turns_its_time_limit_into_an_iteration_cap_from_its_measured_pace():
+def test_daqp_turns_its_time_limit_into_an_iteration_cap_from_its_measured_cost():
     backend = DaqpBackend(time_limit=0.01)
     assert backend.iteration_cap() == 100                  # nothing measured yet: the first-solve cap
-    backend.record_pace(0.5e-3, 10)                        # 0.05 ms an iteration, budgeted at twice that
-    assert backend.pace == pytest.approx(1e-4) and backend.iteration_cap() == 100
-    for _ in range(3):
-        backend.record_pace(5e-3, 10)                      # slower solves move the median
-    backend.record_pace(1.0, 2)                            # too few iterations to tell fixed costs apart: not counted
-    assert backend.pace == pytest.approx(1e-3) and backend.iteration_cap() == 10
+    backend.record_pace(0.5e-3, 10)                        # one iteration count: 0.05 ms an iteration, no fixed cost
+    assert backend.cost() == pytest.approx((0.0, 5e-5)) and backend.iteration_cap() == int(0.01 / (PACE_MARGIN * 5e-5))
+    for k in (2, 4, 8, 16):                                # 1 ms fixed + 0.2 ms an iteration: both recovered
+        backend.record_pace(1e-3 + 2e-4 * k, k)
+    backend.record_pace(1.0, 5)                            # one solve held up by the machine: it moves little
+    fixed, per_iteration = backend.cost()
+    assert fixed == pytest.approx(1e-3, rel=0.05) and per_iteration == pytest.approx(2e-4, rel=0.05)
+    assert backend.iteration_cap() == int((0.01 - fixed) / (PACE_MARGIN * per_iteration))    # (10 − 1) / 0.3: 30
     assert DaqpBackend(time_limit=0.01, max_iter=3).iteration_cap() == 3
     assert DaqpBackend().iteration_cap() == DaqpBackend.MAX_ITER
+
+
+def test_a_fixed_cost_does_not_eat_the_iterations_a_limit_leaves():
+    """A step whose fixed cost (linearisation, read-back) dwarfs its iterations: the cap is what the limit leaves
+    after it, not the limit over the time per iteration of short solves (which counts the fixed cost many times)."""
+    backend = DaqpBackend(time_limit=0.02)
+    for k in (4, 6, 8, 6, 5, 7):
+        backend.record_pace(0.6e-3 + 0.08e-3 * k, k)       # ~1 ms steps of ~6 iterations
+    assert backend.iteration_cap() == int((0.02 - 0.6e-3) / (PACE_MARGIN * 0.08e-3)) == 161
+    assert int(0.02 / (PACE_MARGIN * np.median([(0.6e-3 + 0.08e-3 * k) / k for k in (4, 6, 8, 6, 5, 7)]))) < 80
 
 
 def test_a_solve_measures_the_pace_its_cap_is_made_from(scenario):
     # HPIPM's step (an interior point: always several iterations), on its loop.
     solver = CaptureSolver("rti", "hpipm", time_limit=0.5)
     solver.solve(problem_at(scenario, 3))
-    assert solver.backend.pace == 0                        # a structure's first solve is not counted
+    assert solver.backend.cost() == (0.0, 0.0)             # a structure's first solve is not counted
     assert solver.solve(problem_at(scenario, 3)).iterations >= 3
-    assert solver.backend.pace > 0 and solver.backend.iteration_cap() == min(
-        solver.backend.MAX_ITER, int(0.5 / solver.backend.pace))
+    fixed, per_iteration = solver.backend.cost()
+    assert per_iteration > 0 and solver.backend.iteration_cap() == min(
+        solver.backend.MAX_ITER, int((0.5 - fixed) / (PACE_MARGIN * per_iteration)))

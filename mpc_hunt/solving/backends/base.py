@@ -12,10 +12,11 @@ The budget has one name per kind on every backend: ``time_limit`` (seconds) and
 ``max_iter`` (iterations), each handed to the solver under its own name
 (``NATIVE``). A solver that does not stop itself on the clock (``CLOCK = False``:
 DAQP, whose clock is read only inside long inner loops) gets its time limit as
-an iteration cap, the limit over its pace: twice the median time per iteration of
-its last solves (:meth:`Backend.iteration_cap`; a structure's first solve, slower
-by its allocations, and solves of fewer than three iterations, where fixed costs
-dominate, are not counted). A solve that ran past its time limit all the
+an iteration cap from its measured cost: a solve of k iterations takes a fixed
+cost plus k times a cost per iteration, both fitted robustly (Theil–Sen) to its
+last solves (a structure's first, slower by its allocations, apart); the cap is
+the limit less the fixed cost over 1.5 times the cost per iteration
+(:meth:`Backend.iteration_cap`). A solve that ran past its time limit all the
 same returns ``time_limit``, never ``optimal``. The solver's own names for the
 budget and any option the solver does not know are refused when the backend is
 made, each in one line naming the key.
@@ -43,8 +44,8 @@ ACCURACIES = ("default", "high", "low", "solver")
 CACHE_SIZE = 16   # structures kept set up per backend (the controlled set changes during a hunt)
 MAX_ITERATIONS = 1_000_000   # the largest iteration cap taken
 FIRST_CAP = 100   # a clockless solver's cap under a time limit before any time per iteration is measured
-PACE_SOLVES = 32  # the solves whose time per iteration the pace is the median of (× PACE_MARGIN)
-PACE_MARGIN = 2.0
+PACE_SOLVES = 32  # the last solves a clockless solver's cost (fixed + per iteration) is fitted to
+PACE_MARGIN = 1.5  # the cost per iteration budgeted: this many times the fitted one
 BUDGET = ("time_limit", "max_iter")
 
 
@@ -91,7 +92,7 @@ class Backend:
         self.accuracy = accuracy
         self.options = {**self.ACCURACY.get(accuracy, {}), **options}
         self.setups = 0
-        self._paces: deque[float] = deque(maxlen=PACE_SOLVES)
+        self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)     # (seconds, iterations)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
 
     @classmethod
@@ -113,25 +114,38 @@ class Backend:
             hint = f"did you mean {near[0]!r}?" if near else "see the solver's documentation for its options"
             raise OptionError(f"{unknown[0]}: not an option of backend {self.name} ({hint})")
 
-    @property
-    def pace(self) -> float:
-        """The time an iteration is budgeted (s): :data:`PACE_MARGIN` × the median of the last solves' (0: none)."""
-        return PACE_MARGIN * float(np.median(self._paces)) if self._paces else 0.0
+    def cost(self) -> tuple[float, float]:
+        """(fixed, per iteration) seconds of a solve, fitted to the last solves: the per-iteration cost the median
+        of the slopes between pairs of solves of different iteration counts (Theil–Sen: a solve slowed by the
+        machine moves it little), the fixed cost the median of what each solve leaves over; with one iteration
+        count only, no fixed cost and the median time per iteration. (0, 0) before any solve."""
+        if not self._solves:
+            return 0.0, 0.0
+        t, k = (np.array(v, dtype=float) for v in zip(*self._solves))
+        dk, dt = k[:, None] - k[None, :], t[:, None] - t[None, :]
+        apart = dk > 0
+        if apart.any():
+            slope = float(np.median(dt[apart] / dk[apart]))
+            if slope > 0:
+                return max(0.0, float(np.median(t - slope * k))), slope
+        return 0.0, float(np.median(t / np.maximum(k, 1)))
 
     def record_pace(self, seconds: float, iterations: int) -> None:
-        """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` towards the pace."""
-        if iterations >= 3:
-            self._paces.append(seconds / iterations)
+        """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` towards :meth:`cost`."""
+        if iterations >= 1:
+            self._solves.append((seconds, iterations))
 
     def iteration_cap(self) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
-        under a time limit the limit over its :attr:`pace` (:data:`FIRST_CAP` before one is measured)."""
+        under a time limit what fits in it: the limit less the fixed :meth:`cost` over :data:`PACE_MARGIN` × the
+        cost per iteration (:data:`FIRST_CAP` before a solve is measured)."""
         cap = self.max_iter or self.MAX_ITER
         if self.time_limit is None or self.CLOCK:
             return cap
-        if self.pace <= 0:
+        fixed, per_iteration = self.cost()
+        if per_iteration <= 0:
             return min(cap, FIRST_CAP)
-        return max(1, min(cap, math.floor(self.time_limit / self.pace)))
+        return max(1, min(cap, math.floor((self.time_limit - fixed) / (PACE_MARGIN * per_iteration))))
 
     # What a concrete backend supplies.
     def setup(self, data) -> Any:

@@ -43,17 +43,24 @@ class ConicStepBackend(Backend):
         """The plugin's options for this graph (tolerances come from ``self.options``)."""
         return {}
 
+    def linearised(self, graph: Any) -> tuple[Any, Any]:
+        """The two halves of a step apart: ``graph``'s QP as a Function of its inputs (outputs: :data:`QP_KEYS`),
+        and this backend's conic solver for that QP's sparsity (a study times them one by one)."""
+        import casadi as ca
+
+        qp = [graph.qp[key] for key in QP_KEYS]
+        solver = ca.conic("capture", self.plugin, {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
+                          {"error_on_fail": False, **self.conic_options(graph)})
+        return ca.Function("linearise", graph.inputs, qp), solver
+
     def setup(self, data: StageQPData):
         import casadi as ca
 
         graph = data.build()
-        qp = [graph.qp[key] for key in QP_KEYS]
-        linearise = ca.Function("linearise", graph.inputs, qp)
+        linearise, solver = self.linearised(graph)
         read = ca.Function("read", graph.inputs + [graph.z], [graph.plan, graph.cost])
-        solver = ca.conic("capture", self.plugin, {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
-                          {"error_on_fail": False, **self.conic_options(graph)})
         inputs = [ca.MX.sym(f"input{i}", s.sparsity()) for i, s in enumerate(graph.inputs)]
-        lam_x0, lam_a0 = ca.MX.sym("lam_x0", qp[0].shape[0]), ca.MX.sym("lam_a0", qp[2].shape[0])
+        lam_x0, lam_a0 = ca.MX.sym("lam_x0", linearise.size1_out(0)), ca.MX.sym("lam_a0", linearise.size1_out(2))
         # Every output requested: some plugins write their duals unconditionally.
         solution = solver(**dict(zip(QP_KEYS, linearise(*inputs))), lam_x0=lam_x0, lam_a0=lam_a0)
         plan, cost = read(*inputs, solution["x"])
