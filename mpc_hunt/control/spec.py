@@ -60,7 +60,8 @@ class ControllerSpec:
                                              f"{', '.join(controllers.CONTROLLERS)})")
         options = _options(self.options)
         if name in controllers.SOLVING:
-            settled = _stage(name, controllers.controller_objective(name), self.formulation, self.backend, self.horizon, stage or RECOMMENDED)
+            settled = _stage(name, controllers.controller_objective(name), self.formulation, self.backend,
+                             self.horizon, stage or RECOMMENDED)
         else:
             _refuse_settings(name, [f for f in STAGE if getattr(self, f) is not None] + list(options))
             settled = dict.fromkeys(STAGE)
@@ -175,10 +176,11 @@ def _refuse_settings(name: str, given: list[str] | tuple[str, ...]) -> None:
 def _stage(name: str, objective: str, formulation: str | None, backend: str | None, horizon: object,
            default: Mapping[str, Any]) -> dict[str, Any]:
     """The capture stage of the solving controller ``name``, each unset field ``default``'s (the class's
-    docstring), checked: known, pairing and installed, a horizon in bounds, the formulation posing ``objective``."""
+    docstring), checked: known, pairing and installed, a horizon in bounds, the pair posing ``objective``
+    (:func:`~mpc_hunt.solving.registry.objective_refusal`)."""
     formulation = default["formulation"] if formulation is None else formulation
     try:
-        posed = registry.formulation_class(formulation).objectives
+        registry.formulation_class(formulation)
     except MpcHuntError as exc:
         raise SettingError("formulation", str(exc)) from None
     own = formulation == default["formulation"]
@@ -190,9 +192,10 @@ def _stage(name: str, objective: str, formulation: str | None, backend: str | No
     why = horizon_error(horizon)
     if why:
         raise SettingError("horizon", why)
-    if objective not in posed:
-        raise SettingError("formulation", f"{formulation} poses the {' or '.join(posed)} objective, not the "
-                                          f"{objective} objective of controller {name!r}: use another formulation")
+    refusal = registry.objective_refusal(formulation, backend, objective)
+    if refusal is not None:
+        field = refusal.fields[0]
+        raise SettingError(field, f"{refusal.reason} of controller {name!r}: use another {field}")
     return {"formulation": formulation, "backend": backend, "horizon": int(horizon)}
 
 

@@ -24,15 +24,6 @@ from mpc_hunt.world.belief import Belief
 BASELINES = [c for c in CONTROLLERS if c not in SOLVING]
 
 
-def _posing(controller: str) -> list[str]:
-    return [f for f in registry.FORMULATIONS
-            if controller_objective(controller) in registry.formulation_class(f).objectives]
-
-
-def _installed(formulation: str) -> list[str]:
-    return [b for b in registry.compatible_backends(formulation) if registry.installed(b)]
-
-
 @st.composite
 def specs(draw) -> tuple[ControllerSpec, dict]:
     """A valid spec and the fields it was given (the others left to their defaults)."""
@@ -41,8 +32,8 @@ def specs(draw) -> tuple[ControllerSpec, dict]:
         return ControllerSpec(controller), {}
     given = {}
     if draw(st.booleans()):
-        formulation = draw(st.sampled_from(_posing(controller)))
-        given |= {"formulation": formulation, "backend": draw(st.sampled_from(_installed(formulation)))}
+        formulation, backend = draw(st.sampled_from(registry.pairs(objective=controller_objective(controller))))
+        given |= {"formulation": formulation, "backend": backend}
     if draw(st.booleans()):
         given["horizon"] = draw(st.integers(1, MAX_HORIZON))
     return ControllerSpec(controller, **given), given
@@ -128,6 +119,9 @@ def test_every_invalid_field_is_refused_naming_it(bad):
 @pytest.mark.parametrize("make, fields, words", [
     (lambda: ControllerSpec("paper", "distributed"), ("formulation",),
      "distributed poses the enclose objective, not the paper objective of controller 'paper'"),
+    (lambda: ControllerSpec("paper", "rti", "daqp-condensed"), ("backend",),
+     "daqp-condensed solves only the enclose objective's QPs, not those of the paper objective of controller "
+     "'paper': use another backend"),
     (lambda: ControllerSpec("apf", horizon=3, options={"time_limit": 1.0}), ("horizon", "time_limit"),
      "controller 'apf' solves no capture problem and takes only prediction: drop them"),
     (lambda: ControllerSpec("voronoi", options={"prediction": True, "score": True}), ("score",), "drop it"),
@@ -144,6 +138,32 @@ def test_a_refusal_names_its_fields_and_how_to_fix_it(make, fields, words):
     assert str(exc.value) == f"{', '.join(fields)}: {exc.value.reason}"
     copy = pickle.loads(pickle.dumps(exc.value))          # as a sweep's worker hands it back
     assert (copy.fields, copy.reason) == (exc.value.fields, exc.value.reason)
+
+
+@pytest.mark.parametrize("objective", ["paper", "enclose"])
+def test_which_objectives_a_pair_poses_is_the_registrys_one_check(objective):
+    """The spec, compare's pairs and a solving controller refuse a pair exactly where
+    :func:`~mpc_hunt.solving.registry.objective_refusal` does, naming the same field."""
+    from mpc_hunt.bench.compare import check_pairs
+    from mpc_hunt.control.strategy import HuntingStrategy
+    from mpc_hunt.errors import BenchmarkError
+
+    controller = next(c for c in SOLVING if controller_objective(c) == objective)
+    posed = registry.pairs(objective=objective)
+    for pair in registry.pairs():
+        refusal = registry.objective_refusal(*pair, objective)
+        assert (refusal is None) == (pair in posed)
+        if refusal is None:
+            assert ControllerSpec(controller, *pair).backend == pair[1] and check_pairs([":".join(pair)], objective)
+            continue
+        with pytest.raises(SettingError) as exc:
+            ControllerSpec(controller, *pair)
+        assert exc.value.fields == refusal.fields and exc.value.reason.startswith(refusal.reason)
+        with pytest.raises(BenchmarkError, match=re.escape(refusal.reason)):
+            check_pairs([":".join(pair)], objective)
+        with pytest.raises(SettingError, match=re.escape(str(refusal))):
+            HuntingStrategy(small_scenario(), CONTROLLERS[controller].reference, formulation=pair[0],
+                            backend=pair[1], horizon=2)
 
 
 @pytest.mark.parametrize("text", ["", ":rti", "a:b:c:d:e", "enclose:rti:hpipm:10:"])
