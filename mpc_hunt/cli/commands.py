@@ -302,8 +302,7 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
 
 def _controller_spec(args) -> ControllerSpec:
     """--controller with the flags' settings (:func:`_spec`: the same as the sweep's strategy of that name)."""
-    options = {"prediction": not args.no_prediction} \
-        if args.no_prediction or controllers.takes(args.controller, "prediction") else {}
+    options = {"prediction": False} if args.no_prediction else {}
     if args.time_limit is not None:
         options["time_limit"] = args.time_limit
     if args.max_iter is not None:

@@ -1,4 +1,5 @@
-"""One controller with its settings, as the command line, the sweep and the environments name it.
+"""One controller with its settings, as the command line, the sweep, the environments and the Python API name it:
+the one way a controller is built (:func:`make_controller` is a spec's keyword form).
 
 A :class:`ControllerSpec` is a controller of :data:`~mpc_hunt.control.controllers.CONTROLLERS` and, for one that
 solves a capture problem (:data:`~mpc_hunt.control.controllers.SOLVING`), its capture stage: formulation, backend
@@ -26,7 +27,7 @@ from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.control.recommended import OTHER_HORIZON, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.errors import MpcHuntError, OptionError, SettingError
 from mpc_hunt.solving import registry
-from mpc_hunt.world.belief import Belief
+from mpc_hunt.world.belief import Belief, believed
 from mpc_hunt.world.hunt_state import HuntState
 
 STAGE = ("formulation", "backend", "horizon")      # a solving controller's capture stage, in the label's order
@@ -109,9 +110,10 @@ class ControllerSpec:
         return stage | dict(self.options)
 
     def build(self, scenario, *, belief: Belief = Belief(), rng=None):
-        """A fresh controller for ``scenario``, on the defenders' ``belief`` of the attacker (``rng`` draws its
-        errors): :func:`~mpc_hunt.control.controllers.make_controller`'s."""
-        return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng, **self.settings)
+        """A fresh controller for ``scenario``: the registry's class (:data:`~mpc_hunt.control.controllers.CONTROLLERS`)
+        with the spec's settings, built on the defenders' ``belief`` of the attacker
+        (:func:`mpc_hunt.world.belief.believed`; ``rng`` draws its heading error), never on the world's behaviour."""
+        return controllers.CONTROLLERS[self.controller](believed(scenario, belief, rng), **self.settings)
 
     def probed(self, scenario, *, belief: Belief = Belief(), argument: str = "options"):
         """:meth:`build`'s controller, built now rather than at a hunt's first step, each refusal one
@@ -143,6 +145,15 @@ class ControllerSpec:
                 raise OptionError(f"{argument}: {solver.backend.name} erred with its options {keys} "
                                   f"({solution.message}); check their names and values")
         return controller
+
+
+def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **settings):
+    """A fresh controller for ``scenario`` by its registered ``name`` (:func:`~mpc_hunt.control.controllers.described`
+    says what each does): ``ControllerSpec.of(name, settings).build(scenario, belief=belief, rng=rng)``, so a setting
+    left out takes the spec's default, as ``mpc-hunt simulate --controller name`` does; ``settings`` are the spec's
+    fields (``formulation``, ``backend``, ``horizon``) and the controller's options (``prediction``, ``time_limit``,
+    ``score``, a solver's own), a refused one a :class:`~mpc_hunt.errors.SettingError` naming it."""
+    return ControllerSpec.of(name, settings).build(scenario, belief=belief, rng=rng)
 
 
 def _mapping(options: object) -> dict[str, Any]:

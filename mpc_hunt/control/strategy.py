@@ -57,11 +57,14 @@ class HuntingStrategy:
     ``reference``: :class:`~mpc_hunt.control.reference.PaperObjective` (the default, the paper's strategy: Eqs.
     12–15 for the defenders within R_agg, Eq. 6 for the others), or a class building places that the enclose
     objective tracks with every active defender (``Enclosure``, ``Containment``, ``Trap``).
-    ``score``: the evaluator scores every plan, not only a failed solve's (the module's docstring).
+    ``formulation``, ``backend`` and ``horizon``: the capture stage as given, never defaulted here (a controller
+    by name, :class:`~mpc_hunt.control.spec.ControllerSpec`, takes the defaults; ``backend`` None is the
+    formulation's own). ``score``: the evaluator scores every plan, not only a failed solve's (the module's
+    docstring).
     """
 
     def __init__(self, scenario: Scenario, reference: type[CaptureReference] = PaperObjective, *,
-                 prediction: bool = True, formulation: str = "nlp", backend: str | None = None, horizon: int = 1,
+                 formulation: str, backend: str | None = None, horizon: int, prediction: bool = True,
                  time_limit: float | None = None, score: bool = False, **solver_options):
         self.scenario = scenario
         self.prediction = prediction

@@ -40,6 +40,8 @@ from mpc_hunt.solving.team_loop import TeamLoop
 class CaptureSolver:
     """A formulation and its backend, kept between solves.
 
+    ``formulation`` is always named (a capture stage's defaults are the controller spec's,
+    :mod:`mpc_hunt.control.recommended`); ``backend`` None is the formulation's own default.
     ``time_limit`` (seconds) is handed to the solver as its own limit,
     ``accuracy`` (``default``, ``high``, ``low``) picks its tolerances, other
     keywords are the backend's options. ``raise_on_failure`` turns a failed
@@ -51,7 +53,7 @@ class CaptureSolver:
     control loops; ``loop=False`` runs the formulation's own path.
     """
 
-    def __init__(self, formulation: str = "nlp", backend: str | None = None, *,
+    def __init__(self, formulation: str, backend: str | None = None, *,
                  time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
                  score: bool = True, loop: bool | None = None, formulation_options: dict | None = None,
                  **backend_options):
@@ -180,7 +182,7 @@ def loop_certificate(loop: CaptureLoop | TeamLoop) -> Certificate | None:
     return None if np.any(np.isnan(values)) else Certificate(*(float(v) for v in values))
 
 
-def solve(problem: CaptureProblem, formulation: str = "nlp", backend: str | None = None,
+def solve(problem: CaptureProblem, formulation: str, backend: str | None = None,
           **options) -> Solution:
     """Solve one capture problem cold with a fresh solver (see :class:`CaptureSolver`)."""
     return CaptureSolver(formulation, backend, **options).solve(problem)

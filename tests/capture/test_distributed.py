@@ -20,8 +20,7 @@ from mpc_hunt.formulations.stage_model import SMOOTHING, stage_model
 from mpc_hunt import (Attacker, CaptureProblem, CaptureSolver, Defender, HuntParameters, Obstacle, Scenario, Status,
                       shift_plan)
 from mpc_hunt.bench.compare import check_pairs
-from mpc_hunt.control.controllers import make_controller
-from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.capture.problem import Reference
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.field import repulsion
@@ -343,7 +342,8 @@ def test_the_paper_objective_is_refused_everywhere():
     assert ("distributed", "hpipm") in check_pairs(None, "enclose")
     assert check_pairs(["distributed:hpipm"], "enclose") == [("distributed", "hpipm")]
     # a controller posing the paper's objective, and a sweep's strategy for it, are refused before any hunt
-    with pytest.raises(MpcHuntError, match="distributed poses the enclose objective, not the paper objective"):
+    with pytest.raises(MpcHuntError, match="distributed poses the enclose objective, not the paper objective of "
+                                           "controller 'paper'"):
         make_controller("paper", _scenario(4), formulation="distributed")
     with pytest.raises(MpcHuntError, match="not the paper objective of controller 'paper'"):
         ControllerSpec.parse("paper:distributed:hpipm:5")

@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 
 from conftest import small_scenario
 from mpc_hunt.capture.problem import MAX_HORIZON, horizon_error
-from mpc_hunt.cli.commands import main
-from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, controller_objective, make_controller, takes
+from mpc_hunt.cli.commands import _controller_spec, build_parser, main
+from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, controller_objective, keyword_options
 from mpc_hunt.control.recommended import OTHER_HORIZON, PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
-from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.errors import OptionError, SettingError
 from mpc_hunt.solving import registry
 from mpc_hunt.world.belief import Belief
@@ -64,7 +64,7 @@ def test_unset_fields_take_the_defaults_defined_once():
     assert ControllerSpec.parse("enclose::daqp-condensed:4").settings == RECOMMENDED | {"backend": "daqp-condensed",
                                                                                       "horizon": 4}
     for controller in BASELINES:
-        options = {"prediction": False} if takes(controller, "prediction") else {}
+        options = {"prediction": False} if "prediction" in keyword_options(controller) else {}
         spec = ControllerSpec(controller, options=options)
         assert (spec.formulation, spec.backend, spec.horizon) == (None, None, None)
         assert spec.settings == options
@@ -181,6 +181,35 @@ def test_build_is_make_controller_with_the_specs_settings():
         assert type(built) is type(made) and built.describe() == made.describe()
         if spec.controller in SOLVING:
             assert built.describe()["formulation"] == spec.formulation and built.horizon == spec.horizon
+
+
+def _built_alike(made, built) -> None:
+    """The two controllers are the same controller with the same settings: class, description, and a solving
+    one's solver as set up (its backend's options, the evaluator's scoring, the tolerance)."""
+    assert type(made) is type(built) and made.describe() == built.describe()
+    if hasattr(made, "mpc"):
+        mine, theirs = made.mpc.solver, built.mpc.solver
+        assert vars(mine.backend) == vars(theirs.backend) and mine.score == theirs.score
+        assert made.mpc.tolerance == built.mpc.tolerance
+
+
+@pytest.mark.parametrize("name", sorted(CONTROLLERS))
+def test_make_controller_builds_what_simulate_builds_for_every_registered_name(name):
+    """``make_controller(name, s)`` and ``mpc-hunt simulate --controller name``: the same spec, the same
+    controller; with settings, their flags' (``--horizon 3 --time-limit 0.5 --max-iter 7 --score``) too."""
+    scenario = small_scenario()
+    cli = _controller_spec(build_parser().parse_args(["simulate", "--controller", name]))
+    assert ControllerSpec.of(name) == cli
+    _built_alike(make_controller(name, scenario), cli.build(scenario))
+    if name in SOLVING:
+        flags = ["--horizon", "3", "--time-limit", "0.5", "--max-iter", "7", "--score", "--no-prediction"]
+        settings = {"horizon": 3, "time_limit": 0.5, "max_iter": 7, "score": True, "prediction": False}
+    else:
+        taken = "prediction" in keyword_options(name)
+        flags, settings = (["--no-prediction"], {"prediction": False}) if taken else ([], {})
+    cli = _controller_spec(build_parser().parse_args(["simulate", "--controller", name, *flags]))
+    assert ControllerSpec.of(name, settings) == cli
+    _built_alike(make_controller(name, scenario, **settings), cli.build(scenario))
 
 
 def _one_line_error(capsys, argv: list[str]) -> str:
