@@ -152,7 +152,7 @@ def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None,
     says what each does): ``ControllerSpec.of(name, settings).build(scenario, belief=belief, rng=rng)``, so a setting
     left out takes the spec's default, as ``mpc-hunt simulate --controller name`` does; ``settings`` are the spec's
     fields (``formulation``, ``backend``, ``horizon``) and the controller's options (``prediction``, ``time_limit``,
-    ``score``, a solver's own), a refused one a :class:`~mpc_hunt.errors.SettingError` naming it."""
+    ``score``, a solver's own), each refused one an :class:`~mpc_hunt.errors.OptionError` naming it."""
     return ControllerSpec.of(name, settings).build(scenario, belief=belief, rng=rng)
 
 
