@@ -32,9 +32,10 @@ class OptionError(MpcHuntError, ValueError):
 
 
 class SettingError(OptionError):
-    """A controller's settings are refused (:class:`mpc_hunt.control.spec.ControllerSpec`): ``fields`` names them
-    (``horizon``, ``time_limit``, ...), ``reason`` says why and how to fix it; each caller names them its own way
-    (a flag, an argument)."""
+    """A controller's settings are refused (:class:`mpc_hunt.control.spec.ControllerSpec`; a pair that cannot pose
+    an objective, :func:`mpc_hunt.solving.registry.objective_refusal`): ``fields`` names them (``horizon``,
+    ``time_limit``, ...), ``reason`` says why and how to fix it; each caller names them its own way (a flag, an
+    argument)."""
 
     def __init__(self, fields: str | tuple[str, ...] | list[str], reason: str):
         self.fields = (fields,) if isinstance(fields, str) else tuple(fields)

@@ -92,21 +92,20 @@ def planned_solves(problem_set: ProblemSet, pairs: int, horizons: list[int], mod
 
 
 def check_pairs(asked: list[str] | None, objective: str = "paper") -> list[tuple[str, str]]:
-    """``formulation:backend`` or ``formulation`` (all its installed backends); None: every installed pair whose
-    formulation poses ``objective``."""
+    """``formulation:backend`` or ``formulation`` (all its installed backends that pose ``objective``); None: every
+    installed pair that poses ``objective`` (:func:`~mpc_hunt.solving.registry.objective_refusal`)."""
     if not asked:
         return registry.pairs(objective=objective)
     out: list[tuple[str, str]] = []
     for text in asked:
         formulation, _, backend = text.partition(":")
-        if objective not in registry.formulation_class(formulation).objectives:
-            posed = " or ".join(registry.formulation_class(formulation).objectives)
-            raise BenchmarkError(f"--pair {text}: formulation {formulation} does not pose the {objective} objective "
-                                 f"(pick --objective {posed})")
-        if backend:
-            chosen = [(formulation, registry.check_pair(formulation, backend))]
-        else:
-            chosen = [p for p in registry.pairs() if p[0] == formulation]
+        backend = registry.check_pair(formulation, backend) if backend else None
+        refusal = registry.objective_refusal(formulation, backend, objective)
+        if refusal is not None:
+            raise BenchmarkError(f"--pair {text}: {refusal.reason} (pick another {refusal.fields[0]}, or another "
+                                 f"--objective)")
+        chosen = [(formulation, backend)] if backend else [p for p in registry.pairs(objective=objective)
+                                                           if p[0] == formulation]
         out += [p for p in chosen if p not in out]
     return out
 

@@ -35,7 +35,7 @@ import numpy as np
 from mpc_hunt.capture.evaluator import HARD_CONSTRAINTS as HARD, VIOLATION_NAMES
 from mpc_hunt.capture.solution import Status
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate

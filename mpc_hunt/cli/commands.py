@@ -32,7 +32,7 @@ from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_S
                                  check_writable, messages, quiet_solvers)
 from mpc_hunt.errors import MpcHuntError, SettingError
 from mpc_hunt.interrupt import stop_at_once, stop_keeping
-from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
+from mpc_hunt.control.recommended import OTHER_HORIZON, PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec, horizon_argument
 from mpc_hunt.world.behaviours import BEHAVIOURS, with_behaviour
 from mpc_hunt.world.belief import Belief, belief_rng
@@ -60,8 +60,9 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
                    help=f"capture-stage formulation (default: {default['formulation']}, {which})")
     p.add_argument("--backend", choices=sorted(registry.BACKENDS), help=_backend_help())
     p.add_argument("--horizon", type=horizon_argument, metavar="N",
-                   help="receding horizon in steps (default: 1" + ("" if default["horizon"] == 1 else
-                        f"; {default['horizon']} with the default formulation") + ")")
+                   help=f"receding horizon in steps (default: {OTHER_HORIZON}"
+                        + ("" if default["horizon"] == OTHER_HORIZON
+                           else f"; {default['horizon']} with the default formulation") + ")")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a summary")
     p.set_defaults(solver_default=default)
 
@@ -302,8 +303,7 @@ def check_output(path: Path | None, suffixes: tuple[str, ...], option: str) -> N
 
 def _controller_spec(args) -> ControllerSpec:
     """--controller with the flags' settings (:func:`_spec`: the same as the sweep's strategy of that name)."""
-    options = {"prediction": not args.no_prediction} \
-        if args.no_prediction or controllers.takes(args.controller, "prediction") else {}
+    options = {"prediction": False} if args.no_prediction else {}
     if args.time_limit is not None:
         options["time_limit"] = args.time_limit
     if args.max_iter is not None:

@@ -2,10 +2,9 @@
 hunting strategy with its capture stage (either objective), the two baselines, and the recommended one."""
 
 from mpc_hunt.control.controller import Command, Controller, Observation
-from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
-from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.control.strategy import HuntingStrategy
 
 __all__ = ["Command", "Controller", "ControllerSpec", "EncirclingController", "HuntingStrategy", "Observation", "PAPER",

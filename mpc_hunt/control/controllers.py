@@ -1,12 +1,12 @@
 """Controllers by name, one registry line each: a geometric controller is its class; a solving controller is its
-reference (one file, :mod:`mpc_hunt.control.reference`) × the capture stage, registered as ``Solving(Reference)``."""
+reference (one file, :mod:`mpc_hunt.control.reference`) × the capture stage, registered as ``Solving(Reference)``.
+A controller is built by name through its spec, with its defaults (:func:`mpc_hunt.control.spec.make_controller`)."""
 
 from __future__ import annotations
 
 import inspect
 from dataclasses import dataclass
 
-from mpc_hunt.world.belief import Belief, believed
 from mpc_hunt.control.containment import Containment
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.enclosure import Enclosure
@@ -55,11 +55,6 @@ def keyword_options(name: str) -> list[str]:
     return [p.name for p in inspect.signature(CONTROLLERS[name]).parameters.values() if p.kind is p.KEYWORD_ONLY]
 
 
-def takes(name: str, option: str) -> bool:
-    """Whether controller ``name`` takes ``option`` (a solving controller takes the capture stage's every one)."""
-    return name in SOLVING or option in keyword_options(name)
-
-
 def described() -> str:
     """Every registered controller with its summary, ``name: summary; ...`` (the CLI's help, the docs)."""
     return "; ".join(f"{name}: {entry.SUMMARY}" for name, entry in CONTROLLERS.items())
@@ -76,11 +71,3 @@ def controller_objective(name: str) -> str:
     """The capture objective the solving controller ``name`` (one of :data:`SOLVING`) poses."""
     return registered(CONTROLLERS, "controller", name).OBJECTIVE
 
-
-def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **options):
-    """A fresh controller for ``scenario`` by its registered ``name`` (:data:`CONTROLLERS`; :func:`described`
-    says what each does), with ``options`` (a solving controller's solver settings, ``prediction``).
-
-    The controller is built on the defenders' ``belief`` of the attacker (:func:`mpc_hunt.world.belief.believed`;
-    ``rng`` draws its heading error), never on the world's behaviour."""
-    return registered(CONTROLLERS, "controller", name)(believed(scenario, belief, rng), **options)

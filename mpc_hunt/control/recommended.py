@@ -1,5 +1,6 @@
 """The capture-stage settings a solving controller runs with unless told otherwise, defined once for the command
-line, the sweep and the environments (:class:`mpc_hunt.control.spec.ControllerSpec` applies them).
+line, the sweep, the environments and the Python API (:class:`mpc_hunt.control.spec.ControllerSpec` applies them;
+``HuntingStrategy``, ``CaptureMPC`` and ``CaptureSolver`` default none: they are told theirs).
 
 RECOMMENDED_CONTROLLER with RECOMMENDED's solver settings is, among the solving
 controllers, the one that captures the largest share of the comfortable hunts
@@ -13,8 +14,8 @@ not over the paper's alone: against the paper's attacker the enclose controller,
 which is given that attacker's law, does about as well, and against any other it
 loses most hunts. RECOMMENDED is the default of
 every solving controller (:data:`~mpc_hunt.control.controllers.SOLVING`) by
-name: ``mpc-hunt simulate --controller C``, the sweep's ``--strategy C`` and the
-environments' controller C all run ``ControllerSpec(C)``. PAPER is the
+name: ``mpc-hunt simulate --controller C``, the sweep's ``--strategy C``, the
+environments' controller C and ``make_controller(C, scenario)`` all run ``ControllerSpec(C)``. PAPER is the
 capture stage as published (the one-step NLP on IPOPT): ``mpc-hunt solve``, the
 reproduction, the problem sets and the Python ``simulate(scenario)`` without a
 controller use it. A formulation other than the default's runs on its own

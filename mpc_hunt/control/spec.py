@@ -1,4 +1,5 @@
-"""One controller with its settings, as the command line, the sweep and the environments name it.
+"""One controller with its settings, as the command line, the sweep, the environments and the Python API name it:
+the one way a controller is built (:func:`make_controller` is a spec's keyword form).
 
 A :class:`ControllerSpec` is a controller of :data:`~mpc_hunt.control.controllers.CONTROLLERS` and, for one that
 solves a capture problem (:data:`~mpc_hunt.control.controllers.SOLVING`), its capture stage: formulation, backend
@@ -26,7 +27,7 @@ from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.control.recommended import OTHER_HORIZON, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.errors import MpcHuntError, OptionError, SettingError
 from mpc_hunt.solving import registry
-from mpc_hunt.world.belief import Belief
+from mpc_hunt.world.belief import Belief, believed
 from mpc_hunt.world.hunt_state import HuntState
 
 STAGE = ("formulation", "backend", "horizon")      # a solving controller's capture stage, in the label's order
@@ -60,7 +61,8 @@ class ControllerSpec:
                                              f"{', '.join(controllers.CONTROLLERS)})")
         options = _options(self.options)
         if name in controllers.SOLVING:
-            settled = _stage(name, controllers.controller_objective(name), self.formulation, self.backend, self.horizon, stage or RECOMMENDED)
+            settled = _stage(name, controllers.controller_objective(name), self.formulation, self.backend,
+                             self.horizon, stage or RECOMMENDED)
         else:
             _refuse_settings(name, [f for f in STAGE if getattr(self, f) is not None] + list(options))
             settled = dict.fromkeys(STAGE)
@@ -108,9 +110,10 @@ class ControllerSpec:
         return stage | dict(self.options)
 
     def build(self, scenario, *, belief: Belief = Belief(), rng=None):
-        """A fresh controller for ``scenario``, on the defenders' ``belief`` of the attacker (``rng`` draws its
-        errors): :func:`~mpc_hunt.control.controllers.make_controller`'s."""
-        return controllers.make_controller(self.controller, scenario, belief=belief, rng=rng, **self.settings)
+        """A fresh controller for ``scenario``: the registry's class (:data:`~mpc_hunt.control.controllers.CONTROLLERS`)
+        with the spec's settings, built on the defenders' ``belief`` of the attacker
+        (:func:`mpc_hunt.world.belief.believed`; ``rng`` draws its heading error), never on the world's behaviour."""
+        return controllers.CONTROLLERS[self.controller](believed(scenario, belief, rng), **self.settings)
 
     def probed(self, scenario, *, belief: Belief = Belief(), argument: str = "options"):
         """:meth:`build`'s controller, built now rather than at a hunt's first step, each refusal one
@@ -144,6 +147,15 @@ class ControllerSpec:
         return controller
 
 
+def make_controller(name: str, scenario, *, belief: Belief = Belief(), rng=None, **settings):
+    """A fresh controller for ``scenario`` by its registered ``name`` (:func:`~mpc_hunt.control.controllers.described`
+    says what each does): ``ControllerSpec.of(name, settings).build(scenario, belief=belief, rng=rng)``, so a setting
+    left out takes the spec's default, as ``mpc-hunt simulate --controller name`` does; ``settings`` are the spec's
+    fields (``formulation``, ``backend``, ``horizon``) and the controller's options (``prediction``, ``time_limit``,
+    ``score``, a solver's own), each refused one an :class:`~mpc_hunt.errors.OptionError` naming it."""
+    return ControllerSpec.of(name, settings).build(scenario, belief=belief, rng=rng)
+
+
 def _mapping(options: object) -> dict[str, Any]:
     """``options`` as a dict of settings by name."""
     if not isinstance(options, Mapping) or not all(isinstance(key, str) for key in options):
@@ -175,10 +187,11 @@ def _refuse_settings(name: str, given: list[str] | tuple[str, ...]) -> None:
 def _stage(name: str, objective: str, formulation: str | None, backend: str | None, horizon: object,
            default: Mapping[str, Any]) -> dict[str, Any]:
     """The capture stage of the solving controller ``name``, each unset field ``default``'s (the class's
-    docstring), checked: known, pairing and installed, a horizon in bounds, the formulation posing ``objective``."""
+    docstring), checked: known, pairing and installed, a horizon in bounds, the pair posing ``objective``
+    (:func:`~mpc_hunt.solving.registry.objective_refusal`)."""
     formulation = default["formulation"] if formulation is None else formulation
     try:
-        posed = registry.formulation_class(formulation).objectives
+        registry.formulation_class(formulation)
     except MpcHuntError as exc:
         raise SettingError("formulation", str(exc)) from None
     own = formulation == default["formulation"]
@@ -190,9 +203,10 @@ def _stage(name: str, objective: str, formulation: str | None, backend: str | No
     why = horizon_error(horizon)
     if why:
         raise SettingError("horizon", why)
-    if objective not in posed:
-        raise SettingError("formulation", f"{formulation} poses the {' or '.join(posed)} objective, not the "
-                                          f"{objective} objective of controller {name!r}: use another formulation")
+    refusal = registry.objective_refusal(formulation, backend, objective)
+    if refusal is not None:
+        field = refusal.fields[0]
+        raise SettingError(field, f"{refusal.reason} of controller {name!r}: use another {field}")
     return {"formulation": formulation, "backend": backend, "horizon": int(horizon)}
 
 

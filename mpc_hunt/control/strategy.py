@@ -21,13 +21,13 @@ from mpc_hunt.world.approach import approach_target, approach_velocity
 from mpc_hunt.capture.problem import CaptureProblem, checked_horizon
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
-from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.reference import CaptureReference, PaperObjective
 from mpc_hunt.world.belief import AttackerModel
 from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
+from mpc_hunt.solving import registry
 from mpc_hunt.solving.mpc import CaptureMPC
 
 
@@ -57,11 +57,14 @@ class HuntingStrategy:
     ``reference``: :class:`~mpc_hunt.control.reference.PaperObjective` (the default, the paper's strategy: Eqs.
     12–15 for the defenders within R_agg, Eq. 6 for the others), or a class building places that the enclose
     objective tracks with every active defender (``Enclosure``, ``Containment``, ``Trap``).
-    ``score``: the evaluator scores every plan, not only a failed solve's (the module's docstring).
+    ``formulation``, ``backend`` and ``horizon``: the capture stage as given, never defaulted here (a controller
+    by name, :class:`~mpc_hunt.control.spec.ControllerSpec`, takes the defaults; ``backend`` None is the
+    formulation's own). ``score``: the evaluator scores every plan, not only a failed solve's (the module's
+    docstring).
     """
 
     def __init__(self, scenario: Scenario, reference: type[CaptureReference] = PaperObjective, *,
-                 prediction: bool = True, formulation: str = "nlp", backend: str | None = None, horizon: int = 1,
+                 formulation: str, backend: str | None = None, horizon: int, prediction: bool = True,
                  time_limit: float | None = None, score: bool = False, **solver_options):
         self.scenario = scenario
         self.prediction = prediction
@@ -69,11 +72,9 @@ class HuntingStrategy:
         self.reference = reference(scenario, self.horizon)
         self.objective = reference.OBJECTIVE
         self.mpc = CaptureMPC(formulation, backend, time_limit=time_limit, score=score, **solver_options)
-        posed = self.mpc.solver.formulation.objectives
-        if self.objective not in posed:      # every solve would fail: refuse at once
-            raise MpcHuntError(f"formulation: {formulation} poses the {' or '.join(posed)} objective, not this "
-                               f"controller's {self.objective!r} (use a controller with that objective, or another "
-                               f"formulation)")
+        refusal = registry.objective_refusal(formulation, self.mpc.solver.backend.name, self.objective)
+        if refusal is not None:      # every solve would fail: refuse at once
+            raise refusal
 
     def describe(self) -> dict:
         return {"controller": self.reference.NAME, "prediction": self.prediction,

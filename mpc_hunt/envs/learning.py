@@ -30,6 +30,7 @@ import numpy as np
 from gymnasium import spaces
 
 from mpc_hunt.control.ppo_team import corrected, team_view
+from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.envs.actions import checked_action
 from mpc_hunt.envs.attacker_env import AttackerEnv
@@ -52,7 +53,8 @@ def _decision_steps(value) -> int:
 class AttackerViewEnv(gym.Env):
     """The attacker learning against ``controller`` on random hunts (the module's docstring)."""
 
-    def __init__(self, controller: str = "trap", teams: tuple[int, ...] = (2, 3, 4, 5), decision_steps: int = 5):
+    def __init__(self, controller: str = RECOMMENDED_CONTROLLER, teams: tuple[int, ...] = (2, 3, 4, 5),
+                 decision_steps: int = 5):
         self.decision_steps = _decision_steps(decision_steps)
         if not teams or any(isinstance(t, bool) or not isinstance(t, (int, np.integer)) for t in teams):
             raise OptionError(f"teams: team sizes (whole numbers), got {teams!r}")

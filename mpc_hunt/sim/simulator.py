@@ -23,7 +23,6 @@ from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.errors import OptionError
 from mpc_hunt.world.behaviours import make_behaviour
 from mpc_hunt.world.behaviours.base import Behaviour
-from mpc_hunt.world.belief import believed
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.world_step import moved, standing, steps
@@ -31,7 +30,8 @@ from mpc_hunt.world.hunting_circle import success_test
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.arena import margin
 from mpc_hunt.control.controller import Controller, Observation
-from mpc_hunt.control.strategy import HuntingStrategy
+from mpc_hunt.control.recommended import PAPER
+from mpc_hunt.control.spec import ControllerSpec
 
 DEFAULT_SEED = 0
 
@@ -41,8 +41,10 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
              progress: Callable[[float], None] | None = None,
              rng: np.random.Generator | None = None, behaviour: Behaviour | None = None,
              deadline: float | None = None, abandon_after: float | None = None) -> HuntResult:
-    """Run one hunt. Without a controller, the paper's strategy (one-step NLP on IPOPT) built on the
-    defenders' default belief (:func:`mpc_hunt.world.belief.believed`), never on the world's behaviour.
+    """Run one hunt. Without a controller, the paper's strategy as published (its capture stage
+    :data:`~mpc_hunt.control.recommended.PAPER`, the one-step NLP on IPOPT) built by its spec on the defenders'
+    default belief (:meth:`ControllerSpec.build <mpc_hunt.control.spec.ControllerSpec.build>`), never on the
+    world's behaviour.
 
     ``rng`` draws whatever the attacker's behaviour draws (``noisy``); without one, a generator seeded
     with ``DEFAULT_SEED``, so the same scenario always gives the same hunt. ``behaviour`` moves the attacker
@@ -61,7 +63,7 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
     if abandon_after is not None and not (isinstance(abandon_after, (int, float)) and not isinstance(abandon_after, bool)
                                           and 0 < abandon_after < float("inf")):
         raise OptionError(f"abandon_after: a positive, finite number of seconds or None, got {abandon_after!r}")
-    controller = controller or HuntingStrategy(believed(scenario), prediction=prediction)
+    controller = controller or ControllerSpec("paper", options={"prediction": prediction}, stage=PAPER).build(scenario)
     if behaviour is None:
         behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)
     T = scenario.hunt.time_step

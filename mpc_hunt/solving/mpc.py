@@ -76,7 +76,7 @@ class CaptureMPC:
     true violation of a plan applied (default: the accuracy's, :data:`VIOLATION_TOLERANCE`).
     """
 
-    def __init__(self, formulation: str = "nlp", backend: str | None = None, *, tolerance: float | None = None,
+    def __init__(self, formulation: str, backend: str | None = None, *, tolerance: float | None = None,
                  **options):
         self.solver = CaptureSolver(formulation, backend, **options)
         self.tolerance = VIOLATION_TOLERANCE[options.get("accuracy", "default")] if tolerance is None else tolerance

@@ -13,7 +13,7 @@ from __future__ import annotations
 import importlib.util
 from dataclasses import dataclass
 
-from mpc_hunt.errors import SolverNotFoundError, UnknownNameError
+from mpc_hunt.errors import SettingError, SolverNotFoundError, UnknownNameError
 from mpc_hunt.formulations.distributed import DistributedFormulation
 from mpc_hunt.formulations.ms_nlp import MSNLPFormulation
 from mpc_hunt.formulations.nlp import NLPFormulation
@@ -95,15 +95,24 @@ def stage_form_message(formulation: str) -> str:
 
 def pairs(installed_only: bool = True, objective: str | None = None) -> list[tuple[str, str]]:
     """Every (formulation, backend) that works together (by default, only installed backends), or only those
-    whose formulation poses ``objective``."""
+    that pose ``objective`` (:func:`objective_refusal`)."""
     return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)
-            if objective is None or poses(f, b, objective)]
+            if objective is None or objective_refusal(f, b, objective) is None]
 
 
-def poses(formulation: str, backend: str, objective: str) -> bool:
-    """Whether ``formulation`` poses ``objective`` and ``backend`` solves its QPs."""
-    taken = backend_class(backend).objectives
-    return objective in formulation_class(formulation).objectives and (taken is None or objective in taken)
+def objective_refusal(formulation: str, backend: str | None, objective: str) -> SettingError | None:
+    """Why ``formulation`` on ``backend`` cannot pose the capture ``objective``, None if it can: the one check of
+    which objectives a pair poses (the formulation's ``objectives``; the backend's, None for every one; ``backend``
+    None: the formulation's alone). The refusal names the field at fault, ``formulation`` or ``backend``."""
+    posed = formulation_class(formulation).objectives
+    if objective not in posed:
+        return SettingError("formulation", f"formulation {formulation} poses the {' or '.join(posed)} objective, "
+                                           f"not the {objective} objective")
+    taken = None if backend is None else backend_class(backend).objectives
+    if taken is not None and objective not in taken:
+        return SettingError("backend", f"backend {backend} solves only the {' or '.join(taken)} objective's QPs, "
+                                       f"not those of the {objective} objective")
+    return None
 
 
 @dataclass(frozen=True)

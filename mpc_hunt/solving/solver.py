@@ -28,7 +28,7 @@ import numpy as np
 
 from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.capture.evaluator import solve_scores
-from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
@@ -40,6 +40,8 @@ from mpc_hunt.solving.team_loop import TeamLoop
 class CaptureSolver:
     """A formulation and its backend, kept between solves.
 
+    ``formulation`` is always named (a capture stage's defaults are the controller spec's,
+    :mod:`mpc_hunt.control.recommended`); ``backend`` None is the formulation's own default.
     ``time_limit`` (seconds) is handed to the solver as its own limit,
     ``accuracy`` (``default``, ``high``, ``low``) picks its tolerances, other
     keywords are the backend's options. ``raise_on_failure`` turns a failed
@@ -51,7 +53,7 @@ class CaptureSolver:
     control loops; ``loop=False`` runs the formulation's own path.
     """
 
-    def __init__(self, formulation: str = "nlp", backend: str | None = None, *,
+    def __init__(self, formulation: str, backend: str | None = None, *,
                  time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
                  score: bool = True, loop: bool | None = None, formulation_options: dict | None = None,
                  **backend_options):
@@ -67,6 +69,8 @@ class CaptureSolver:
         self.on_loops = self.stage_form if loop is None else loop
         self.raise_on_failure = raise_on_failure
         self.score = score
+        self._refusals = {objective: registry.objective_refusal(formulation, pair.backend_name, objective)
+                          for objective in OBJECTIVES}                # why an objective cannot be solved (None: it can)
         self._prepared: set[Structure] = set()                 # structures whose model this solver has built
         self._loops: dict[Structure, CaptureLoop] = {}
 
@@ -75,8 +79,9 @@ class CaptureSolver:
         :class:`TeamLoop` (one loop per robot) for a formulation that plans robot by robot."""
         if not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(self.formulation.name))
-        if not self._poses(problem):
-            raise MpcHuntError(self._objective_message(problem))
+        refused = self._refusal(problem)
+        if refused:
+            raise MpcHuntError(refused)
         loop = self._loops.get(problem.structure)
         if loop is None:
             kind = TeamLoop if self.formulation.per_robot else CaptureLoop
@@ -88,9 +93,10 @@ class CaptureSolver:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held, and from
         ``duals`` (an earlier solution's of a problem with the same signature) if given; a stage-form pair on its
         loop reads no duals."""
-        if not self._poses(problem):
+        refused = self._refusal(problem)
+        if refused:
             return self._finish(Solution(status=Status.ERROR, formulation=self.formulation.name,
-                                         backend=self.backend.name, message=self._objective_message(problem)))
+                                         backend=self.backend.name, message=refused))
         if self.on_loops:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
@@ -160,16 +166,11 @@ class CaptureSolver:
         return write_step(Path(folder), self.backend.generated_step(loop.step_function), loop.formulation.iteration,
                           loop.structure, theta, reference, loop.plan.reshape(-1), target)
 
-    def _poses(self, problem: CaptureProblem) -> bool:
-        taken = self.backend.objectives
-        return problem.objective in self.formulation.objectives and (taken is None or problem.objective in taken)
-
-    def _objective_message(self, problem: CaptureProblem) -> str:
-        if problem.objective not in self.formulation.objectives:
-            return (f"objective: formulation {self.formulation.name} poses the "
-                    f"{' or '.join(self.formulation.objectives)} objective, not {problem.objective!r}")
-        return (f"objective: backend {self.backend.name} solves the {' or '.join(self.backend.objectives)} "
-                f"objective's QPs, not {problem.objective!r}'s (pick another backend)")
+    def _refusal(self, problem: CaptureProblem) -> str | None:
+        """Why this pair cannot solve ``problem``'s objective (:func:`~mpc_hunt.solving.registry.objective_refusal`),
+        None if it can."""
+        refusal = self._refusals[problem.objective]
+        return None if refusal is None else f"objective: {refusal.reason}"
 
     def _finish(self, solution: Solution) -> Solution:
         return solution.raise_for_status() if self.raise_on_failure else solution
@@ -181,7 +182,7 @@ def loop_certificate(loop: CaptureLoop | TeamLoop) -> Certificate | None:
     return None if np.any(np.isnan(values)) else Certificate(*(float(v) for v in values))
 
 
-def solve(problem: CaptureProblem, formulation: str = "nlp", backend: str | None = None,
+def solve(problem: CaptureProblem, formulation: str, backend: str | None = None,
           **options) -> Solution:
     """Solve one capture problem cold with a fresh solver (see :class:`CaptureSolver`)."""
     return CaptureSolver(formulation, backend, **options).solve(problem)

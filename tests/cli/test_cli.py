@@ -12,7 +12,7 @@ import numpy as np
 
 from mpc_hunt.cli.commands import main
 from mpc_hunt.bench.problem_set import builtin_problem_set
-from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.world.behaviours import with_behaviour
 from mpc_hunt.world.belief import parse_belief

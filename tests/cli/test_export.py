@@ -101,7 +101,7 @@ def test_one_robots_distributed_step_prints_pythons_plan(tmp_path, capsys):
 
 @pytest.mark.parametrize("arguments, message", [
     (["--robot", "4"], "--robot 4: 3 defenders are planned at this state (1 to 3)"),
-    (["--objective", "paper"], "formulation distributed poses the enclose objective, not 'paper'")])
+    (["--objective", "paper"], "formulation distributed poses the enclose objective, not the paper objective")])
 def test_a_robot_that_is_not_there_or_the_papers_objective_is_one_line(tmp_path, capsys, arguments, message):
     command = ["export", "--formulation", "distributed", "--objective", "enclose", "--output", str(tmp_path / "x")]
     assert main(command + arguments) == 2

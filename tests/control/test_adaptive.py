@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario_io import builtin_scenario

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, make_controller
+from mpc_hunt.control.controllers import CONTROLLERS, SOLVING
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.world.belief import AttackerModel, Belief, belief_rng, believed, parse_belief

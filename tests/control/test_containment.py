@@ -10,7 +10,7 @@ import pytest
 from mpc_hunt.control.containment import CONTAIN_WEIGHTS, Containment, around
 from mpc_hunt.control.observed import VELOCITY_WINDOW
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.world.belief import Belief, believed
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Scenario

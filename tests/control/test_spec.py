@@ -13,24 +13,15 @@ from hypothesis import strategies as st
 
 from conftest import small_scenario
 from mpc_hunt.capture.problem import MAX_HORIZON, horizon_error
-from mpc_hunt.cli.commands import main
-from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, controller_objective, make_controller, takes
+from mpc_hunt.cli.commands import _controller_spec, build_parser, main
+from mpc_hunt.control.controllers import CONTROLLERS, SOLVING, controller_objective, keyword_options
 from mpc_hunt.control.recommended import OTHER_HORIZON, PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
-from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.errors import OptionError, SettingError
 from mpc_hunt.solving import registry
 from mpc_hunt.world.belief import Belief
 
 BASELINES = [c for c in CONTROLLERS if c not in SOLVING]
-
-
-def _posing(controller: str) -> list[str]:
-    return [f for f in registry.FORMULATIONS
-            if controller_objective(controller) in registry.formulation_class(f).objectives]
-
-
-def _installed(formulation: str) -> list[str]:
-    return [b for b in registry.compatible_backends(formulation) if registry.installed(b)]
 
 
 @st.composite
@@ -41,8 +32,8 @@ def specs(draw) -> tuple[ControllerSpec, dict]:
         return ControllerSpec(controller), {}
     given = {}
     if draw(st.booleans()):
-        formulation = draw(st.sampled_from(_posing(controller)))
-        given |= {"formulation": formulation, "backend": draw(st.sampled_from(_installed(formulation)))}
+        formulation, backend = draw(st.sampled_from(registry.pairs(objective=controller_objective(controller))))
+        given |= {"formulation": formulation, "backend": backend}
     if draw(st.booleans()):
         given["horizon"] = draw(st.integers(1, MAX_HORIZON))
     return ControllerSpec(controller, **given), given
@@ -73,7 +64,7 @@ def test_unset_fields_take_the_defaults_defined_once():
     assert ControllerSpec.parse("enclose::daqp-condensed:4").settings == RECOMMENDED | {"backend": "daqp-condensed",
                                                                                       "horizon": 4}
     for controller in BASELINES:
-        options = {"prediction": False} if takes(controller, "prediction") else {}
+        options = {"prediction": False} if "prediction" in keyword_options(controller) else {}
         spec = ControllerSpec(controller, options=options)
         assert (spec.formulation, spec.backend, spec.horizon) == (None, None, None)
         assert spec.settings == options
@@ -128,6 +119,9 @@ def test_every_invalid_field_is_refused_naming_it(bad):
 @pytest.mark.parametrize("make, fields, words", [
     (lambda: ControllerSpec("paper", "distributed"), ("formulation",),
      "distributed poses the enclose objective, not the paper objective of controller 'paper'"),
+    (lambda: ControllerSpec("paper", "rti", "daqp-condensed"), ("backend",),
+     "daqp-condensed solves only the enclose objective's QPs, not those of the paper objective of controller "
+     "'paper': use another backend"),
     (lambda: ControllerSpec("apf", horizon=3, options={"time_limit": 1.0}), ("horizon", "time_limit"),
      "controller 'apf' solves no capture problem and takes only prediction: drop them"),
     (lambda: ControllerSpec("voronoi", options={"prediction": True, "score": True}), ("score",), "drop it"),
@@ -146,6 +140,32 @@ def test_a_refusal_names_its_fields_and_how_to_fix_it(make, fields, words):
     assert (copy.fields, copy.reason) == (exc.value.fields, exc.value.reason)
 
 
+@pytest.mark.parametrize("objective", ["paper", "enclose"])
+def test_which_objectives_a_pair_poses_is_the_registrys_one_check(objective):
+    """The spec, compare's pairs and a solving controller refuse a pair exactly where
+    :func:`~mpc_hunt.solving.registry.objective_refusal` does, naming the same field."""
+    from mpc_hunt.bench.compare import check_pairs
+    from mpc_hunt.control.strategy import HuntingStrategy
+    from mpc_hunt.errors import BenchmarkError
+
+    controller = next(c for c in SOLVING if controller_objective(c) == objective)
+    posed = registry.pairs(objective=objective)
+    for pair in registry.pairs():
+        refusal = registry.objective_refusal(*pair, objective)
+        assert (refusal is None) == (pair in posed)
+        if refusal is None:
+            assert ControllerSpec(controller, *pair).backend == pair[1] and check_pairs([":".join(pair)], objective)
+            continue
+        with pytest.raises(SettingError) as exc:
+            ControllerSpec(controller, *pair)
+        assert exc.value.fields == refusal.fields and exc.value.reason.startswith(refusal.reason)
+        with pytest.raises(BenchmarkError, match=re.escape(refusal.reason)):
+            check_pairs([":".join(pair)], objective)
+        with pytest.raises(SettingError, match=re.escape(str(refusal))):
+            HuntingStrategy(small_scenario(), CONTROLLERS[controller].reference, formulation=pair[0],
+                            backend=pair[1], horizon=2)
+
+
 @pytest.mark.parametrize("text", ["", ":rti", "a:b:c:d:e", "enclose:rti:hpipm:10:"])
 def test_a_malformed_text_is_refused_with_the_form(text):
     with pytest.raises(OptionError, match=re.escape("expected controller[:formulation[:backend[:horizon]]]")):
@@ -161,6 +181,35 @@ def test_build_is_make_controller_with_the_specs_settings():
         assert type(built) is type(made) and built.describe() == made.describe()
         if spec.controller in SOLVING:
             assert built.describe()["formulation"] == spec.formulation and built.horizon == spec.horizon
+
+
+def _built_alike(made, built) -> None:
+    """The two controllers are the same controller with the same settings: class, description, and a solving
+    one's solver as set up (its backend's options, the evaluator's scoring, the tolerance)."""
+    assert type(made) is type(built) and made.describe() == built.describe()
+    if hasattr(made, "mpc"):
+        mine, theirs = made.mpc.solver, built.mpc.solver
+        assert vars(mine.backend) == vars(theirs.backend) and mine.score == theirs.score
+        assert made.mpc.tolerance == built.mpc.tolerance
+
+
+@pytest.mark.parametrize("name", sorted(CONTROLLERS))
+def test_make_controller_builds_what_simulate_builds_for_every_registered_name(name):
+    """``make_controller(name, s)`` and ``mpc-hunt simulate --controller name``: the same spec, the same
+    controller; with settings, their flags' (``--horizon 3 --time-limit 0.5 --max-iter 7 --score``) too."""
+    scenario = small_scenario()
+    cli = _controller_spec(build_parser().parse_args(["simulate", "--controller", name]))
+    assert ControllerSpec.of(name) == cli
+    _built_alike(make_controller(name, scenario), cli.build(scenario))
+    if name in SOLVING:
+        flags = ["--horizon", "3", "--time-limit", "0.5", "--max-iter", "7", "--score", "--no-prediction"]
+        settings = {"horizon": 3, "time_limit": 0.5, "max_iter": 7, "score": True, "prediction": False}
+    else:
+        taken = "prediction" in keyword_options(name)
+        flags, settings = (["--no-prediction"], {"prediction": False}) if taken else ([], {})
+    cli = _controller_spec(build_parser().parse_args(["simulate", "--controller", name, *flags]))
+    assert ControllerSpec.of(name, settings) == cli
+    _built_alike(make_controller(name, scenario, **settings), cli.build(scenario))
 
 
 def _one_line_error(capsys, argv: list[str]) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.control.trap import Trap
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario

@@ -7,11 +7,10 @@ import pytest
 
 from mpc_hunt import Attacker, Defender, HuntParameters, Obstacle, Scenario, simulate
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.controllers import make_controller
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.voronoi_cell import attacker_cell
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.world.geometry import norm
 
 ARENA = (0.0, 0.0, 20.0, 20.0)

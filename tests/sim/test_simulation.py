@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import small_scenario
-from mpc_hunt import HuntingStrategy, builtin_scenario, simulate
+from mpc_hunt import builtin_scenario, make_controller, simulate
 from mpc_hunt.bench.capture_state import circle_formed, first_formed_circle
 
 
@@ -35,7 +35,7 @@ def test_paper_simulations_capture_without_collision(name, prediction):
 @pytest.mark.parametrize("backend", ["osqp", "clarabel"])
 def test_the_qp_drives_the_capture_stage(name, backend):
     scenario = builtin_scenario(name)
-    result = simulate(scenario, HuntingStrategy(scenario, formulation="qp", backend=backend))
+    result = simulate(scenario, make_controller("paper", scenario, formulation="qp", backend=backend))
     _check_capture(result, scenario)
     assert (result.formulation, result.backend) == ("qp", backend)
     stats = result.to_dict()["solve_time"]
@@ -66,7 +66,7 @@ def test_until_stops_at_the_first_formed_circle():
 @pytest.mark.slow
 def test_a_starved_solver_falls_back_and_the_hunt_goes_on():
     scenario = builtin_scenario("paper-open")
-    starved = HuntingStrategy(scenario, formulation="nlp", time_limit=1e-9)
+    starved = make_controller("paper", scenario, formulation="nlp", time_limit=1e-9)
     result = simulate(scenario, starved)
     assert result.failed_solves > 0 and result.fallbacks == result.failed_solves
     assert np.all(np.isfinite(result.defenders))

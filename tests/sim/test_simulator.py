@@ -9,7 +9,7 @@ import pytest
 
 from conftest import capture_stage_scenario
 from mpc_hunt import simulate
-from mpc_hunt.control.controllers import make_controller
+from mpc_hunt.control.spec import make_controller
 from mpc_hunt.errors import OptionError
 
 

@@ -458,22 +458,22 @@ def test_a_resume_runs_only_the_combinations_missing(two_by_two, tmp_path):
 
 
 def test_each_hunt_gets_its_attacker_belief_and_generators_whatever_the_strategy(monkeypatch):
-    from mpc_hunt.control import controllers
+    from mpc_hunt.control.spec import ControllerSpec
     from mpc_hunt.sweep import runner
     from mpc_hunt.world.belief import parse_belief
 
     seen = []
-    make, run = controllers.make_controller, runner.simulate
+    build, run = ControllerSpec.build, runner.simulate
 
-    def spy_make(name, scenario, *, belief, rng, **options):
+    def spy_build(spec, scenario, *, belief, rng):
         seen.append(("controller", scenario.attacker.behaviour, belief, rng.bit_generator.state))
-        return make(name, scenario, belief=belief, rng=rng, **options)
+        return build(spec, scenario, belief=belief, rng=rng)
 
     def spy_simulate(scenario, controller, *, rng):
         seen.append(("world", scenario.attacker.behaviour, rng.bit_generator.state))
         return run(scenario, controller, rng=rng)
 
-    monkeypatch.setattr(controllers, "make_controller", spy_make)
+    monkeypatch.setattr(ControllerSpec, "build", spy_build)
     monkeypatch.setattr(runner, "simulate", spy_simulate)
     ranges = next(iter(tasks(["apf"], 1, 4, ScenarioRanges(time_limit=1.0), set()))).ranges
     for strategy in ("apf", "voronoi"):
