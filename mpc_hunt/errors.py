@@ -1,8 +1,8 @@
 """The toolkit's own error types: raised for bad input instead of ``assert``.
 
 An error about a function's argument names it, as the function does (``resume``, ``time_limit``), marked with
-:func:`field`: its message shows the name as it is, and :meth:`MpcHuntError.named` as a caller names it (the command
-line, its flag: ``--resume``).
+:func:`field_name`: its message shows the name as it is, and :meth:`MpcHuntError.named` as a caller names it (the
+command line, its flag: ``--resume``).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ _MARK = "\x1f"                                   # around a field's name in a me
 _FIELD = re.compile(f"{_MARK}(\\w+){_MARK}")
 
 
-def field(name: str) -> str:
+def field_name(name: str) -> str:
     """The argument or setting ``name``, marked for a message: shown as it is, or as a caller names it."""
     return f"{_MARK}{name}{_MARK}"
 
@@ -28,7 +28,7 @@ class MpcHuntError(Exception):
     """Base class of every error the toolkit raises on purpose."""
 
     def named(self, name: Callable[[str], str]) -> str:
-        """The message, each field in it (:func:`field`) shown as ``name(field)``: a command line's flag."""
+        """The message, each field in it (:func:`field_name`) shown as ``name(field)``: a command line's flag."""
         return _shown(Exception.__str__(self), name)
 
     def __str__(self) -> str:
@@ -62,15 +62,15 @@ class OptionError(MpcHuntError, ValueError):
 
 
 class SettingError(OptionError):
-    """Arguments or settings are refused (a :class:`mpc_hunt.control.spec.ControllerSpec`'s, a sweep's results file,
+    """Arguments or settings are refused (a :class:`mpc_hunt.control.spec.ControllerSpec`'s, a sweep's results file's,
     ...): ``fields`` names them (``horizon``, ``resume``, ...), ``reason`` says why and how to fix it, any other
-    field in it marked (:func:`field`); the message is ``fields: reason``, each caller naming the fields its own way
-    (:meth:`named`)."""
+    field in it marked (:func:`field_name`); the message is ``fields: reason``, each caller naming the fields its own
+    way (:meth:`named`)."""
 
     def __init__(self, fields: str | tuple[str, ...] | list[str], reason: str):
         self.fields = (fields,) if isinstance(fields, str) else tuple(fields)
         self._reason = reason
-        super().__init__(f"{', '.join(map(field, self.fields))}: {reason}")
+        super().__init__(f"{', '.join(map(field_name, self.fields))}: {reason}")
 
     @property
     def reason(self) -> str:

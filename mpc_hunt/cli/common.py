@@ -22,12 +22,12 @@ MAX_HUNTS = 1_000_000              # sweep --hunts per strategy
 MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core (each holds a solver's memory)
 
 
-# A field the library's errors name (mpc_hunt.errors.field, SettingError.fields) and the flag that gives it, where
-# that is not --the-field (horizon: --horizon, time_limit: --time-limit).
+# A field the library's errors name (mpc_hunt.errors.field_name, SettingError.fields) and the flag that gives it,
+# where that is not --the-field (horizon: --horizon, time_limit: --time-limit).
 FLAGS = {
     "prediction": "--no-prediction", "path": "--output",            # path: a sweep's results file (SweepStore)
     "scheduler": "--dask-scheduler", "strategies": "--strategy", "attackers": "--attacker", "beliefs": "--belief",
-    "pairs": "--pair", "modes": "--mode", "random_per_case": "--random",
+    "pairs": "--pair", "random_per_case": "--random",
 }
 
 
