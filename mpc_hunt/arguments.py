@@ -1,5 +1,6 @@
-"""Command lines (``mpc-hunt``'s and the studies'): the parser whose usage errors are one line, and argument types:
-bounded whole numbers, positive numbers, output folders and files checked before any work.
+"""Command lines (``mpc-hunt``'s and the studies'): the parser whose usage errors are one line, a run whose errors are
+one line (:func:`run_command`), and argument types: bounded whole numbers, positive numbers, output folders and files
+checked before any work.
 
 Every count has an upper bound (docs/robustness.md, "Limits"), so that no value forks processes without end, asks
 for more memory than a machine has, or overflows a results file.
@@ -10,10 +11,15 @@ from __future__ import annotations
 import argparse
 import math
 import re
+import sys
 import tempfile
 from pathlib import Path
+from typing import Callable
 
-EXIT_USAGE = 2                     # a usage error's exit status (argparse's, mpc-hunt's)
+from mpc_hunt.errors import MpcHuntError
+
+EXIT_USAGE = 2                     # a usage error's exit status (argparse's, mpc-hunt's), and an error's at run time
+EXIT_INTERRUPTED = 130             # Ctrl-C's (128 + SIGINT)
 MAX_SEED = 2**63 - 1               # SQLite's largest integer (a sweep stores its seed); NumPy takes any
 
 
@@ -24,6 +30,27 @@ class CommandParser(argparse.ArgumentParser):
 
     def error(self, message: str):  # noqa: D102 - argparse's hook
         self.exit(EXIT_USAGE, f"{self.prog}: error: {' '.join(message.split())} (see --help)\n")
+
+
+def run_command(prog: str, main: Callable[[], int], flag: Callable[[str], str] = str,
+                interrupted: int = EXIT_INTERRUPTED) -> int:
+    """``main()``'s exit status, run as a command: an error of the toolkit's or of a file is one line on stderr,
+    ``PROG: error: MESSAGE``, status EXIT_USAGE, never a traceback, each field it names shown as ``flag(field)``
+    (:meth:`~mpc_hunt.errors.MpcHuntError.named`); Ctrl-C is ``PROG: interrupted``, status ``interrupted``; a
+    reader gone away (``| head``) is nothing more, status EXIT_USAGE."""
+    try:
+        return main()
+    except MpcHuntError as exc:
+        message = exc.named(flag)
+    except BrokenPipeError:
+        return EXIT_USAGE
+    except OSError as exc:
+        message = (f"{exc.filename}: " if exc.filename else "") + str(exc.strerror or exc)   # names the file
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return interrupted
+    print(f"{prog}: error: {' '.join(message.split())}", file=sys.stderr)
+    return EXIT_USAGE
 
 
 _WHOLE = re.compile(r"\s*([+-]?)0*([0-9]+)\s*")

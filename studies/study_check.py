@@ -7,26 +7,14 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from mpc_hunt.errors import MpcHuntError
-
-EXIT_ERROR, EXIT_INTERRUPTED = 2, 130
+from mpc_hunt.arguments import run_command
 
 
 def run_study(main: Callable[[], int]) -> int:
-    """A study's ``main()`` run as a command: an error of the toolkit's or of a file is one line on stderr naming
-    the study, status 2; Ctrl-C outside the study's own handling is one line, status 130."""
-    name = Path(sys.argv[0]).name
-    try:
-        return main()
-    except MpcHuntError as exc:
-        print(f"{name}: error: {' '.join(str(exc).split())}", file=sys.stderr)
-    except OSError as exc:
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"{name}: error: {where}{exc.strerror or exc}", file=sys.stderr)
-    except KeyboardInterrupt:
-        print(f"{name}: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    return EXIT_ERROR
+    """A study's ``main()`` run as a command (:func:`mpc_hunt.arguments.run_command`): an error of the toolkit's or
+    of a file is one line on stderr naming the study, status 2; Ctrl-C outside the study's own handling is one line,
+    status 130."""
+    return run_command(Path(sys.argv[0]).name, main)
 
 
 def check_result(errors: list[str], name: str, command: str, shown: int = 20) -> int:

@@ -11,7 +11,7 @@ import numpy as np
 
 from mpc_hunt.bench.activity import ActivityProbe
 from mpc_hunt.bench.closed_loop_states import capture_stage_observations, closed_loop_entries, default_entry
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.errors import SettingError
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
 from mpc_hunt.bench.random_states import random_entries
 from mpc_hunt.world.scenario import Scenario
@@ -25,8 +25,9 @@ def build_problem_set(scenarios: list[Scenario], rng: np.random.Generator, *, ev
     constraint family around the first scenario's robots. ``progress``, if given, is called with each run's
     simulated time."""
     if random_per_case and scenarios and len(scenarios[0].defenders) < 3:
-        raise MpcHuntError(f"scenario {scenarios[0].name}: random states need at least 3 defenders, it has "
-                           f"{len(scenarios[0].defenders)} (use --random 0 or another first scenario)")
+        raise SettingError("random_per_case", f"random states need at least 3 defenders; the first scenario, "
+                                              f"{scenarios[0].name}, has {len(scenarios[0].defenders)}: give 0, or "
+                                              "put another scenario first")
     probe = ActivityProbe()
     named: dict[str, Scenario] = {}
     problems: list[ProblemEntry] = []

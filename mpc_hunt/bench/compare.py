@@ -26,7 +26,7 @@ from mpc_hunt.solving import registry
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.bench.best_known import MultiStartNLP
-from mpc_hunt.errors import BenchmarkError
+from mpc_hunt.errors import BenchmarkError, field_name
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
 from mpc_hunt.solving.mpc import CaptureMPC
@@ -91,19 +91,20 @@ def planned_solves(problem_set: ProblemSet, pairs: int, horizons: list[int], mod
     return (starts * len(problem_set.problems) + pairs * (cold + loop)) * len(horizons)
 
 
-def check_pairs(asked: list[str] | None, objective: str = "paper") -> list[tuple[str, str]]:
-    """``formulation:backend`` or ``formulation`` (all its installed backends that pose ``objective``); None: every
-    installed pair that poses ``objective`` (:func:`~mpc_hunt.solving.registry.objective_refusal`)."""
-    if not asked:
+def check_pairs(pairs: list[str] | None, objective: str = "paper") -> list[tuple[str, str]]:
+    """The pairs ``pairs`` names, each ``formulation:backend`` or ``formulation`` (all its installed backends that pose
+    ``objective``); None: every installed pair that poses ``objective``
+    (:func:`~mpc_hunt.solving.registry.objective_refusal`)."""
+    if not pairs:
         return registry.pairs(objective=objective)
     out: list[tuple[str, str]] = []
-    for text in asked:
+    for text in pairs:
         formulation, _, backend = text.partition(":")
         backend = registry.check_pair(formulation, backend) if backend else None
         refusal = registry.objective_refusal(formulation, backend, objective)
         if refusal is not None:
-            raise BenchmarkError(f"--pair {text}: {refusal.reason} (pick another {refusal.fields[0]}, or another "
-                                 f"--objective)")
+            raise BenchmarkError(f"{field_name('pairs')}: {text}: {refusal.reason} (pick another "
+                                 f"{refusal.fields[0]}, or another {field_name('objective')})")
         chosen = [(formulation, backend)] if backend else [p for p in registry.pairs(objective=objective)
                                                            if p[0] == formulation]
         out += [p for p in chosen if p not in out]
@@ -168,8 +169,8 @@ def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons:
         raise BenchmarkError(f"starts: must be at least 1, got {starts}")
     untimed = [b for _, b in pairs if time_limit is not None and not registry.backend_class(b).TIME_LIMIT]
     if untimed:
-        raise BenchmarkError(f"time_limit: backend {untimed[0]} takes none; leave it out of the pairs or drop the "
-                             f"time limit")
+        raise BenchmarkError(f"{field_name('time_limit')}: backend {untimed[0]} takes none; leave it out of the "
+                             f"pairs, or drop {field_name('time_limit')}")
     run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts,
                      max_iter=max_iter, objective=objective)
     tick = progress or (lambda: None)

@@ -27,10 +27,10 @@ from mpc_hunt.solving.export import TARGETS as EXPORT_TARGETS
 from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.control import controllers
 from mpc_hunt.world.scenario import MAX_DEFENDERS
-from mpc_hunt.arguments import CommandParser, count, non_negative, positive_float, seed
+from mpc_hunt.arguments import EXIT_USAGE, CommandParser, count, non_negative, positive_float, run_command, seed
 from mpc_hunt.cli.common import (MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS, Progress, belief,
-                                 check_writable, messages, quiet_solvers)
-from mpc_hunt.errors import MpcHuntError, SettingError
+                                 check_writable, flag, messages, quiet_solvers)
+from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once, stop_keeping
 from mpc_hunt.control.recommended import OTHER_HORIZON, PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec, horizon_argument
@@ -39,7 +39,7 @@ from mpc_hunt.world.belief import Belief, belief_rng
 from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_names, builtin_scenario,
                                         dumps_scenario, resolve_scenario)
 
-EXIT_ERROR = 2
+EXIT_ERROR = EXIT_USAGE       # an error's, and an interrupted run's that kept what finished
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif",)
 EXPORT_BACKENDS = ("hpipm", "daqp-condensed")   # the backends whose step the C export writes
@@ -67,18 +67,11 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
     p.set_defaults(solver_default=default)
 
 
-FLAGS = {"prediction": "--no-prediction"}      # a spec's setting and its flag, where that is not --setting
-
-
 def _spec(args, controller: str, options: dict | None = None) -> ControllerSpec:
     """The controller spec the flags name (--formulation, --backend, --horizon; the command's default stage where
-    they name none) with ``options``, checked before any work; a refusal names the flags."""
-    try:
-        return ControllerSpec(controller, args.formulation, args.backend, args.horizon, options=options or {},
-                              stage=args.solver_default)
-    except SettingError as exc:
-        flags = ", ".join(FLAGS.get(name, "--" + name.replace("_", "-")) for name in exc.fields)
-        raise MpcHuntError(f"{flags}: {exc.reason}") from None
+    they name none) with ``options``, checked before any work; a refusal names the fields, :func:`main` the flags."""
+    return ControllerSpec(controller, args.formulation, args.backend, args.horizon, options=options or {},
+                          stage=args.solver_default)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -699,19 +692,12 @@ def main(argv: list[str] | None = None) -> int:
     args.argv = sys.argv[1:] if argv is None else list(argv)
     command = {"simulate": _simulate, "solve": _solve, "scenarios": _scenarios, "backends": _backends,
                "compare": _compare, "problems": _problems, "export": _export, **cli_sweep.HANDLERS}[args.command]
-    try:
+
+    def run() -> int:
         with quiet_solvers(args.verbose):
             return command(args)
-    except MpcHuntError as exc:
-        print(f"mpc-hunt {args.command}: error: {exc}", file=sys.stderr)
-    except BrokenPipeError:  # the reader went away (e.g. `| head`): nothing left to report
-        return EXIT_ERROR
-    except OSError as exc:
-        where = f"{exc.filename}: " if exc.filename else ""      # an error about a file names the file
-        print(f"mpc-hunt {args.command}: error: {where}{exc.strerror or exc}", file=sys.stderr)
-    except KeyboardInterrupt:
-        print(f"mpc-hunt {args.command}: interrupted", file=sys.stderr)
-    return EXIT_ERROR
+
+    return run_command(f"mpc-hunt {args.command}", run, flag, interrupted=EXIT_ERROR)
 
 
 if __name__ == "__main__":

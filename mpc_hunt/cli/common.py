@@ -1,5 +1,5 @@
-"""What the command line's subcommands share: the limits of its counts, the belief type, the output-path check,
-progress (the argument types: mpc_hunt.arguments; Ctrl-C: mpc_hunt.interrupt)."""
+"""What the command line's subcommands share: the limits of its counts, the flag of each library field, the belief
+type, the output-path check, progress (the argument types: mpc_hunt.arguments; Ctrl-C: mpc_hunt.interrupt)."""
 
 from __future__ import annotations
 
@@ -20,6 +20,20 @@ MAX_RUN_LENGTH = 1_000             # problems --run-length
 MAX_RANDOM = 1_000                 # problems --random: states per family, each up to 200 draws with a solve
 MAX_HUNTS = 1_000_000              # sweep --hunts per strategy
 MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core (each holds a solver's memory)
+
+
+# A field the library's errors name (mpc_hunt.errors.field_name, SettingError.fields) and the flag that gives it,
+# where that is not --the-field (horizon: --horizon, time_limit: --time-limit).
+FLAGS = {
+    "prediction": "--no-prediction", "path": "--output",            # path: a sweep's results file (SweepStore)
+    "scheduler": "--dask-scheduler", "strategies": "--strategy", "attackers": "--attacker", "beliefs": "--belief",
+    "pairs": "--pair", "random_per_case": "--random",
+}
+
+
+def flag(name: str) -> str:
+    """The flag that gives the library's field ``name``: how an error's one line names it."""
+    return FLAGS.get(name, "--" + name.replace("_", "-"))
 
 
 _messages: list = []                # the real stderr while quiet_solvers drops the rest

@@ -33,7 +33,7 @@ import numpy as np
 
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.world.ensemble import perturbed
-from mpc_hunt.errors import MpcHuntError, SweepStopped, WorkersDied
+from mpc_hunt.errors import MpcHuntError, SettingError, SweepStopped, WorkersDied
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
@@ -168,12 +168,12 @@ class Tasks:
 
 def total_tasks(strategies: Sequence[str], hunts: int, attackers: Sequence[str], beliefs: Sequence[str]) -> int:
     """The hunts of a sweep, finished or not: strategies × attackers × beliefs × hunts; more than MAX_TASKS is
-    refused (:class:`MpcHuntError`)."""
+    refused (:class:`SettingError` naming ``hunts``)."""
     total = len(strategies) * len(attackers) * len(beliefs) * hunts
     if total > MAX_TASKS:
-        raise MpcHuntError(f"{len(strategies)} strategies x {len(attackers)} attackers x {len(beliefs)} beliefs x "
-                           f"--hunts {hunts} = {total} hunts: at most {MAX_TASKS} in one sweep (docs/robustness.md, "
-                           "Limits); give fewer hunts, or split the sweep")
+        raise SettingError("hunts", f"{len(strategies)} strategies x {len(attackers)} attackers x {len(beliefs)} "
+                                    f"beliefs x {hunts} hunts = {total} hunts: at most {MAX_TASKS} in one sweep "
+                                    "(docs/robustness.md, Limits); give fewer hunts, or split the sweep")
     return total
 
 
@@ -198,17 +198,18 @@ def run_local(todo: Iterable, workers: int | None = None, work: Callable[[Any], 
         raise SweepStopped(str(exc)) from None
 
 
-def connect_dask(address: str):
-    """A client of the Dask scheduler at ``address``; a one-line error if Dask or the scheduler is missing."""
+def connect_dask(scheduler: str):
+    """A client of the Dask scheduler at the address ``scheduler``; a :class:`SettingError` naming it if Dask is
+    missing or the scheduler cannot be reached."""
     try:
         from distributed import Client
     except ImportError:
-        raise MpcHuntError('--dask-scheduler needs Dask: pip install "mpc-hunt[dask]"') from None
+        raise SettingError("scheduler", 'needs Dask: pip install "mpc-hunt[dask]"') from None
     try:
-        return Client(address, timeout="10s")
+        return Client(scheduler, timeout="10s")
     except Exception as exc:  # noqa: BLE001 - a malformed address raises ValueError or TypeError, not OSError
-        raise MpcHuntError(f"--dask-scheduler {address}: cannot connect ({one_line(exc)}); give the scheduler's "
-                           "address, e.g. tcp://127.0.0.1:8786") from None
+        raise SettingError("scheduler", f"cannot connect to {scheduler} ({one_line(exc)}); give the scheduler's "
+                                        "address, e.g. tcp://127.0.0.1:8786") from None
 
 
 def run_dask(todo: Iterable[Hunt], client) -> Iterator[dict]:
@@ -238,7 +239,7 @@ def run_dask(todo: Iterable[Hunt], client) -> Iterator[dict]:
                 except MpcHuntError:    # the scenario could not be drawn: the ranges are at fault
                     raise
                 except Exception as exc:  # noqa: BLE001 - anything else is the cluster failing, not a hunt
-                    raise SweepStopped(f"--dask-scheduler {address}: {one_line(exc)}") from None
+                    raise SweepStopped(f"the Dask scheduler at {address}: {one_line(exc)}") from None
                 del task_of[future.key]
                 hand_over(1)
                 yield row

@@ -4,8 +4,8 @@ Tables: ``sweep`` (one row: ``arguments``, the JSON of what the sweep runs,
 and ``numpy``, the version that drew its scenarios) and ``hunts`` (one row per
 hunt, the columns of :data:`COLUMNS`, key (strategy, attacker, belief, seed,
 "index"); see docs/robustness.md). WAL mode and one commit per row: a killed
-process loses at most the hunts still running, and ``--resume`` skips every key
-present.
+process loses at most the hunts still running, and a resumed sweep (``resume``) skips
+every key present.
 
 A file of the previous version (no ``attacker`` and ``belief`` columns, no
 ``attackers`` and ``beliefs`` arguments) ran the paper's attacker with the
@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.errors import MpcHuntError, SettingError, field_name
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
 from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario import HuntParameters
@@ -83,7 +83,8 @@ class SweepStore:
         self.path = Path(path)
         exists = self.path.exists()
         if exists and arguments is not None and not resume:
-            raise MpcHuntError(f"{self.path}: exists (use --resume to continue it, or another --output)")
+            raise SettingError("path", f"{self.path} exists (use {field_name('resume')} to continue it, or another "
+                                       f"{field_name('path')})")
         if not exists and arguments is None:
             raise MpcHuntError(f"{self.path}: no such results file")
         arguments = None if arguments is None else current_arguments(arguments)
@@ -107,12 +108,13 @@ class SweepStore:
     def _check_resumable(self, arguments: dict, stored: tuple) -> None:
         """Refuse to continue the file with other arguments, or another numpy, than its own."""
         if self.legacy and any(arguments[f"{k}s"] != [v] for k, v in LEGACY.items()):
-            raise MpcHuntError(f"{self.path}: written by an earlier mpc-hunt, whose sweeps ran only --attacker "
-                               f"{LEGACY['attacker']} --belief {LEGACY['belief']}; continue it with those alone, "
-                               "or give another --output")
+            raise SettingError(("attackers", "beliefs"), f"{self.path} was written by an earlier mpc-hunt, whose "
+                                                         f"sweeps ran only the attacker {LEGACY['attacker']} with the "
+                                                         f"belief {LEGACY['belief']}: continue it with those alone, "
+                                                         f"or give another {field_name('path')}")
         if self.arguments != arguments and (self.legacy or not extends(arguments, self.arguments)):
-            raise MpcHuntError(f"{self.path}: --resume with other arguments than the sweep it holds ({stored[0]}); "
-                               f"only more {', '.join(EXTENSIBLE)} may be added")
+            raise SettingError("resume", f"other arguments than the sweep in {self.path} ({stored[0]}); only more "
+                                         f"{', '.join(map(field_name, EXTENSIBLE))} may be added")
         if stored[1] != np.__version__:
             raise MpcHuntError(f"{self.path}: its scenarios were drawn with numpy {stored[1]}; this is numpy "
                                f"{np.__version__}, which may draw others from the same seeds")

@@ -133,9 +133,15 @@ def test_solve_at_a_state_file(capsys, tmp_path):
     (["solve", "--time-limit", "nan"], "--time-limit: must be a positive finite number"),
     (["scenarios", "--output", "x.toml"], "--output needs --write"),
     (["simulate", "--controller", "enclose", "--formulation", "distributed", "--time-limit", "0.05"],
-     "backend daqp-condensed takes none"),
+     "--time-limit: backend daqp-condensed takes none (its step is one call that nothing can stop); bound it with "
+     "--max-iter, drop --time-limit or pick another backend"),
     (["compare", "--objective", "enclose", "--pair", "distributed:daqp-condensed", "--time-limit", "0.1"],
-     "backend daqp-condensed takes none"),
+     "--time-limit: backend daqp-condensed takes none; leave it out of the pairs, or drop --time-limit"),
+    (["compare", "--pair", "distributed"], "--pair: distributed: formulation distributed does not pose the paper "
+                                           "objective (pick --objective enclose, or another pair)"),
+    (["problems", "--build", "x.json", "--scenario", "two-defenders"],
+     "--random: random states need at least 3 defenders; the first scenario, two-defenders, has 2: give 0, or put "
+     "another scenario first"),
     (["compare", "--seed", "-1"], "--seed: must not be negative"),
     (["problems", "--build", "x.json", "--seed", "-1"], "--seed: must not be negative"),
     (["simulate", "--attacker", "nobody"], "invalid choice: 'nobody' (choose from 'apf', 'flee', 'gap', 'voronoi', "

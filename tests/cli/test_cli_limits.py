@@ -72,7 +72,15 @@ def test_a_malformed_scheduler_address_is_one_line_and_writes_nothing(address, t
     out = tmp_path / "s.db"
     assert main(["sweep", "--hunts", "1", "--dask-scheduler", address, "--output", str(out)]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and f"--dask-scheduler {address}" in err and not out.exists()
+    assert len(err.splitlines()) == 1 and f"--dask-scheduler: cannot connect to {address}" in err and not out.exists()
+
+
+def test_a_sweep_on_dask_without_dask_says_how_to_install_it(monkeypatch, tmp_path, capsys):
+    monkeypatch.setitem(sys.modules, "distributed", None)        # its import fails
+    assert main(["sweep", "--hunts", "1", "--dask-scheduler", "tcp://127.0.0.1:8786", "--output",
+                 str(tmp_path / "s.db")]) == 2
+    assert capsys.readouterr().err == 'mpc-hunt sweep: error: --dask-scheduler: needs Dask: pip install ' \
+                                      '"mpc-hunt[dask]"\n'
 
 
 @pytest.mark.parametrize("arguments, numpy_version", [

@@ -22,9 +22,10 @@ import pytest
 from conftest import small_scenario
 from mpc_hunt import Attacker, Command, Defender, HuntParameters, Obstacle, Scenario, Solution, Status, simulate
 from mpc_hunt.cli.commands import main
+from mpc_hunt.cli.common import flag
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.spec import ControllerSpec
-from mpc_hunt.errors import MpcHuntError, OptionError
+from mpc_hunt.errors import MpcHuntError, OptionError, SettingError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.sweep.runner import Hunt, connect_dask, run_dask, run_hunt, run_local, tasks
 from mpc_hunt.sweep.outcome import FAILURE_STREAK, failure_cause, safety_breaches
@@ -359,9 +360,10 @@ def test_resume_with_other_arguments_or_numpy_is_refused(capsys, tmp_path):
     path = tmp_path / "s.db"
     base = ["sweep", "--hunts", "1", "--strategy", "apf", "--set", "time_limit=5", "--output", str(path), "--json"]
     assert main(base) == 0
-    assert main(base) == 2 and "exists (use --resume" in capsys.readouterr().err
+    assert main(base) == 2 and f"--output: {path} exists (use --resume to continue it, or another --output)" in \
+        capsys.readouterr().err
     assert main([*base[:2], "2", *base[3:], "--resume"]) == 2
-    assert "other arguments" in capsys.readouterr().err
+    assert "--resume: other arguments than the sweep in" in capsys.readouterr().err
     with sqlite3.connect(path) as db:
         db.execute("update sweep set numpy = '0.1'")
     assert main([*base, "--resume"]) == 2 and "drawn with numpy 0.1" in capsys.readouterr().err
@@ -529,7 +531,8 @@ def test_a_results_file_of_the_previous_version_is_read_and_resumed_as_the_paper
             "--json", "--output", str(path), "--resume"]
     assert main([*argv, "--attacker", "gap"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "written by an earlier mpc-hunt" in err and "--attacker apf --belief exact" in err
+    assert err.count("\n") == 1 and "--attacker, --belief: " in err and "written by an earlier mpc-hunt" in err and \
+        "only the attacker apf with the belief exact" in err and "another --output" in err
     assert main(argv) == 0                     # the same sweep: continued in the old columns
     capsys.readouterr()
     store = SweepStore(path)
@@ -574,5 +577,6 @@ def test_a_resumed_sweep_may_add_an_attacker_and_keeps_what_it_ran(two_by_two, t
     store.close()
     assert arguments["attackers"] == ["apf", "noisy", "flee"] and len(rows) == 24
     assert [r for r in rows if r in kept] == kept
-    with pytest.raises(MpcHuntError, match="only more strategies, attackers, beliefs"):
+    with pytest.raises(SettingError, match="^resume: .*only more strategies, attackers, beliefs may be added") as exc:
         SweepStore(path, {**arguments, "seed": 5}, resume=True)
+    assert exc.value.named(flag).endswith("only more --strategy, --attacker, --belief may be added")

@@ -33,7 +33,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from mpc_hunt.errors import OptionError, SolverError, UnknownNameError
+from mpc_hunt.errors import OptionError, SolverError, UnknownNameError, field_name
 from mpc_hunt.capture.certificate import qp_certificate
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
@@ -80,8 +80,9 @@ class Backend:
         if time_limit is not None and not (_number(time_limit) and 0 < time_limit < float("inf")):
             raise OptionError(f"time_limit: a positive, finite number of seconds or None, got {time_limit!r}")
         if time_limit is not None and not self.TIME_LIMIT:
-            raise SolverError(f"time_limit: backend {self.name} takes none (its step is one call that nothing can "
-                              f"stop); bound it with max_iter, drop the time limit or pick another backend")
+            raise SolverError(f"{field_name('time_limit')}: backend {self.name} takes none (its step is one call "
+                              f"that nothing can stop); bound it with {field_name('max_iter')}, drop "
+                              f"{field_name('time_limit')} or pick another backend")
         if max_iter is not None and not (_number(max_iter) and float(max_iter).is_integer()
                                          and 1 <= max_iter <= MAX_ITERATIONS):
             raise OptionError(f"max_iter: a whole number of iterations from 1 to {MAX_ITERATIONS} or None, "
