@@ -116,8 +116,9 @@ def _checked(arrays: dict, side: str, inputs: int) -> Mlp:
     weights, biases, width = [], [], inputs
     for k in range(layers):
         w, b = arrays.get(f"w{k}"), arrays.get(f"b{k}")
-        if w is None or b is None or w.ndim != 2 or b.ndim != 1 or w.shape[1] != width or \
-                w.shape[0] != len(b) or not 1 <= len(b) <= MAX_WIDTH:
+        if b is not None and b.ndim == 1 and not 1 <= len(b) <= MAX_WIDTH:
+            raise DataFileError(f"layer {k}: {len(b)} outputs, not 1 to {MAX_WIDTH} (the limit of a layer's width)")
+        if w is None or b is None or w.ndim != 2 or b.ndim != 1 or w.shape[1] != width or w.shape[0] != len(b):
             raise DataFileError(f"layer {k}: weights of shape (outputs, {width}) and biases of (outputs,) expected, "
                                 f"got {None if w is None else w.shape} and {None if b is None else b.shape}")
         weights.append(np.asarray(w, dtype=float))

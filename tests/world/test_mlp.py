@@ -14,7 +14,7 @@ from mpc_hunt.errors import DataFileError
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, DEFENDER_VIEW
 from mpc_hunt.world.behaviours.ppo import attacker_policy
 from mpc_hunt.control.ppo_team import TEAM_VIEW, team_policy
-from mpc_hunt.world.mlp import load_mlp
+from mpc_hunt.world.mlp import MAX_WIDTH, load_mlp
 
 
 def _arrays(inputs: int = 3, hidden: int = 4, side: str = "attacker", seed: int = 0) -> dict:
@@ -103,6 +103,12 @@ def test_a_file_that_is_no_policy_is_one_whole_line(tmp_path, content):
                                 "write it again with python studies/train_ppo.py, or reinstall mpc-hunt")
     with pytest.raises(DataFileError, match="no such policy file"):
         load_mlp(tmp_path / "missing.npz", "attacker", 3)
+
+
+def test_a_layer_wider_than_the_limit_is_refused_naming_it(tmp_path):
+    with pytest.raises(DataFileError, match=f"layer 0: {MAX_WIDTH + 1} outputs, not 1 to {MAX_WIDTH} "):
+        load_mlp(_file(tmp_path, _arrays(hidden=MAX_WIDTH + 1)), "attacker", 3)
+    assert load_mlp(_file(tmp_path, _arrays(hidden=MAX_WIDTH)), "attacker", 3).inputs == 3
 
 
 def test_a_pickled_array_is_refused_not_loaded(tmp_path):
