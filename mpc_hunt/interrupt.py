@@ -9,6 +9,13 @@ import sys
 from contextlib import contextmanager
 from typing import Callable
 
+CLEAR_FIRST: list[Callable[[], None]] = []      # what a stop calls before its line: the progress bars, cleared
+
+
+def _clear_first() -> None:
+    for clear in reversed(CLEAR_FIRST):
+        clear()
+
 
 @contextmanager
 def _on_interrupt(handler: Callable[[int, object], None]):
@@ -27,6 +34,7 @@ def stop_at_once(command: str):
     command would run on to its end. Output is written after this block, so nothing is half-written.
     """
     def _exit(signum, frame):
+        _clear_first()
         os.write(2, f"mpc-hunt {command}: interrupted: nothing written\n".encode())
         os._exit(128 + signum)
 
@@ -38,6 +46,7 @@ def stop_keeping(command: str, keep: Callable[[], None]):
     pieces take seconds each, which no solver's own Ctrl-C handling may hold up)."""
     def _exit(signum, frame):
         try:
+            _clear_first()
             keep()
             sys.stdout.flush()
         finally:

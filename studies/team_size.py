@@ -59,11 +59,11 @@ from mpc_hunt import CaptureMPC, CaptureSolver, ControllerSpec, builtin_scenario
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.control.posing import posed_problem
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.errors import DataFileError, MpcHuntError, ScenarioError
 from mpc_hunt.solving.backends.conic_step import QP_KEYS
 from mpc_hunt.solving.backends.hpipm import HpipmBackend
 from mpc_hunt.interrupt import stop_at_once
-from mpc_hunt.world.hunt_state import HuntState
+from mpc_hunt.world.hunt_state import STATE_FORM, HuntState, state_from_dict
 from mpc_hunt.world.scenario import Defender
 
 from studies.study_check import check_result, run_study
@@ -524,10 +524,41 @@ def save_states(path: Path, states: dict[int, list[HuntState]]) -> None:
                     encoding="utf-8")
 
 
+def read_json_file(path: Path, fix: str) -> object:
+    """The data of the JSON file ``path``; a missing, unreadable or not-JSON file is a one-line DataFileError
+    naming it, ending with ``fix``."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise DataFileError(f"{path}: no such file; {fix}") from None
+    except OSError as exc:
+        raise DataFileError(f"{path}: cannot read ({exc.strerror or exc}); {fix}") from None
+    except (ValueError, RecursionError) as exc:      # not UTF-8, not JSON, nested too deeply
+        raise DataFileError(f"{path}: not valid JSON ({exc}); {fix}") from None
+
+
 def load_states(path: Path) -> dict[int, list[HuntState]]:
-    data = json.loads(path.read_text(encoding="utf-8"))
-    return {int(n): [HuntState(s["time"], np.array(s["attacker"]), np.array(s["defenders"])) for s in hunt]
-            for n, hunt in data.items()}
+    """The states :func:`save_states` wrote to ``path``, each checked against its team's scenario; a missing or
+    damaged file is a one-line DataFileError naming it and the field."""
+    fix = f"run {COMMAND} without --reuse-states to draw the states again"
+    data = read_json_file(path, fix)
+    if not isinstance(data, dict) or not data:
+        raise DataFileError(f"{path}: expected a JSON object of team sizes, each a list of states {STATE_FORM}; "
+                            f"{fix}")
+    states = {}
+    for key, hunt in data.items():
+        if not (key.isdecimal() and 1 <= int(key) <= MAX_SIZE):
+            raise DataFileError(f"{path}: team size {key!r}: not a whole number from 1 to {MAX_SIZE}; {fix}")
+        if not (isinstance(hunt, list) and 2 <= len(hunt) <= MAX_STATES):
+            raise DataFileError(f"{path}: team size {key}: expected a list of 2 to {MAX_STATES} states; {fix}")
+        scenario = team_scenario(int(key))
+        states[int(key)] = []
+        for i, state in enumerate(hunt):
+            try:
+                states[int(key)].append(state_from_dict(state, scenario))
+            except ScenarioError as exc:
+                raise DataFileError(f"{path}: team size {key}, state {i}: {exc}; {fix}") from None
+    return states
 
 
 def plan_agreement(states: dict[int, list[HuntState]]) -> dict[int, float]:
@@ -552,7 +583,7 @@ def plan_agreement(states: dict[int, list[HuntState]]) -> dict[int, float]:
 def check(out: Path) -> int:
     """The committed rounds table, rerun on the committed states (deterministic, machine-independent: HPIPM on
     the wheel's BLASFEO); the timings are the run's, not checked."""
-    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    committed = read_json_file(out / "results.json", f"run {COMMAND} --output {out} to make the results to check")
     states = load_states(out / "states.json")
     errors = []
     fresh = rounds_table(states)

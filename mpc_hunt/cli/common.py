@@ -7,10 +7,12 @@ import argparse
 import contextlib
 import os
 import sys
+import time
 from pathlib import Path
 
 from mpc_hunt.arguments import cannot_write, count
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.interrupt import CLEAR_FIRST
 from mpc_hunt.world.belief import Belief, parse_belief
 
 # The upper bounds of the command line's counts (docs/robustness.md, "Limits"; the seed's: mpc_hunt.arguments).
@@ -89,6 +91,8 @@ def check_writable(folder: Path, option: str, path: Path) -> None:
 class Progress:
     """A progress bar on stderr (of simulated seconds, unless told another unit), shown for runs over 2 s."""
 
+    DELAY = 2.0
+
     def __init__(self, total: float, what: str, quiet: bool, unit: str = "sim s"):
         self.total, self.what, self.quiet, self.unit = total, what, quiet, unit
 
@@ -96,15 +100,25 @@ class Progress:
         if self.quiet:
             return None
         from tqdm import tqdm
-        self.bar = tqdm(total=round(self.total, 1), desc=self.what, unit=f" {self.unit}", delay=2.0,
+        self.shown_from = time.monotonic() + self.DELAY
+        self.bar = tqdm(total=round(self.total, 1), desc=self.what, unit=f" {self.unit}", delay=self.DELAY,
                         file=messages(), leave=False,
                         bar_format=f"{{desc}}: {{percentage:3.0f}}%|{{bar}}| {{n:.0f}}/{{total:.0f}} {self.unit} "
                                    "[{elapsed}<{remaining}]")
+        CLEAR_FIRST.append(self._clear)         # Ctrl-C's line on a line of its own (mpc_hunt.interrupt)
         return self._update
 
     def _update(self, t: float) -> None:
         self.bar.update(round(t, 1) - self.bar.n)
 
+    def _clear(self) -> None:
+        """The bar blanked, the cursor at its line's start: by hand, as tqdm's close would not clear a bar stopped
+        while first drawn."""
+        if time.monotonic() >= self.shown_from:
+            self.bar.fp.write("\r" + " " * len(str(self.bar)) + "\r")
+            self.bar.fp.flush()
+
     def __exit__(self, *exc) -> None:
         if not self.quiet:
+            CLEAR_FIRST.remove(self._clear)
             self.bar.close()

@@ -20,7 +20,6 @@ import zipfile
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 
@@ -71,17 +70,28 @@ def load_mlp(path, side: str, inputs: int) -> Mlp:
     foreign file is a one-line :class:`DataFileError` naming it."""
     fix = "write it again with python studies/train_ppo.py, or reinstall mpc-hunt"
     try:
-        with np.load(Path(path), allow_pickle=False) as data:
-            arrays = {k: data[k] for k in data.files}
+        with open(path, "rb") as f:
+            arrays = _archive(f) if zipfile.is_zipfile(f) else None     # NumPy would take it as an array or a pickle
     except FileNotFoundError:
         raise DataFileError(f"{path}: no such policy file; {fix}") from None
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
-        why = str(exc).splitlines()[0][:80] if str(exc) else type(exc).__name__
+    except OSError as exc:
+        raise DataFileError(f"{path}: cannot read ({exc.strerror or exc}); {fix}") from None
+    except (ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:     # a damaged archive
+        why = " ".join(str(exc).split()) or type(exc).__name__
         raise DataFileError(f"{path}: not a policy file ({why}); {fix}") from None
+    if arrays is None or not all(isinstance(a, np.ndarray) for a in arrays.values()):   # members NumPy did not write
+        raise DataFileError(f"{path}: not a policy file (expected a NumPy .npz archive of a network's arrays); {fix}")
     try:
         return _checked(arrays, side, inputs)
     except DataFileError as exc:
         raise DataFileError(f"{path}: {exc}; {fix}") from None
+
+
+def _archive(f) -> dict:
+    """The arrays of the .npz archive open as ``f``, none of them a pickle."""
+    f.seek(0)
+    with np.load(f, allow_pickle=False) as data:
+        return {k: data[k] for k in data.files}
 
 
 def _checked(arrays: dict, side: str, inputs: int) -> Mlp:
@@ -106,8 +116,9 @@ def _checked(arrays: dict, side: str, inputs: int) -> Mlp:
     weights, biases, width = [], [], inputs
     for k in range(layers):
         w, b = arrays.get(f"w{k}"), arrays.get(f"b{k}")
-        if w is None or b is None or w.ndim != 2 or b.ndim != 1 or w.shape[1] != width or \
-                w.shape[0] != len(b) or not 1 <= len(b) <= MAX_WIDTH:
+        if b is not None and b.ndim == 1 and not 1 <= len(b) <= MAX_WIDTH:
+            raise DataFileError(f"layer {k}: {len(b)} outputs, not 1 to {MAX_WIDTH} (the limit of a layer's width)")
+        if w is None or b is None or w.ndim != 2 or b.ndim != 1 or w.shape[1] != width or w.shape[0] != len(b):
             raise DataFileError(f"layer {k}: weights of shape (outputs, {width}) and biases of (outputs,) expected, "
                                 f"got {None if w is None else w.shape} and {None if b is None else b.shape}")
         weights.append(np.asarray(w, dtype=float))

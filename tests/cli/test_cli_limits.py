@@ -4,6 +4,7 @@ files and scheduler addresses refused in one line, and Ctrl-C stopping a command
 from __future__ import annotations
 
 import os
+import select
 import signal
 import sqlite3
 import subprocess
@@ -129,3 +130,27 @@ def test_ctrl_c_stops_a_command_inside_ipopt_at_once_with_nothing_written(comman
     assert process.returncode in (130, 2), stderr
     assert "interrupted" in stderr.decode() and stdout == b""
     assert sorted(p.name for p in tmp_path.iterdir()) == ["close.toml"]
+
+
+def test_ctrl_c_clears_simulates_progress_bar_before_its_line(tmp_path):
+    process = subprocess.Popen([sys.executable, "-m", "mpc_hunt.cli", "simulate", "--controller", "paper",
+                                "--formulation", "nlp", "--scenario", str(_in_capture_stage(tmp_path))],
+                               cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(ROOT)}, start_new_session=True,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    shown, deadline = b"", time.monotonic() + 60
+    try:
+        while b"hunt:" not in shown:             # the bar, shown after 2 s of the hunt
+            assert select.select([process.stderr], [], [], max(0.0, deadline - time.monotonic()))[0], shown
+            chunk = os.read(process.stderr.fileno(), 4096)
+            assert chunk, process.communicate()
+            shown += chunk
+        os.killpg(process.pid, signal.SIGINT)
+        stdout, rest = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:              # a failed test leaves no ten-minute hunt behind
+            os.killpg(process.pid, signal.SIGKILL)
+    assert process.returncode == 130 and stdout == b""
+    text = (shown + rest).decode()
+    assert text.rsplit("\r", 1)[-1] == "mpc-hunt simulate: interrupted: nothing written\n", text[-300:]
+    assert text.rsplit("\r", 2)[-2].strip() == "", text[-300:]     # the bar blanked, the line from its start

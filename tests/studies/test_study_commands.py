@@ -223,3 +223,32 @@ def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch,
     monkeypatch.setattr(module, "PROGRESS", progress)
     assert list(module.finished()) == ["qp:osqp N=5 paper-open"]    # the line a stop cut short runs again
     usage_error(capsys, "realtime", ["--workers", "3"])
+
+
+@pytest.mark.parametrize("folder,content,message", [
+    ("missing", None, "states.json: no such file"),
+    ("empty", None, "states.json: no such file"),
+    ("damaged", "{not json", "states.json: not valid JSON"),
+    ("damaged", "[1, 2]", "states.json: expected a JSON object of team sizes"),
+    ("damaged", '{"3": [{"attacker": [1, 2]}, {"attacker": [1, 2]}]}', "team size 3, state 0: defenders: missing"),
+])
+def test_team_size_refuses_states_it_cannot_reuse_in_one_line(folder, content, message, tmp_path, monkeypatch,
+                                                               capsys):
+    module = study("team_size")
+    monkeypatch.setattr(module, "timed_sizes", lambda *a, **k: pytest.fail("work started"))
+    out = tmp_path / folder
+    if folder != "missing":
+        out.mkdir()
+    if content is not None:
+        (out / "states.json").write_text(content)
+    assert module.main(["--reuse-states", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "without --reuse-states" in err, err
+
+
+def test_team_size_check_of_a_missing_folder_is_one_line(tmp_path, capsys):
+    out = tmp_path / "missing"
+    assert study("team_size").main(["--check", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"error: {out / 'results.json'}: no such file; run python studies/team_size.py --out {out} to " \
+                  "make the results to check\n"

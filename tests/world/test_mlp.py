@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+import zipfile
 
 import numpy as np
 import pytest
@@ -13,7 +14,7 @@ from mpc_hunt.errors import DataFileError
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, DEFENDER_VIEW
 from mpc_hunt.world.behaviours.ppo import attacker_policy
 from mpc_hunt.control.ppo_team import TEAM_VIEW, team_policy
-from mpc_hunt.world.mlp import load_mlp
+from mpc_hunt.world.mlp import MAX_WIDTH, load_mlp
 
 
 def _arrays(inputs: int = 3, hidden: int = 4, side: str = "attacker", seed: int = 0) -> dict:
@@ -77,14 +78,37 @@ def test_a_damaged_policy_file_is_one_line_naming_it(tmp_path, damage):
     assert str(path) in message and "\n" not in message and "train_ppo.py" in message
 
 
-@pytest.mark.parametrize("content", [b"", b"not a zip", b"PK\x03\x04broken", b'{"weights": []}'])
-def test_a_file_that_is_no_policy_is_one_line(tmp_path, content):
+def _npy() -> bytes:
+    buffer = io.BytesIO()
+    np.save(buffer, np.zeros(3))
+    return buffer.getvalue()
+
+
+def _zip_of_text() -> bytes:
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w") as z:
+        z.writestr("side", "attacker")
+    return buffer.getvalue()
+
+
+@pytest.mark.parametrize("content", [b"", b"not a zip", b"PK\x03\x04broken", b'{"weights": []}',
+                                     b"hello, these are not weights\n", _npy(), _zip_of_text()],
+                         ids=["empty", "text", "broken-zip", "json", "text-line", "npy", "zip-of-text"])
+def test_a_file_that_is_no_policy_is_one_whole_line(tmp_path, content):
     path = tmp_path / "policy.npz"
     path.write_bytes(content)
-    with pytest.raises(DataFileError, match="not a policy file"):
+    with pytest.raises(DataFileError) as error:
         load_mlp(path, "attacker", 3)
+    assert str(error.value) == (f"{path}: not a policy file (expected a NumPy .npz archive of a network's arrays); "
+                                "write it again with python studies/train_ppo.py, or reinstall mpc-hunt")
     with pytest.raises(DataFileError, match="no such policy file"):
         load_mlp(tmp_path / "missing.npz", "attacker", 3)
+
+
+def test_a_layer_wider_than_the_limit_is_refused_naming_it(tmp_path):
+    with pytest.raises(DataFileError, match=f"layer 0: {MAX_WIDTH + 1} outputs, not 1 to {MAX_WIDTH} "):
+        load_mlp(_file(tmp_path, _arrays(hidden=MAX_WIDTH + 1)), "attacker", 3)
+    assert load_mlp(_file(tmp_path, _arrays(hidden=MAX_WIDTH)), "attacker", 3).inputs == 3
 
 
 def test_a_pickled_array_is_refused_not_loaded(tmp_path):
