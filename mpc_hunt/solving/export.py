@@ -50,6 +50,7 @@ from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.solving.c_template import render
+from mpc_hunt.solving.vendored_daqp import DAQP_SOURCES, DAQP_VERSION
 
 NAME = "capture_step"
 
@@ -103,8 +104,7 @@ def write_condensed(folder: Path, step, structure: Structure, theta: np.ndarray,
 
     import casadi as ca
 
-    from mpc_hunt.solving.backends.daqp_condensed import (
-        DAQP_SOURCES, DAQP_VERSION, NON_FINITE_INPUT, NON_FINITE_PLAN, step_source)
+    from mpc_hunt.solving.backends.condensed_compiled import NON_FINITE_INPUT, NON_FINITE_PLAN, step_source
 
     folder.mkdir(parents=True, exist_ok=True)
     generator = ca.CodeGenerator("capture_condense.c", {"with_header": True})
