@@ -22,8 +22,8 @@ With the ``daqp-condensed`` backend (:mod:`mpc_hunt.solving.backends.daqp_conden
 formulation's default) the step is condensed to a dense QP in its controls and solved by DAQP: the folder holds
 CasADi's condensing (``capture_condense.c``, ``.h``), the step around DAQP (``mpc_hunt_step.c``: the C the
 backend's own library is built from), DAQP's C sources (``daqp/``, MIT), ``main.c`` and a Makefile that needs
-no library but libm, so ``make CC=aarch64-linux-gnu-gcc`` (or ``export --target aarch64-linux``, which writes
-that compiler into the Makefile) builds it for another CPU. ``--target cortex-m7`` writes, instead of ``main.c``,
+no library but libm, so ``make CC=aarch64-linux-gnu-gcc`` (or the target ``aarch64-linux``, which writes
+that compiler into the Makefile) builds it for another CPU. The target ``cortex-m7`` writes, instead of ``main.c``,
 a bare-metal program for a Cortex-M7 with a double-precision FPU (``board.c``, ``startup.c``, ``board.ld``: qemu's
 mps2-an500 board) that steps input.txt's states compiled in and reports each step's SysTick count, the heap and
 the stack over semihosting; ``make run`` runs it under ``qemu-system-arm -icount shift=0``.
@@ -37,7 +37,8 @@ tolerances; Python's plan in ``expected.txt`` is solved in the same mode).
 smoothing; the reference is the previous plan shifted one step (or every
 defender held), as the formulation's ``step_inputs`` writes them.
 
-The C, headers and Makefiles are templates (:mod:`mpc_hunt.solving.c_template`), filled in here.
+Which step a backend's export writes is the backend's ``exports`` (``hpipm``, ``condensed``; None: no export). The
+C, headers and Makefiles are templates (:mod:`mpc_hunt.solving.c_template`), filled in here.
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ import numpy as np
 
 from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.structure import Structure
-from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.errors import SettingError
 from mpc_hunt.solving.c_template import render
 from mpc_hunt.solving.vendored_daqp import DAQP_SOURCES, DAQP_VERSION
 
@@ -64,30 +65,32 @@ TARGETS = {
 }
 
 
-def check_export(target: str, condensed: bool, iteration: QPIteration) -> None:
+def check_export(target: str, exports: str | None, iteration: QPIteration) -> None:
     """Refuse what the export cannot write, before any work: a target :func:`check_target` refuses, or a step of
-    several QPs on the condensed backend."""
-    check_target(target, condensed)
-    if condensed and iteration.max_qps != 1:
-        raise MpcHuntError("backend daqp-condensed: its export writes one QP a step (rti, distributed), not "
-                           f"up to {iteration.max_qps}; export this formulation with hpipm")
+    several QPs on a backend that ``exports`` the condensed step (a :class:`~mpc_hunt.errors.SettingError` naming
+    ``target`` or ``backend``)."""
+    check_target(target, exports)
+    if exports == "condensed" and iteration.max_qps != 1:
+        raise SettingError("backend", "its export writes one QP a step (rti, distributed), not up to "
+                                      f"{iteration.max_qps}; export this formulation with hpipm")
 
 
-def check_target(target: str, condensed: bool) -> None:
-    """Refuse a target that is unknown, needs a backend's solver built for it, or whose compiler is missing."""
+def check_target(target: str, exports: str | None) -> None:
+    """Refuse a target that is unknown, needs the solver built for it (the step a backend ``exports`` is not the
+    condensed one, which carries its solver's sources), or whose compiler is missing (a
+    :class:`~mpc_hunt.errors.SettingError` naming ``target``)."""
     import shutil
 
     if target not in TARGETS:
-        raise MpcHuntError(f"--target: one of {', '.join(TARGETS)}, not {target!r}")
+        raise SettingError("target", f"one of {', '.join(TARGETS)}, not {target!r}")
     cc = TARGETS[target]["cc"]
     if cc is None:
         return
-    if not condensed:
-        raise MpcHuntError(f"--target {target}: HPIPM and BLASFEO come built for this machine only (CasADi's "
-                           "wheel); export with --backend daqp-condensed, whose solver's sources go with the step")
+    if exports != "condensed":
+        raise SettingError("target", "HPIPM and BLASFEO come built for this machine only (CasADi's wheel); export "
+                                     "with backend daqp-condensed, whose solver's sources go with the step")
     if shutil.which(cc) is None:
-        raise MpcHuntError(f"--target {target}: the cross compiler {cc} is not installed "
-                           f"({TARGETS[target]['install']})")
+        raise SettingError("target", f"the cross compiler {cc} is not installed ({TARGETS[target]['install']})")
 
 
 def numbers(values: np.ndarray) -> str:
@@ -138,18 +141,15 @@ def write_condensed(folder: Path, step, structure: Structure, theta: np.ndarray,
     return [folder / "capture_condense.c", folder / "capture_condense.h", *(folder / name for name in files), daqp]
 
 
-def write_step(folder: Path, step, iteration: QPIteration, structure: Structure, theta: np.ndarray,
-               reference: np.ndarray, plan: np.ndarray, target: str = "host") -> list[Path]:
-    """Write the folder of the module docstring for the backend's ``step`` (a CasADi Function, or the
-    ``daqp-condensed`` backend's condensed step) of ``structure``, repeated by ``iteration``'s rule, with the
-    inputs ``theta``, ``reference`` and their plan, its Makefile building for ``target`` (:data:`TARGETS`);
-    returns the files written. :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it
-    has set up."""
-    from mpc_hunt.solving.backends.daqp_condensed import CondensedStep
-
-    condensed = isinstance(step, CondensedStep)
-    check_export(target, condensed, iteration)
-    if condensed:
+def write_step(folder: Path, step, exports: str | None, iteration: QPIteration, structure: Structure,
+               theta: np.ndarray, reference: np.ndarray, plan: np.ndarray, target: str = "host") -> list[Path]:
+    """Write the folder of the module docstring for the backend's ``step`` (the CasADi Function of a backend that
+    ``exports`` the ``hpipm`` step, the condensed step of one that ``exports`` the ``condensed`` one) of
+    ``structure``, repeated by ``iteration``'s rule, with the inputs ``theta``, ``reference`` and their plan, its
+    Makefile building for ``target`` (:data:`TARGETS`); returns the files written.
+    :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it has set up."""
+    check_export(target, exports, iteration)
+    if exports == "condensed":
         return write_condensed(folder, step, structure, theta, reference, plan, target)
     import casadi as ca
 
@@ -176,4 +176,3 @@ def write_step(folder: Path, step, iteration: QPIteration, structure: Structure,
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return [source, folder / f"{NAME}.h", *(folder / name for name in files)]
-

@@ -48,6 +48,7 @@ class DaqpCondensedBackend(Backend):
 
     name = "daqp-condensed"
     accepts = ("ocp-qp",)
+    exports = "condensed"
     objectives = ("enclose",)     # every control weighted: a positive definite condensed Hessian
     package = "daqp"
     install = "daqp"
