@@ -67,10 +67,12 @@ def _shipped(package: str) -> set[Path]:
     return {path for pattern in patterns for path in folder.glob(pattern) if path.is_file()}
 
 
-def test_every_template_is_package_data():
+def test_every_template_and_daqps_version_are_package_data():
     """A non-editable install (``pip install .``) has them."""
+    shipped = _shipped("mpc_hunt.solving")
     templates = {path for path in TEMPLATES.rglob("*") if path.is_file()}
-    assert templates and templates <= _shipped("mpc_hunt.solving")
+    assert templates and templates <= shipped
+    assert TEMPLATES.parent / "daqp_c" / "VERSION" in shipped
 
 
 def test_a_template_is_filled_in_whole_or_refused():

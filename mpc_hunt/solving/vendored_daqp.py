@@ -2,7 +2,9 @@
 
 The ``daqp-condensed`` backend compiles them into its step's library
 (:mod:`mpc_hunt.solving.backends.condensed_compiled`) and the C export copies them
-next to the step (:mod:`mpc_hunt.solving.export`).
+next to the step (:mod:`mpc_hunt.solving.export`). Their version is ``daqp_c/VERSION``,
+the version pyproject.toml pins DAQP's Python package to (``daqp_c/README.md``), so
+that the compiled step and its interpreted fallback run the same DAQP.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from functools import cache
 from pathlib import Path
 
 DAQP_SOURCES = Path(__file__).resolve().parent / "daqp_c"
-DAQP_VERSION = "0.11.0"
+DAQP_VERSION = (DAQP_SOURCES / "VERSION").read_text(encoding="utf-8").strip()
 
 
 @cache

@@ -3,7 +3,9 @@
 The fallback of the compiled step (:mod:`mpc_hunt.solving.backends.condensed_compiled`),
 with its buffer's calls and its codes: the same condensing
 (:mod:`mpc_hunt.solving.backends.condensing`), the same warm start from the last
-working set and cold retry, the same read-back.
+working set and cold retry, the same read-back. DAQP's Python package is pinned to
+the vendored sources' version (:mod:`mpc_hunt.solving.vendored_daqp`), so both run
+the same DAQP.
 """
 
 from __future__ import annotations
