@@ -14,6 +14,7 @@ import json
 import os
 import shlex
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from mpc_hunt import __version__
@@ -42,7 +43,7 @@ from mpc_hunt.world.scenario_io import (DEFAULT_SCENARIO, builtin_name, builtin_
 EXIT_ERROR = EXIT_USAGE       # an error's, and an interrupted run's that kept what finished
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif",)
-EXPORT_BACKENDS = ("hpipm", "daqp-condensed")   # the backends whose step the C export writes
+EXPORT_BACKENDS = tuple(b for b in registry.BACKENDS if registry.backend_class(b).exports)   # their steps as C
 OWN_LOOP = "own-loop"          # compare's mode whose pairs run hunts in their own loops (mpc_hunt/bench/own_loop.py)
 OWN_LOOP_SCENARIOS = ("paper-open", "paper-obstacles")
 MAX_OWN_LOOP_HUNTS = 200
@@ -436,6 +437,17 @@ def _solve(args) -> int:
     return 0 if solution.success else 1
 
 
+@contextmanager
+def _export_flags(given: dict):
+    """An export's refusal (:class:`SettingError`, naming its fields: mpc_hunt/solving/export.py) said with the
+    flags, each with the value ``given`` it."""
+    try:
+        yield
+    except SettingError as exc:
+        flags = ", ".join(f"--{name} {given[name]}" for name in exc.fields)
+        raise MpcHuntError(f"{flags}: {exc.reason}") from None
+
+
 def _export(args) -> int:
     from mpc_hunt.control.posing import posed_problem
     from mpc_hunt.solving.export import check_target
@@ -448,7 +460,8 @@ def _export(args) -> int:
     if args.robot is not None and not per_robot:
         raise MpcHuntError(f"--robot: only a formulation that plans robot by robot (distributed) writes one robot's "
                            f"step; {args.formulation} plans the team at once: drop --robot")
-    if args.hpipm_mode is not None and backend != "hpipm":
+    exports = registry.backend_class(backend).exports
+    if args.hpipm_mode is not None and exports != "hpipm":
         raise MpcHuntError(f"--hpipm-mode: the step is solved by {backend}, not HPIPM: drop --hpipm-mode or add "
                            "--backend hpipm")
     if not str(args.output).strip() or args.output.resolve() == Path.cwd().resolve():
@@ -456,7 +469,9 @@ def _export(args) -> int:
                            "a folder of its own for the step's files")
     if args.output.exists() and not args.output.is_dir():
         raise MpcHuntError(f"--output {args.output}: exists and is not a folder")
-    check_target(args.target, backend == "daqp-condensed")
+    given = {"target": args.target, "backend": backend}
+    with _export_flags(given):
+        check_target(args.target, exports)
     scenario = resolve_scenario(args.scenario)
     robot = 1 if args.robot is None else args.robot
     options = {} if args.hpipm_mode is None else {"mode": args.hpipm_mode}
@@ -465,8 +480,9 @@ def _export(args) -> int:
         if robot > problem.structure.planned:
             raise MpcHuntError(f"--robot {robot}: {problem.structure.planned} defenders are planned at this "
                                f"state (1 to {problem.structure.planned})")
-        files = CaptureSolver(args.formulation, backend, **options).export(args.output, problem, robot=robot - 1,
-                                                                          target=args.target)
+        with _export_flags(given):
+            files = CaptureSolver(args.formulation, backend, **options).export(args.output, problem,
+                                                                              robot=robot - 1, target=args.target)
     structure = problem.structure if not per_robot else f"robot {robot} of {problem.structure}"
     run = EXPORT_TARGETS[args.target]["run"]
     print(f"wrote {len(files)} files for the structure ({structure}) into {args.output}; build with "

@@ -150,7 +150,7 @@ class CaptureSolver:
         the CPU its Makefile builds for (:data:`mpc_hunt.solving.export.TARGETS`)."""
         from mpc_hunt.solving.export import check_export, write_step
 
-        check_export(target, self.backend.name == "daqp-condensed", self.formulation.iteration)
+        check_export(target, self.backend.exports, self.formulation.iteration)
 
         loop = self.loop(problem)
         loop.load(problem)
@@ -163,8 +163,8 @@ class CaptureSolver:
         if not loop.step().usable:
             raise MpcHuntError(f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
                                "nothing to compare the C step with")
-        return write_step(Path(folder), self.backend.generated_step(loop.step_function), loop.formulation.iteration,
-                          loop.structure, theta, reference, loop.plan.reshape(-1), target)
+        return write_step(Path(folder), self.backend.generated_step(loop.step_function), self.backend.exports,
+                          loop.formulation.iteration, loop.structure, theta, reference, loop.plan.reshape(-1), target)
 
     def _refusal(self, problem: CaptureProblem) -> str | None:
         """Why this pair cannot solve ``problem``'s objective (:func:`~mpc_hunt.solving.registry.objective_refusal`),

@@ -8,7 +8,10 @@ import subprocess
 import numpy as np
 import pytest
 
+from mpc_hunt.capture.iteration import ONE_QP, QPIteration
 from mpc_hunt.cli.commands import main
+from mpc_hunt.errors import SettingError
+from mpc_hunt.solving.export import check_export
 
 
 @pytest.mark.skipif(shutil.which("make") is None or shutil.which("gcc") is None, reason="needs make and gcc")
@@ -122,6 +125,26 @@ def test_an_option_the_export_cannot_use_is_refused(tmp_path, capsys, arguments,
     assert main(["export", "--output", str(tmp_path / "x")] + arguments) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_the_exported_backends_are_those_that_declare_a_step_to_export():
+    """The command line's --backend choices come from the backends' ``exports`` (none for a solver of other QPs)."""
+    from mpc_hunt.cli.commands import EXPORT_BACKENDS
+    from mpc_hunt.solving import registry
+
+    exports = {name: registry.backend_class(name).exports for name in registry.BACKENDS}
+    assert {"hpipm": "hpipm", "hpipm-codegen": "hpipm", "daqp-condensed": "condensed"}.items() <= exports.items()
+    assert set(EXPORT_BACKENDS) == {name for name, step in exports.items() if step}
+    assert exports["osqp"] is None and exports["daqp"] is None
+
+
+@pytest.mark.parametrize("target, exports, iteration, field", [
+    ("sparc", "condensed", ONE_QP, "target"), ("aarch64-linux", "hpipm", ONE_QP, "target"),
+    ("host", "condensed", QPIteration(30, 1e-4), "backend")])
+def test_the_exports_refusals_name_its_fields_not_the_command_lines_flags(target, exports, iteration, field):
+    with pytest.raises(SettingError) as refused:
+        check_export(target, exports, iteration)
+    assert refused.value.fields == (field,) and "--" not in str(refused.value)
 
 
 @pytest.mark.parametrize("output", ["", "."])

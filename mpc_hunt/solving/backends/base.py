@@ -63,6 +63,9 @@ class Backend:
 
     name: ClassVar[str]
     accepts: ClassVar[tuple[str, ...]]      # problem kinds: "nlp", "qp", "socp", "ocp-nlp", "ocp-qp"
+    # The step its C export writes (mpc_hunt.solving.export): "hpipm" (CasADi's, built against this machine's HPIPM
+    # and BLASFEO) or "condensed" (with DAQP's sources, for any target); None: no export.
+    exports: ClassVar[str | None] = None
     package: ClassVar[str]                  # the solver's import name
     install: ClassVar[str]                  # what to pip install
     ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}

@@ -26,10 +26,11 @@ from mpc_hunt.capture.data import QPData
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
-_STATUS = {2: Status.OPTIMAL, 1: Status.OPTIMAL, -1: Status.INFEASIBLE, -3: Status.INFEASIBLE,
-           -4: Status.ITERATION_LIMIT, -7: Status.TIME_LIMIT}
-_MESSAGE = {2: "soft optimal", 1: "optimal", -1: "infeasible", -2: "cycling", -3: "unbounded",
-            -4: "iteration limit", -5: "non-convex", -6: "overdetermined initial active set", -7: "time limit"}
+# DAQP's exit flags: the status each gives, and its name (the daqp-condensed backend's too).
+EXIT_STATUS = {2: Status.OPTIMAL, 1: Status.OPTIMAL, -1: Status.INFEASIBLE, -3: Status.INFEASIBLE,
+               -4: Status.ITERATION_LIMIT, -7: Status.TIME_LIMIT}
+EXIT_MESSAGE = {2: "soft optimal", 1: "optimal", -1: "infeasible", -2: "cycling", -3: "unbounded",
+                -4: "iteration limit", -5: "non-convex", -6: "overdetermined initial active set", -7: "time limit"}
 ACTIVE, LOWER = 1, 2      # DAQP's constraint flags
 
 
@@ -90,7 +91,7 @@ class DaqpBackend(Backend):
         x = np.array(x)
         y = np.zeros(data.A.shape[0])
         y[kept] = info["lam"]
-        return Solution(status=_STATUS.get(int(flag), Status.ERROR), message=_MESSAGE.get(int(flag), str(flag)),
-                        x=x, formulation_objective=float(fval), iterations=int(info["iterations"]),
-                        duals=WarmStart(x, y),
+        return Solution(status=EXIT_STATUS.get(int(flag), Status.ERROR),
+                        message=EXIT_MESSAGE.get(int(flag), str(flag)), x=x, formulation_objective=float(fval),
+                        iterations=int(info["iterations"]), duals=WarmStart(x, y),
                         extras={"reported_solve_time_s": float(info["solve_time"])})

@@ -24,6 +24,7 @@ class HpipmBackend(ConicStepBackend):
 
     name = "hpipm"
     plugin = "hpipm"
+    exports = "hpipm"
     # Complementarity one decade looser: CasADi hands HPIPM infinite bounds as ±1e8, whose slacks keep
     # its complementarity residual above 1e-8 (measured: 100 iterations at 1e-8, 9–11 at 1e-7).
     ACCURACY = {"default": {"res_g_max": 1e-8, "res_b_max": 1e-8, "res_d_max": 1e-8, "res_m_max": 1e-7},

@@ -11,7 +11,8 @@ generated HPIPM code (3.8) are rewritten before it is compiled:
   the interpreted plugin has them;
 - it allocates HPIPM's memory on every call: each block is allocated once;
 - it raises on any status but success, losing the plan and the iterations: the
-  call returns, and the status and iteration count are read from the library.
+  call returns, and the status and iteration count are read from the library
+  (their accessors: ``c_templates/hpipm/hpipm_status.c``, :mod:`mpc_hunt.solving.c_template`).
 
 No compiler, or a failed build: one warning, and the interpreted ``hpipm`` step.
 """
@@ -26,15 +27,11 @@ from typing import Any
 from mpc_hunt.capture.data import StageQPData
 from mpc_hunt.solving.backends.conic_step import as_solution, call
 from mpc_hunt.solving.backends.hpipm import HpipmBackend
+from mpc_hunt.solving.c_template import render
 from mpc_hunt.solving.compiled import FLAGS, compiled
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
 MEMORY = ("dim", "qp", "qp_sol", "ipm_arg", "ipm")     # HPIPM's blocks, as CasADi's generated code names them
-STATUS = """
-static int mpc_hunt_status = -1, mpc_hunt_iterations = 0;
-int mpc_hunt_hpipm_status(void) { return mpc_hunt_status; }
-int mpc_hunt_hpipm_iterations(void) { return mpc_hunt_iterations; }
-"""
 
 
 def _replace(source: str, old: str, new: str, count: int = 1) -> str:
@@ -57,7 +54,8 @@ def patch(source: str) -> str:
         source = _replace(source, f"void *{block}_mem = malloc({block}_size);",
                           f"static void *{block}_mem = 0; if (!{block}_mem) {block}_mem = malloc({block}_size);")
         source = _replace(source, f"free({block}_mem);", "")
-    source = _replace(source, "#include <hpipm_d_ocp_qp_utils.h>\n", "#include <hpipm_d_ocp_qp_utils.h>\n" + STATUS)
+    source = _replace(source, "#include <hpipm_d_ocp_qp_utils.h>\n",
+                      "#include <hpipm_d_ocp_qp_utils.h>\n\n" + render("hpipm/hpipm_status.c"))
     source = _replace(source, "  casadi_hpipm_solve(&d, arg, res, iw, w);\n  if (d.return_status!=0) {\n"
                       "    return -1;\n  }\n",
                       "  casadi_hpipm_solve(&d, arg, res, iw, w);\n"
