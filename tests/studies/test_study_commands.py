@@ -250,5 +250,5 @@ def test_team_size_check_of_a_missing_folder_is_one_line(tmp_path, capsys):
     out = tmp_path / "missing"
     assert study("team_size").main(["--check", "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert err == f"error: {out / 'results.json'}: no such file; run python studies/team_size.py --out {out} to " \
+    assert err == f"error: {out / 'results.json'}: no such file; run python studies/team_size.py --output {out} to " \
                   "make the results to check\n"
