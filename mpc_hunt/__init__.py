@@ -2,15 +2,41 @@
 
 from importlib.metadata import PackageNotFoundError, version
 
-from mpc_hunt.capture import (CaptureProblem, CaptureWeights, Evaluation, Solution, Status, Structure, WarmStart, evaluate,
-                              shift_plan)
-from mpc_hunt.control import (Command, Controller, ControllerSpec, EncirclingController, HuntingStrategy,
-                              Observation, make_controller)
+from mpc_hunt.capture import (
+    CaptureProblem,
+    CaptureWeights,
+    Evaluation,
+    Solution,
+    Status,
+    Structure,
+    WarmStart,
+    evaluate,
+    shift_plan,
+)
+from mpc_hunt.control import (
+    Command,
+    Controller,
+    ControllerSpec,
+    EncirclingController,
+    HuntingStrategy,
+    Observation,
+    make_controller,
+)
 from mpc_hunt.errors import MpcHuntError, ScenarioError, SolverError, SolverNotFoundError, UnknownNameError
 from mpc_hunt.sim import HuntResult, simulate
 from mpc_hunt.solving import CaptureMPC, CaptureSolver, MPCStep, pairs, solve
-from mpc_hunt.world import (Attacker, Defender, HuntParameters, Obstacle, Scenario, builtin_names, builtin_scenario,
-                            load_scenario, resolve_scenario, save_scenario)
+from mpc_hunt.world import (
+    Attacker,
+    Defender,
+    HuntParameters,
+    Obstacle,
+    Scenario,
+    builtin_names,
+    builtin_scenario,
+    load_scenario,
+    resolve_scenario,
+    save_scenario,
+)
 
 try:
     __version__ = version("mpc-hunt")
@@ -18,10 +44,43 @@ except PackageNotFoundError:  # running from a source tree that was never instal
     __version__ = "0+unknown"
 
 __all__ = [
-    "Attacker", "CaptureMPC", "CaptureProblem", "CaptureSolver", "CaptureWeights", "Command", "Controller",
-    "ControllerSpec", "Defender", "EncirclingController", "Evaluation", "HuntParameters", "HuntResult",
-    "HuntingStrategy", "MPCStep", "MpcHuntError",
-    "Observation", "Obstacle", "Scenario", "ScenarioError", "Solution", "SolverError", "SolverNotFoundError",
-    "Status", "Structure", "UnknownNameError", "WarmStart", "builtin_names", "builtin_scenario", "evaluate", "load_scenario",
-    "make_controller", "pairs", "resolve_scenario", "save_scenario", "shift_plan", "simulate", "solve", "__version__",
+    "Attacker",
+    "CaptureMPC",
+    "CaptureProblem",
+    "CaptureSolver",
+    "CaptureWeights",
+    "Command",
+    "Controller",
+    "ControllerSpec",
+    "Defender",
+    "EncirclingController",
+    "Evaluation",
+    "HuntParameters",
+    "HuntResult",
+    "HuntingStrategy",
+    "MPCStep",
+    "MpcHuntError",
+    "Observation",
+    "Obstacle",
+    "Scenario",
+    "ScenarioError",
+    "Solution",
+    "SolverError",
+    "SolverNotFoundError",
+    "Status",
+    "Structure",
+    "UnknownNameError",
+    "WarmStart",
+    "builtin_names",
+    "builtin_scenario",
+    "evaluate",
+    "load_scenario",
+    "make_controller",
+    "pairs",
+    "resolve_scenario",
+    "save_scenario",
+    "shift_plan",
+    "simulate",
+    "solve",
+    "__version__",
 ]

@@ -18,9 +18,9 @@ from typing import Callable
 
 from mpc_hunt.errors import MpcHuntError
 
-EXIT_USAGE = 2                     # a usage error's exit status (argparse's, mpc-hunt's), and an error's at run time
-EXIT_INTERRUPTED = 130             # Ctrl-C's (128 + SIGINT)
-MAX_SEED = 2**63 - 1               # SQLite's largest integer (a sweep stores its seed); NumPy takes any
+EXIT_USAGE = 2  # a usage error's exit status (argparse's, mpc-hunt's), and an error's at run time
+EXIT_INTERRUPTED = 130  # Ctrl-C's (128 + SIGINT)
+MAX_SEED = 2**63 - 1  # SQLite's largest integer (a sweep stores its seed); NumPy takes any
 
 
 class CommandParser(argparse.ArgumentParser):
@@ -32,8 +32,9 @@ class CommandParser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.prog}: error: {' '.join(message.split())} (see --help)\n")
 
 
-def run_command(prog: str, main: Callable[[], int], flag: Callable[[str], str] = str,
-                interrupted: int = EXIT_INTERRUPTED) -> int:
+def run_command(
+    prog: str, main: Callable[[], int], flag: Callable[[str], str] = str, interrupted: int = EXIT_INTERRUPTED
+) -> int:
     """``main()``'s exit status, run as a command: an error of the toolkit's or of a file is one line on stderr,
     ``PROG: error: MESSAGE``, status EXIT_USAGE, never a traceback, each field it names shown as ``flag(field)``
     (:meth:`~mpc_hunt.errors.MpcHuntError.named`); Ctrl-C is ``PROG: interrupted``, status ``interrupted``; a
@@ -45,7 +46,7 @@ def run_command(prog: str, main: Callable[[], int], flag: Callable[[str], str] =
     except BrokenPipeError:
         return EXIT_USAGE
     except OSError as exc:
-        message = (f"{exc.filename}: " if exc.filename else "") + str(exc.strerror or exc)   # names the file
+        message = (f"{exc.filename}: " if exc.filename else "") + str(exc.strerror or exc)  # names the file
     except KeyboardInterrupt:
         print(f"{prog}: interrupted", file=sys.stderr)
         return interrupted
@@ -54,7 +55,7 @@ def run_command(prog: str, main: Callable[[], int], flag: Callable[[str], str] =
 
 
 _WHOLE = re.compile(r"\s*([+-]?)0*([0-9]+)\s*")
-SHOWN = 40                         # characters of a bad value a message repeats
+SHOWN = 40  # characters of a bad value a message repeats
 
 
 def shown(text: str) -> str:
@@ -88,11 +89,12 @@ def _whole(text: str, least: int, most: int) -> int:
     if match is None:
         raise argparse.ArgumentTypeError(f"expected a whole number from {least} to {most}, got {shown(text)}")
     sign, digits = match.groups()
-    if len(digits) > len(str(max(abs(least), abs(most)))):    # far out of range: no int() of thousands of digits
+    if len(digits) > len(str(max(abs(least), abs(most)))):  # far out of range: no int() of thousands of digits
         if sign == "-":
             raise argparse.ArgumentTypeError(f"{_below(least)}, got a number of {len(digits)} digits")
-        raise argparse.ArgumentTypeError(f"at most {most} (docs/robustness.md, Limits), got a number of "
-                                         f"{len(digits)} digits")
+        raise argparse.ArgumentTypeError(
+            f"at most {most} (docs/robustness.md, Limits), got a number of {len(digits)} digits"
+        )
     value = int(sign + digits)
     why = out_of_range(value, least, most)
     if why:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Callable
 
-_MARK = "\x1f"                                   # around a field's name in a message (ASCII's unit separator)
+_MARK = "\x1f"  # around a field's name in a message (ASCII's unit separator)
 _FIELD = re.compile(f"{_MARK}(\\w+){_MARK}")
 
 
@@ -78,7 +78,7 @@ class SettingError(OptionError):
         """Why, its fields as they are."""
         return _shown(self._reason, str)
 
-    def __reduce__(self):     # to pickle across processes (a sweep's workers)
+    def __reduce__(self):  # to pickle across processes (a sweep's workers)
         return type(self), (self.fields, self._reason)
 
 

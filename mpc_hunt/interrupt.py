@@ -9,7 +9,7 @@ import sys
 from contextlib import contextmanager
 from typing import Callable
 
-CLEAR_FIRST: list[Callable[[], None]] = []      # what a stop calls before its line: the progress bars, cleared
+CLEAR_FIRST: list[Callable[[], None]] = []  # what a stop calls before its line: the progress bars, cleared
 
 
 def _clear_first() -> None:
@@ -33,6 +33,7 @@ def stop_at_once(command: str):
     Not by KeyboardInterrupt: a solver such as IPOPT takes it as a request to end its current solve, and the
     command would run on to its end. Output is written after this block, so nothing is half-written.
     """
+
     def _exit(signum, frame):
         _clear_first()
         os.write(2, f"mpc-hunt {command}: interrupted: nothing written\n".encode())
@@ -44,6 +45,7 @@ def stop_at_once(command: str):
 def stop_keeping(command: str, keep: Callable[[], None]):
     """Ctrl-C ends the command at once, status 130, after ``keep()`` has written what was finished (a run whose
     pieces take seconds each, which no solver's own Ctrl-C handling may hold up)."""
+
     def _exit(signum, frame):
         try:
             _clear_first()

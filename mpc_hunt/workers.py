@@ -21,8 +21,8 @@ from typing import Any, Callable, Generator, Iterable, Iterator
 from mpc_hunt.errors import WorkersDied
 
 MAX_WORKER_DEATHS = 3
-PR_SET_PDEATHSIG = 1     # prctl(2): the signal a process gets when its parent dies
-_END = object()          # the end of a task iterator
+PR_SET_PDEATHSIG = 1  # prctl(2): the signal a process gets when its parent dies
+_END = object()  # the end of a task iterator
 
 
 def run_local(todo: Iterable, work: Callable[[Any], Any], workers: int | None = None) -> Iterator:
@@ -54,7 +54,7 @@ def _run_pool(pending: Iterator, retry: deque, workers: int, work: Callable[[Any
                 break
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             broken = any(isinstance(f.exception(), BrokenProcessPool) for f in finished)
-            if broken:      # every running task is lost with the pool; some may have finished first
+            if broken:  # every running task is lost with the pool; some may have finished first
                 finished, _ = wait(running)
             for future in finished:
                 task = running.pop(future)
@@ -75,7 +75,7 @@ def _start_worker(parent_pid: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if sys.platform.startswith("linux"):
         ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
-        if os.getppid() != parent_pid:      # the parent died before the request was made
+        if os.getppid() != parent_pid:  # the parent died before the request was made
             os._exit(1)
 
 

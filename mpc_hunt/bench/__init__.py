@@ -4,8 +4,21 @@
 from mpc_hunt.bench.build_problems import build_problem_set
 from mpc_hunt.bench.compare import run_compare
 from mpc_hunt.bench.machine import describe_machine
-from mpc_hunt.bench.problem_set import (ProblemSet, builtin_problem_set, load_problem_set, resolve_problem_set,
-                                        save_problem_set)
+from mpc_hunt.bench.problem_set import (
+    ProblemSet,
+    builtin_problem_set,
+    load_problem_set,
+    resolve_problem_set,
+    save_problem_set,
+)
 
-__all__ = ["ProblemSet", "build_problem_set", "builtin_problem_set", "describe_machine", "load_problem_set",
-           "resolve_problem_set", "run_compare", "save_problem_set"]
+__all__ = [
+    "ProblemSet",
+    "build_problem_set",
+    "builtin_problem_set",
+    "describe_machine",
+    "load_problem_set",
+    "resolve_problem_set",
+    "run_compare",
+    "save_problem_set",
+]

@@ -17,11 +17,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES, Evaluation, evaluate
+from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.solving.solver import CaptureSolver
 
-ACTIVE_TOLERANCE = 1e-6   # m
+ACTIVE_TOLERANCE = 1e-6  # m
 INEQUALITIES = tuple(name for name in VIOLATION_NAMES if name != "equal_distance")
 
 
@@ -37,8 +37,7 @@ def _rest(evaluation: Evaluation) -> float:
 def binds(problem: CaptureProblem, optimum: Evaluation, free: Evaluation) -> bool:
     """Whether ``free``, a plan solved without Eq. 14, certifies that Eq. 14 binds at ``optimum``."""
     keeps_the_rest = all(free.violation[name] <= ACTIVE_TOLERANCE for name in INEQUALITIES)
-    return bool(keeps_the_rest and free.margin["equal_distance"] < -ACTIVE_TOLERANCE
-                and _rest(free) < _rest(optimum))
+    return bool(keeps_the_rest and free.margin["equal_distance"] < -ACTIVE_TOLERANCE and _rest(free) < _rest(optimum))
 
 
 class ActivityProbe:

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.bench.metrics import is_success
+from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.solving.solver import CaptureSolver
 
 

@@ -11,23 +11,34 @@ import numpy as np
 
 from mpc_hunt.bench.activity import ActivityProbe
 from mpc_hunt.bench.closed_loop_states import capture_stage_observations, closed_loop_entries, default_entry
-from mpc_hunt.errors import SettingError
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
 from mpc_hunt.bench.random_states import random_entries
+from mpc_hunt.errors import SettingError
 from mpc_hunt.world.scenario import Scenario
 
 
-def build_problem_set(scenarios: list[Scenario], rng: np.random.Generator, *, every: int, run_length: int,
-                      random_per_case: int, description: str, progress=None,
-                      sampled: set[str] | None = None) -> ProblemSet:
+def build_problem_set(
+    scenarios: list[Scenario],
+    rng: np.random.Generator,
+    *,
+    every: int,
+    run_length: int,
+    random_per_case: int,
+    description: str,
+    progress=None,
+    sampled: set[str] | None = None,
+) -> ProblemSet:
     """For each scenario its default state (tagged ``default``) and, if it is ``sampled`` (default: every
     scenario), its closed-loop runs, from one closed-loop run; then ``random_per_case`` random states per
     constraint family around the first scenario's robots. ``progress``, if given, is called with each run's
     simulated time."""
     if random_per_case and scenarios and len(scenarios[0].defenders) < 3:
-        raise SettingError("random_per_case", f"random states need at least 3 defenders; the first scenario, "
-                                              f"{scenarios[0].name}, has {len(scenarios[0].defenders)}: give 0, or "
-                                              "put another scenario first")
+        raise SettingError(
+            "random_per_case",
+            f"random states need at least 3 defenders; the first scenario, "
+            f"{scenarios[0].name}, has {len(scenarios[0].defenders)}: give 0, or "
+            "put another scenario first",
+        )
     probe = ActivityProbe()
     named: dict[str, Scenario] = {}
     problems: list[ProblemEntry] = []

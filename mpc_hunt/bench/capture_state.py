@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.world import attacker
+from mpc_hunt.control.controller import Observation
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.world import attacker
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.sim.simulator import simulate
-from mpc_hunt.control.controller import Observation
 
 
 def circle_formed(scenario: Scenario, obs: Observation) -> bool:
@@ -28,8 +28,9 @@ def circle_formed(scenario: Scenario, obs: Observation) -> bool:
         return False
     d = norm(obs.attacker - obs.defenders[active])
     r_d = float(np.min(scenario.defender_max_speeds)) * scenario.hunt.time_step
-    return bool(attacker.perceives(scenario, obs.attacker, obs.defenders[active]).all()
-                and d.max() - d.min() <= 2 * r_d)
+    return bool(
+        attacker.perceives(scenario, obs.attacker, obs.defenders[active]).all() and d.max() - d.min() <= 2 * r_d
+    )
 
 
 def first_formed_circle(scenario: Scenario, progress=None) -> HuntState:
@@ -66,4 +67,4 @@ def formed_circle_states(scenario: Scenario, count: int, progress=None) -> list[
     return [HuntState(obs.time, obs.attacker, obs.defenders) for obs in found[:count]]
 
 
-#END
+# END

@@ -22,13 +22,13 @@ from typing import Callable
 
 import numpy as np
 
-from mpc_hunt.solving import registry
-from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
-from mpc_hunt.capture.problem import OBJECTIVES
 from mpc_hunt.bench.best_known import MultiStartNLP
-from mpc_hunt.errors import BenchmarkError, field_name
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
+from mpc_hunt.capture.problem import OBJECTIVES
+from mpc_hunt.errors import BenchmarkError, field_name
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.solving.mpc import CaptureMPC
 
 MODES = ("cold", "replayed")
@@ -47,14 +47,14 @@ class SolveRecord:
     success: bool
     objective: float | None
     violation: dict[str, float] | None
-    solve_time: float        # all-in, set-up excluded
-    solver_time: float       # inside the solver
-    overhead_time: float     # ours: posing the problem, building data, reading back
+    solve_time: float  # all-in, set-up excluded
+    solver_time: float  # inside the solver
+    overhead_time: float  # ours: posing the problem, building data, reading back
     setup_time: float
-    score_time: float        # the evaluator's, outside the all-in time
+    score_time: float  # the evaluator's, outside the all-in time
     iterations: int
     warm_started: bool
-    primal_residual: float | None = None     # the certificate of the QP (or NLP) the solver was handed
+    primal_residual: float | None = None  # the certificate of the QP (or NLP) the solver was handed
     dual_residual: float | None = None
     duality_gap: float | None = None
 
@@ -103,10 +103,15 @@ def check_pairs(pairs: list[str] | None, objective: str = "paper") -> list[tuple
         backend = registry.check_pair(formulation, backend) if backend else None
         refusal = registry.objective_refusal(formulation, backend, objective)
         if refusal is not None:
-            raise BenchmarkError(f"{field_name('pairs')}: {text}: {refusal.reason} (pick another "
-                                 f"{refusal.fields[0]}, or another {field_name('objective')})")
-        chosen = [(formulation, backend)] if backend else [p for p in registry.pairs(objective=objective)
-                                                           if p[0] == formulation]
+            raise BenchmarkError(
+                f"{field_name('pairs')}: {text}: {refusal.reason} (pick another "
+                f"{refusal.fields[0]}, or another {field_name('objective')})"
+            )
+        chosen = (
+            [(formulation, backend)]
+            if backend
+            else [p for p in registry.pairs(objective=objective) if p[0] == formulation]
+        )
         out += [p for p in chosen if p not in out]
     return out
 
@@ -117,14 +122,33 @@ def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, hor
     solution = mpc.step(problem).solution
     elapsed = time.perf_counter() - t0
     all_in = max(elapsed - solution.setup_time - solution.score_time, 0.0)
-    return SolveRecord(mpc.solver.formulation.name, mpc.solver.backend.name, mode, horizon, entry.id,
-                       solution.status.value, is_success(solution.success, solution.violation, run.tolerance),
-                       solution.objective, solution.violation, all_in, solution.solver_time,
-                       max(all_in - solution.solver_time, 0.0), solution.setup_time, solution.score_time,
-                       solution.iterations, solution.warm_started,
-                       *((None,) * 3 if solution.certificate is None else
-                         (solution.certificate.primal_residual, solution.certificate.dual_residual,
-                          solution.certificate.duality_gap)))
+    return SolveRecord(
+        mpc.solver.formulation.name,
+        mpc.solver.backend.name,
+        mode,
+        horizon,
+        entry.id,
+        solution.status.value,
+        is_success(solution.success, solution.violation, run.tolerance),
+        solution.objective,
+        solution.violation,
+        all_in,
+        solution.solver_time,
+        max(all_in - solution.solver_time, 0.0),
+        solution.setup_time,
+        solution.score_time,
+        solution.iterations,
+        solution.warm_started,
+        *(
+            (None,) * 3
+            if solution.certificate is None
+            else (
+                solution.certificate.primal_residual,
+                solution.certificate.dual_residual,
+                solution.certificate.duality_gap,
+            )
+        ),
+    )
 
 
 def _new_mpc(run: CompareRun, pair: tuple[str, str]) -> CaptureMPC:
@@ -135,7 +159,9 @@ def _new_mpc(run: CompareRun, pair: tuple[str, str]) -> CaptureMPC:
 def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Callable[[], None]) -> None:
     reference = MultiStartNLP(run.starts, run.tolerance)
     for entry in run.problem_set.problems:
-        run.references[(entry.id, horizon)] = reference.best(run.problem_set.problem(entry, horizon, run.objective), rng, tick)
+        run.references[(entry.id, horizon)] = reference.best(
+            run.problem_set.problem(entry, horizon, run.objective), rng, tick
+        )
     if "cold" in run.modes:
         for entry in run.problem_set.problems:
             for pair in run.pairs:
@@ -150,10 +176,20 @@ def _horizon(run: CompareRun, horizon: int, rng: np.random.Generator, tick: Call
                     tick()
 
 
-def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons: list[int], modes: list[str],
-                rng: np.random.Generator, *, accuracy: str = "default", time_limit: float | None = None,
-                max_iter: int | None = None, starts: int = 4, objective: str = "paper",
-                progress: Callable[[], None] | None = None) -> CompareRun:
+def run_compare(
+    problem_set: ProblemSet,
+    pairs: list[tuple[str, str]],
+    horizons: list[int],
+    modes: list[str],
+    rng: np.random.Generator,
+    *,
+    accuracy: str = "default",
+    time_limit: float | None = None,
+    max_iter: int | None = None,
+    starts: int = 4,
+    objective: str = "paper",
+    progress: Callable[[], None] | None = None,
+) -> CompareRun:
     """Run every pair over ``problem_set`` at each horizon in each mode, each problem posed with ``objective``
     (``paper`` or ``enclose``); ``progress()`` is called per solve."""
     if not problem_set.problems:
@@ -169,10 +205,21 @@ def run_compare(problem_set: ProblemSet, pairs: list[tuple[str, str]], horizons:
         raise BenchmarkError(f"starts: must be at least 1, got {starts}")
     untimed = [b for _, b in pairs if time_limit is not None and not registry.backend_class(b).TIME_LIMIT]
     if untimed:
-        raise BenchmarkError(f"{field_name('time_limit')}: backend {untimed[0]} takes none; leave it out of the "
-                             f"pairs, or drop {field_name('time_limit')}")
-    run = CompareRun(problem_set, list(pairs), list(horizons), list(modes), accuracy, time_limit, starts,
-                     max_iter=max_iter, objective=objective)
+        raise BenchmarkError(
+            f"{field_name('time_limit')}: backend {untimed[0]} takes none; leave it out of the "
+            f"pairs, or drop {field_name('time_limit')}"
+        )
+    run = CompareRun(
+        problem_set,
+        list(pairs),
+        list(horizons),
+        list(modes),
+        accuracy,
+        time_limit,
+        starts,
+        max_iter=max_iter,
+        objective=objective,
+    )
     tick = progress or (lambda: None)
     try:
         for horizon in run.horizons:

@@ -7,19 +7,27 @@ import json
 import math
 from pathlib import Path
 
-from mpc_hunt.solving.accuracy import accuracy_table
 from mpc_hunt.bench.compare import CompareRun
 from mpc_hunt.bench.compare_rows import best_known, gap
-from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE, VIOLATION_NAMES
 from mpc_hunt.bench.machine import machine_lines
+from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE, VIOLATION_NAMES
+from mpc_hunt.solving.accuracy import accuracy_table
 
 
 def settings(run: CompareRun, **extra) -> dict:
     """What was run: the problems (ids, in order), pairs, horizons, modes, accuracy and the caller's extras."""
-    return {"problems": [p.id for p in run.problem_set.problems],
-            "pairs": [f"{f}:{b}" for f, b in run.pairs], "horizons": run.horizons, "modes": run.modes,
-            "objective": run.objective, "accuracy": run.accuracy, "violation_tolerance_m": run.tolerance, "time_limit_s": run.time_limit,
-            "reference_starts": run.starts, **extra}
+    return {
+        "problems": [p.id for p in run.problem_set.problems],
+        "pairs": [f"{f}:{b}" for f, b in run.pairs],
+        "horizons": run.horizons,
+        "modes": run.modes,
+        "objective": run.objective,
+        "accuracy": run.accuracy,
+        "violation_tolerance_m": run.tolerance,
+        "time_limit_s": run.time_limit,
+        "reference_starts": run.starts,
+        **extra,
+    }
 
 
 def document(run: CompareRun, machine: dict, rows: list[dict], extra: dict, solves: bool = False) -> dict:
@@ -63,25 +71,59 @@ def _g(x: float | None, fmt: str = ".2g") -> str:
     return "–" if x is None else format(x, fmt)
 
 
-COLUMNS = ("pair", "mode", "N", "accuracy", "solves", "success", "median ms", "p95 ms", "sgm ms", "solver ms",
-           "ours ms", "warm ×", "iters", "gap med", "gap p95", "max viol m", "max dual res", "max gap")
+COLUMNS = (
+    "pair",
+    "mode",
+    "N",
+    "accuracy",
+    "solves",
+    "success",
+    "median ms",
+    "p95 ms",
+    "sgm ms",
+    "solver ms",
+    "ours ms",
+    "warm ×",
+    "iters",
+    "gap med",
+    "gap p95",
+    "max viol m",
+    "max dual res",
+    "max gap",
+)
 
 
 def _cells(r: dict) -> list[str]:
     speedup = "–" if r.get("warm_speedup") is None else f"{r['warm_speedup']:.2f}"
-    return [f"{r['formulation']}/{r['backend']}", r["mode"], str(r["horizon"]), r["accuracy"], str(r["solves"]),
-            f"{r['success_rate']:.0%}", _ms(r["solve_time_median_s"]), _ms(r["solve_time_p95_s"]),
-            _ms(r["solve_time_shifted_geomean_s"]), _ms(r["solver_time_median_s"]), _ms(r["overhead_time_median_s"]),
-            speedup, _g(r["iterations_median"], "g"), _g(r["optimality_gap_median"]), _g(r["optimality_gap_p95"]),
-            _g(r["max_violation"], ".1e"), _g(r.get("max_dual_residual"), ".1e"), _g(r.get("max_duality_gap"), ".1e")]
+    return [
+        f"{r['formulation']}/{r['backend']}",
+        r["mode"],
+        str(r["horizon"]),
+        r["accuracy"],
+        str(r["solves"]),
+        f"{r['success_rate']:.0%}",
+        _ms(r["solve_time_median_s"]),
+        _ms(r["solve_time_p95_s"]),
+        _ms(r["solve_time_shifted_geomean_s"]),
+        _ms(r["solver_time_median_s"]),
+        _ms(r["overhead_time_median_s"]),
+        speedup,
+        _g(r["iterations_median"], "g"),
+        _g(r["optimality_gap_median"]),
+        _g(r["optimality_gap_p95"]),
+        _g(r["max_violation"], ".1e"),
+        _g(r.get("max_dual_residual"), ".1e"),
+        _g(r.get("max_duality_gap"), ".1e"),
+    ]
 
 
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table for the terminal."""
     body = [list(COLUMNS)] + [_cells(r) for r in rows]
     widths = [max(len(line[i]) for line in body) for i in range(len(COLUMNS))]
-    return "\n".join("  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths)))
-                     for line in body)
+    return "\n".join(
+        "  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))) for line in body
+    )
 
 
 def markdown_table(rows: list[dict]) -> list[str]:
@@ -90,11 +132,16 @@ def markdown_table(rows: list[dict]) -> list[str]:
 
 
 def violation_table(rows: list[dict]) -> list[str]:
-    lines = ["| pair | mode | N | statuses | " + " | ".join(VIOLATION_NAMES) + " |",
-             "| --- | --- | ---: | --- | " + " | ".join("---:" for _ in VIOLATION_NAMES) + " |"]
+    lines = [
+        "| pair | mode | N | statuses | " + " | ".join(VIOLATION_NAMES) + " |",
+        "| --- | --- | ---: | --- | " + " | ".join("---:" for _ in VIOLATION_NAMES) + " |",
+    ]
     for r in rows:
-        lines.append(f"| {r['formulation']}/{r['backend']} | {r['mode']} | {r['horizon']} | {r['statuses']} | "
-                     + " | ".join(_g(r[f"max_violation_{n}"], ".1e") for n in VIOLATION_NAMES) + " |")
+        lines.append(
+            f"| {r['formulation']}/{r['backend']} | {r['mode']} | {r['horizon']} | {r['statuses']} | "
+            + " | ".join(_g(r[f"max_violation_{n}"], ".1e") for n in VIOLATION_NAMES)
+            + " |"
+        )
     return lines
 
 
@@ -117,11 +164,17 @@ def readme(run: CompareRun, machine: dict, rows: list[dict], command: str, figur
     """The report's ``README.md``: what was run, the score, the results and the ``figures`` (beside it)."""
     sequences = run.problem_set.sequences()
     text = [
-        "# Capture-stage formulations × backends, scored on the true problem", "",
+        "# Capture-stage formulations × backends, scored on the true problem",
+        "",
         f"Regenerate with `{command}`. Every figure below comes from that one run"
-        + (" (**interrupted**: only the solves finished are scored)." if run.interrupted else "."), "",
-        "## Machine", "", *machine_lines(machine), "",
-        "## What was run", "",
+        + (" (**interrupted**: only the solves finished are scored)." if run.interrupted else "."),
+        "",
+        "## Machine",
+        "",
+        *machine_lines(machine),
+        "",
+        "## What was run",
+        "",
         f"- Problems: {len(run.problem_set.problems)} ({len(sequences)} sequences of consecutive states, "
         f"{sum(map(len, sequences.values()))} states, for the replayed mode); "
         f"{run.problem_set.description}",
@@ -129,15 +182,33 @@ def readme(run: CompareRun, machine: dict, rows: list[dict], command: str, figur
         f"- Horizons: {', '.join(map(str, run.horizons))}; modes: {', '.join(run.modes)}",
         f"- Accuracy `{run.accuracy}`: a solve succeeds with a success status and every true violation "
         f"≤ {run.tolerance:g} m; time limit: {'none' if run.time_limit is None else f'{run.time_limit:g} s'}; "
-        f"reference: multi-start NLP, {run.starts} starts", "",
-        "## The score", "", f"Every plan is scored by the evaluator (`mpc_hunt/capture/evaluator.py`), on the "
-        f"objective it was planned for (`{run.objective}`):", "", "```",
-        ENCLOSE_OBJECTIVE if run.objective == "enclose" else OBJECTIVE, "```", "", "Accuracy levels:", "", accuracy_table(), "",
+        f"reference: multi-start NLP, {run.starts} starts",
+        "",
+        "## The score",
+        "",
+        f"Every plan is scored by the evaluator (`mpc_hunt/capture/evaluator.py`), on the "
+        f"objective it was planned for (`{run.objective}`):",
+        "",
+        "```",
+        ENCLOSE_OBJECTIVE if run.objective == "enclose" else OBJECTIVE,
+        "```",
+        "",
+        "Accuracy levels:",
+        "",
+        accuracy_table(),
+        "",
         "Metrics: see docs/benchmarks.md in the repository. Times are all-in, per solve "
         "(the state handed over to the plan returned), set-up apart; `sgm` is the shifted geometric mean "
-        "(shift 10 ms); `solver`: inside the solver; `ours`: our overhead.", "",
-        "## Results", "", *markdown_table(rows), "",
-        "Largest true violation of each family (m), and the solvers' statuses:", "", *violation_table(rows), "",
+        "(shift 10 ms); `solver`: inside the solver; `ours`: our overhead.",
+        "",
+        "## Results",
+        "",
+        *markdown_table(rows),
+        "",
+        "Largest true violation of each family (m), and the solvers' statuses:",
+        "",
+        *violation_table(rows),
+        "",
     ]
     missing = unsolved(run)
     if missing:

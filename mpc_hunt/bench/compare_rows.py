@@ -31,8 +31,8 @@ from collections import Counter
 import numpy as np
 
 from mpc_hunt.bench.compare import CompareRun, SolveRecord
-from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.bench.metrics import relative_gap, shifted_geometric_mean
+from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 
 USABLE = ("optimal", "optimal_inaccurate")
 
@@ -63,19 +63,23 @@ def _stat(values: list[float], how) -> float | None:
     return _finite(how(np.asarray(values, dtype=float))) if values else None
 
 
-def score(records: list[SolveRecord], best: dict[tuple[str, int], float], accuracy: str,
-          time_limit: float | None) -> dict:
+def score(
+    records: list[SolveRecord], best: dict[tuple[str, int], float], accuracy: str, time_limit: float | None
+) -> dict:
     """The row of one (formulation, backend, mode, horizon) from its records."""
     first = records[0]
     times = [r.solve_time for r in records]
-    penalised = [r.solve_time if r.success or time_limit is None else max(r.solve_time, time_limit)
-                 for r in records]
+    penalised = [r.solve_time if r.success or time_limit is None else max(r.solve_time, time_limit) for r in records]
     setups = [r.setup_time for r in records if r.setup_time > 0]
     gaps = [g for g in (gap(r, best) for r in records) if g is not None]
     plans = [r.violation for r in records if r.violation is not None]
     row = {
-        "formulation": first.formulation, "backend": first.backend, "mode": first.mode, "horizon": first.horizon,
-        "accuracy": accuracy, "solves": len(records),
+        "formulation": first.formulation,
+        "backend": first.backend,
+        "mode": first.mode,
+        "horizon": first.horizon,
+        "accuracy": accuracy,
+        "solves": len(records),
         "success_rate": sum(r.success for r in records) / len(records),
         "solve_time_median_s": _stat(times, np.median),
         "solve_time_p95_s": _stat(times, lambda t: np.percentile(t, 95)),
@@ -93,9 +97,10 @@ def score(records: list[SolveRecord], best: dict[tuple[str, int], float], accura
     }
     for name in VIOLATION_NAMES:
         row[f"max_violation_{name}"] = max((v[name] for v in plans), default=None)
-    for name in ("primal_residual", "dual_residual", "duality_gap"):    # over the usable solves' certificates
-        row[f"max_{name}"] = max((getattr(r, name) for r in records
-                                  if r.status in USABLE and getattr(r, name) is not None), default=None)
+    for name in ("primal_residual", "dual_residual", "duality_gap"):  # over the usable solves' certificates
+        row[f"max_{name}"] = max(
+            (getattr(r, name) for r in records if r.status in USABLE and getattr(r, name) is not None), default=None
+        )
     row["statuses"] = ", ".join(f"{s} {n}" for s, n in sorted(Counter(r.status for r in records).items()))
     row["warm_started"] = sum(r.warm_started for r in records)
     return row
@@ -121,7 +126,8 @@ def rows(run: CompareRun) -> list[dict]:
     out = []
     for k in keys:
         row = score(groups[k], best, run.accuracy, run.time_limit)
-        speedup, states = (warm_speedup(groups[k], groups.get((k[0], "cold", *k[2:]), []))
-                           if k[1] == "replayed" else (None, 0))
+        speedup, states = (
+            warm_speedup(groups[k], groups.get((k[0], "cold", *k[2:]), [])) if k[1] == "replayed" else (None, 0)
+        )
         out.append(row | {"warm_speedup": speedup, "warm_speedup_states": states})
     return out

@@ -31,8 +31,7 @@ def blas_kernel_families() -> list[str]:
         text = Path("/proc/cpuinfo").read_text(encoding="utf-8")
     except OSError:
         return []
-    flags = next((set(line.split(":", 1)[1].split()) for line in text.splitlines() if line.startswith("flags")),
-                 set())
+    flags = next((set(line.split(":", 1)[1].split()) for line in text.splitlines() if line.startswith("flags")), set())
     return [family for flag, family in KERNEL_FAMILIES if flag in flags]
 
 
@@ -54,17 +53,25 @@ def load_average() -> list[float] | None:
 def describe_machine() -> dict:
     """Plain data: CPU model, logical cores (and those this process may use), OS, Python, package versions, load."""
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return {"cpu": cpu_model(), "cores": os.cpu_count(), "usable_cores": usable,
-            "system": f"{platform.system()} {platform.release()} {platform.machine()}",
-            "python": platform.python_version(), "packages": {p: _version(p) for p in PACKAGES},
-            "load_average": load_average()}
+    return {
+        "cpu": cpu_model(),
+        "cores": os.cpu_count(),
+        "usable_cores": usable,
+        "system": f"{platform.system()} {platform.release()} {platform.machine()}",
+        "python": platform.python_version(),
+        "packages": {p: _version(p) for p in PACKAGES},
+        "load_average": load_average(),
+    }
 
 
 def machine_lines(machine: dict) -> list[str]:
     """The description as Markdown bullet lines, for reports."""
     packages = ", ".join(f"{p} {v}" for p, v in machine["packages"].items() if v)
-    lines = [f"- CPU: {machine['cpu']}, {machine['cores']} logical cores ({machine['usable_cores']} usable)",
-             f"- System: {machine['system']}, Python {machine['python']}", f"- Packages: {packages}"]
+    lines = [
+        f"- CPU: {machine['cpu']}, {machine['cores']} logical cores ({machine['usable_cores']} usable)",
+        f"- System: {machine['system']}, Python {machine['python']}",
+        f"- Packages: {packages}",
+    ]
     for key, label in (("load_average", "at the start"), ("load_average_end", "at the end")):
         if machine.get(key):
             lines.append(f"- Load average (1, 5, 15 min) {label}: {', '.join(map(str, machine[key]))}")

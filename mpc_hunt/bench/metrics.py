@@ -14,7 +14,7 @@ import numpy as np
 from mpc_hunt.capture.evaluator import hard_violation
 from mpc_hunt.errors import BenchmarkError
 
-TIME_SHIFT = 0.01   # s: qpbenchmark's 10 ms
+TIME_SHIFT = 0.01  # s: qpbenchmark's 10 ms
 
 
 def shifted_geometric_mean(values, shift: float = TIME_SHIFT) -> float:

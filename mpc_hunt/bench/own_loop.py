@@ -14,7 +14,8 @@ A hunt whose capture stage has failed for ``abandon_after`` seconds in a row (:d
 counted *abandoned* (not captured): from there on it would measure the fallback, not the pair, at the pair's full
 budget a step. Hunts run one after another, or on worker processes (``workers``), each hunt whole on one.
 
-Per pair and horizon, over its hunts: captures, abandoned hunts and capture time; the step's time p50, p95, p99 and max; deadline
+Per pair and horizon, over its hunts: captures, abandoned hunts and capture time; the step's time p50, p95, p99
+and max; deadline
 misses against the time step T and against the given ``deadline``; solves stopped by their budget (time limit,
 iteration cap); failed solves, fallbacks and the longest run of failed solves; iterations; the usable plans the
 loop refused as violating (:class:`~mpc_hunt.solving.mpc.CaptureMPC`'s rule) and the applied plans' true
@@ -32,7 +33,8 @@ from typing import Callable, Iterable, Iterator
 
 import numpy as np
 
-from mpc_hunt.capture.evaluator import HARD_CONSTRAINTS as HARD, VIOLATION_NAMES
+from mpc_hunt.capture.evaluator import HARD_CONSTRAINTS as HARD
+from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.capture.solution import Status
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.spec import make_controller
@@ -40,9 +42,9 @@ from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
+from mpc_hunt.workers import run_local
 from mpc_hunt.world.attacker import perceives
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.workers import run_local
 
 
 @dataclass(frozen=True)
@@ -54,7 +56,7 @@ class LoopHunt:
     horizon: int
     scenario: str
     result: HuntResult
-    wall: float              # the whole hunt's wall-clock time (s)
+    wall: float  # the whole hunt's wall-clock time (s)
 
 
 @dataclass
@@ -96,23 +98,29 @@ def from_capture_stage(scenario: Scenario, window: float) -> Scenario | None:
     if not found:
         return None
     obs = found[0]
-    defenders = tuple(replace(d, start=tuple(map(float, p)),
-                              fails_at=None if d.fails_at is None else max(d.fails_at - obs.time, 0.0))
-                      for d, p in zip(scenario.defenders, obs.defenders))
+    defenders = tuple(
+        replace(d, start=tuple(map(float, p)), fails_at=None if d.fails_at is None else max(d.fails_at - obs.time, 0.0))
+        for d, p in zip(scenario.defenders, obs.defenders)
+    )
     hunt = replace(scenario.hunt, time_limit=min(window, scenario.hunt.time_limit))
-    return replace(scenario, attacker=replace(scenario.attacker, start=tuple(map(float, obs.attacker))),
-                   defenders=defenders, hunt=hunt,
-                   description=f"{scenario.name} from t = {obs.time:.1f} s, its capture stage's start, "
-                               f"for at most {hunt.time_limit:g} s")
+    return replace(
+        scenario,
+        attacker=replace(scenario.attacker, start=tuple(map(float, obs.attacker))),
+        defenders=defenders,
+        hunt=hunt,
+        description=f"{scenario.name} from t = {obs.time:.1f} s, its capture stage's start, "
+        f"for at most {hunt.time_limit:g} s",
+    )
 
 
-WINDOW = 120.0     # s: how long each hunt runs from its capture stage's start (the paper's scenarios capture in 41
-                   # and 110 s from there under the paper's strategy)
+WINDOW = 120.0  # s: how long each hunt runs from its capture stage's start (the paper's scenarios capture in 41
+# and 110 s from there under the paper's strategy)
 DRAWS_PER_HUNT = 5  # random hunts drawn at most per hunt kept (some never reach the capture stage)
 
 
-def capture_stage_hunts(named: list[Scenario], random: Iterable[Scenario], count: int,
-                        window: float = WINDOW) -> list[Scenario]:
+def capture_stage_hunts(
+    named: list[Scenario], random: Iterable[Scenario], count: int, window: float = WINDOW
+) -> list[Scenario]:
     """The hunts an own-loop run starts from: each of ``named`` and the first ``count`` of ``random`` that reach
     the capture stage (:func:`from_capture_stage`), at most ``DRAWS_PER_HUNT × count`` of them drawn."""
     hunts = []
@@ -134,9 +142,9 @@ def capture_stage_hunts(named: list[Scenario], random: Iterable[Scenario], count
     return hunts
 
 
-ABANDON_AFTER = 10.0    # s: a hunt whose capture stage has failed this long in a row stops, "abandoned" (100 steps
-                        # at T = 0.1 s, twenty times the longest streak a pair fit to embed may have: what follows
-                        # is the fallback's hunt, not the pair's, and would only cost the run its time)
+ABANDON_AFTER = 10.0  # s: a hunt whose capture stage has failed this long in a row stops, "abandoned" (100 steps
+# at T = 0.1 s, twenty times the longest streak a pair fit to embed may have: what follows
+# is the fallback's hunt, not the pair's, and would only cost the run its time)
 
 
 @dataclass(frozen=True)
@@ -149,15 +157,23 @@ class LoopTask:
     horizon: int
     controller: str
     accuracy: str
-    budget: tuple               # (("time_limit", s), ("max_iter", n)): the ones given
+    budget: tuple  # (("time_limit", s), ("max_iter", n)): the ones given
     deadline: float | None
     abandon_after: float | None
 
 
-def loop_tasks(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons: list[int], *,
-               controller: str = "paper", accuracy: str = "default", time_limit: float | None = None,
-               max_iter: int | None = None, deadline: float | None = None,
-               abandon_after: float | None = ABANDON_AFTER) -> list[LoopTask]:
+def loop_tasks(
+    scenarios: list[Scenario],
+    pairs: list[tuple[str, str]],
+    horizons: list[int],
+    *,
+    controller: str = "paper",
+    accuracy: str = "default",
+    time_limit: float | None = None,
+    max_iter: int | None = None,
+    deadline: float | None = None,
+    abandon_after: float | None = ABANDON_AFTER,
+) -> list[LoopTask]:
     """Every pair × horizon through every scenario's hunt, by horizon, then hunt, the pairs taking turns on each
     hunt (so that load on the machine falls on all of them alike)."""
     if not scenarios:
@@ -167,23 +183,36 @@ def loop_tasks(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons
     if accuracy not in VIOLATION_TOLERANCE:
         raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
     for name, value in (("deadline", deadline), ("abandon_after", abandon_after)):
-        if value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
-                                      and 0 < value < math.inf):
+        if value is not None and not (
+            isinstance(value, (int, float)) and not isinstance(value, bool) and 0 < value < math.inf
+        ):
             raise BenchmarkError(f"{name}: a positive number of seconds, got {value!r}")
     budget = tuple((k, v) for k, v in (("time_limit", time_limit), ("max_iter", max_iter)) if v is not None)
-    return [LoopTask(scenario, formulation, backend, horizon, controller, accuracy, budget, deadline, abandon_after)
-            for horizon in horizons for scenario in scenarios for formulation, backend in pairs]
+    return [
+        LoopTask(scenario, formulation, backend, horizon, controller, accuracy, budget, deadline, abandon_after)
+        for horizon in horizons
+        for scenario in scenarios
+        for formulation, backend in pairs
+    ]
 
 
 def run_hunt(task: LoopTask) -> LoopHunt:
     """The task's hunt, its pair driving ``task.controller``'s capture stage, every plan scored."""
-    hunter = make_controller(task.controller, task.scenario, formulation=task.formulation, backend=task.backend,
-                             horizon=task.horizon, score=True, accuracy=task.accuracy, **dict(task.budget))
+    hunter = make_controller(
+        task.controller,
+        task.scenario,
+        formulation=task.formulation,
+        backend=task.backend,
+        horizon=task.horizon,
+        score=True,
+        accuracy=task.accuracy,
+        **dict(task.budget),
+    )
     t0 = time.perf_counter()
-    result = simulate(task.scenario, hunter, deadline=task.deadline, abandon_after=task.abandon_after,
-                      rng=np.random.default_rng(0))
-    return LoopHunt(task.formulation, task.backend, task.horizon, task.scenario.name, result,
-                    time.perf_counter() - t0)
+    result = simulate(
+        task.scenario, hunter, deadline=task.deadline, abandon_after=task.abandon_after, rng=np.random.default_rng(0)
+    )
+    return LoopHunt(task.formulation, task.backend, task.horizon, task.scenario.name, result, time.perf_counter() - t0)
 
 
 def run_tasks(tasks: Iterable[LoopTask], workers: int = 1) -> Iterator[LoopHunt]:
@@ -194,17 +223,44 @@ def run_tasks(tasks: Iterable[LoopTask], workers: int = 1) -> Iterator[LoopHunt]
     return run_local(tasks, run_hunt, workers)
 
 
-def run_own_loop(scenarios: list[Scenario], pairs: list[tuple[str, str]], horizons: list[int], *,
-                 controller: str = "paper", accuracy: str = "default", time_limit: float | None = None,
-                 max_iter: int | None = None, deadline: float | None = None,
-                 abandon_after: float | None = ABANDON_AFTER, workers: int = 1,
-                 progress: Callable[[LoopHunt], None] | None = None) -> OwnLoopRun:
+def run_own_loop(
+    scenarios: list[Scenario],
+    pairs: list[tuple[str, str]],
+    horizons: list[int],
+    *,
+    controller: str = "paper",
+    accuracy: str = "default",
+    time_limit: float | None = None,
+    max_iter: int | None = None,
+    deadline: float | None = None,
+    abandon_after: float | None = ABANDON_AFTER,
+    workers: int = 1,
+    progress: Callable[[LoopHunt], None] | None = None,
+) -> OwnLoopRun:
     """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one), on ``workers``
     processes (:func:`run_tasks`); ``progress(hunt)`` is called with each hunt as it finishes."""
-    tasks = loop_tasks(scenarios, pairs, horizons, controller=controller, accuracy=accuracy, time_limit=time_limit,
-                       max_iter=max_iter, deadline=deadline, abandon_after=abandon_after)
-    run = OwnLoopRun(list(scenarios), list(pairs), list(horizons), controller, accuracy, time_limit, max_iter,
-                     deadline, abandon_after)
+    tasks = loop_tasks(
+        scenarios,
+        pairs,
+        horizons,
+        controller=controller,
+        accuracy=accuracy,
+        time_limit=time_limit,
+        max_iter=max_iter,
+        deadline=deadline,
+        abandon_after=abandon_after,
+    )
+    run = OwnLoopRun(
+        list(scenarios),
+        list(pairs),
+        list(horizons),
+        controller,
+        accuracy,
+        time_limit,
+        max_iter,
+        deadline,
+        abandon_after,
+    )
     tick = progress or (lambda hunt: None)
     try:
         for hunt in run_tasks(tasks, workers):
@@ -229,18 +285,32 @@ def hunt_summary(hunt: LoopHunt) -> dict:
     scored = r.applied_violations[~np.any(np.isnan(r.applied_violations), axis=1)]
     hard = scored[:, [VIOLATION_NAMES.index(n) for n in HARD]]
     return {
-        "formulation": hunt.formulation, "backend": hunt.backend, "horizon": hunt.horizon, "scenario": hunt.scenario,
-        "captured": r.captured, "abandoned": r.termination == "abandoned", "capture_time_s": r.capture_time, "time_step_s": r.time_step,
-        "simulated_s": r.steps * r.time_step, "wall_s": hunt.wall,
-        "solve_times_s": [float(t) for t in r.solve_times], "iterations": [int(i) for i in r.solve_iterations],
-        "setups": int(np.sum(r.setup_times > 0)), "setup_max_s": _stat(r.setup_times, np.max),
-        "budget_hits": r.budget_hits, "failed_solves": r.failed_solves, "fallbacks": r.fallbacks,
-        "longest_failure_streak": r.longest_failure_streak, "violating_plans": r.violating_plans,
+        "formulation": hunt.formulation,
+        "backend": hunt.backend,
+        "horizon": hunt.horizon,
+        "scenario": hunt.scenario,
+        "captured": r.captured,
+        "abandoned": r.termination == "abandoned",
+        "capture_time_s": r.capture_time,
+        "time_step_s": r.time_step,
+        "simulated_s": r.steps * r.time_step,
+        "wall_s": hunt.wall,
+        "solve_times_s": [float(t) for t in r.solve_times],
+        "iterations": [int(i) for i in r.solve_iterations],
+        "setups": int(np.sum(r.setup_times > 0)),
+        "setup_max_s": _stat(r.setup_times, np.max),
+        "budget_hits": r.budget_hits,
+        "failed_solves": r.failed_solves,
+        "fallbacks": r.fallbacks,
+        "longest_failure_streak": r.longest_failure_streak,
+        "violating_plans": r.violating_plans,
         "applied_plans_scored": len(scored),
         "applied_beyond": {str(t): int(np.sum(np.any(hard > t, axis=1))) for t in VIOLATION_TOLERANCE.values()},
         "max_violation": {name: _stat(scored[:, i], np.max) for i, name in enumerate(VIOLATION_NAMES)},
-        "max_certificate": {name: _stat(certified[:, i], np.max)
-                            for i, name in enumerate(("primal_residual", "dual_residual", "duality_gap"))},
+        "max_certificate": {
+            name: _stat(certified[:, i], np.max)
+            for i, name in enumerate(("primal_residual", "dual_residual", "duality_gap"))
+        },
     }
 
 
@@ -257,8 +327,12 @@ def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
     T = first["time_step_s"]
     simulated, wall = sum(h["simulated_s"] for h in hunts), sum(h["wall_s"] for h in hunts)
     row = {
-        "formulation": first["formulation"], "backend": first["backend"], "horizon": first["horizon"],
-        "hunts": len(hunts), "captured": len(captured), "abandoned": sum(h["abandoned"] for h in hunts),
+        "formulation": first["formulation"],
+        "backend": first["backend"],
+        "horizon": first["horizon"],
+        "hunts": len(hunts),
+        "captured": len(captured),
+        "abandoned": sum(h["abandoned"] for h in hunts),
         "capture_time_median_s": _stat([h["capture_time_s"] for h in captured], np.median),
         "solves": len(waits),
         "step_time_p50_s": _stat(waits, np.median),
@@ -273,12 +347,14 @@ def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
         "failed_solves": sum(h["failed_solves"] for h in hunts),
         "fallbacks": sum(h["fallbacks"] for h in hunts),
         "longest_failure_streak": max(h["longest_failure_streak"] for h in hunts),
-        "iterations_median": _stat(np.concatenate([np.asarray(h["iterations"], dtype=float) for h in hunts]),
-                                   np.median),
+        "iterations_median": _stat(
+            np.concatenate([np.asarray(h["iterations"], dtype=float) for h in hunts]), np.median
+        ),
         "applied_plans_scored": sum(h["applied_plans_scored"] for h in hunts),
         "violating_plans": sum(h["violating_plans"] for h in hunts),
         "applied_beyond_tolerance": sum(h["applied_beyond"][str(tolerance)] for h in hunts),
-        "wall_s": wall, "real_time_factor": simulated / wall if wall > 0 else None,
+        "wall_s": wall,
+        "real_time_factor": simulated / wall if wall > 0 else None,
     }
     for name in VIOLATION_NAMES:
         row[f"max_violation_{name}"] = _largest([h["max_violation"][name] for h in hunts])
@@ -287,8 +363,9 @@ def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
     return row
 
 
-def rows_of(summaries: list[dict], pairs: list[tuple[str, str]], horizons: list[int], tolerance: float,
-            deadline: float | None) -> list[dict]:
+def rows_of(
+    summaries: list[dict], pairs: list[tuple[str, str]], horizons: list[int], tolerance: float, deadline: float | None
+) -> list[dict]:
     """One row per pair × horizon with finished hunts, by horizon then the pairs in ``pairs``' order."""
     groups: dict[tuple, list[dict]] = {}
     for h in summaries:
@@ -311,32 +388,69 @@ def _g(x: float | None) -> str:
     return "–" if x is None else f"{x:.1e}"
 
 
-COLUMNS = ("pair", "N", "captured", "abandoned", "p50 ms", "p95 ms", "p99 ms", "max ms", "> T", "> deadline", "set-ups",
-           "max set-up ms", "budget hits", "fallbacks", "streak", "iters", "violating", "max hard viol m",
-           "max primal res", "max dual res", "max gap")
+COLUMNS = (
+    "pair",
+    "N",
+    "captured",
+    "abandoned",
+    "p50 ms",
+    "p95 ms",
+    "p99 ms",
+    "max ms",
+    "> T",
+    "> deadline",
+    "set-ups",
+    "max set-up ms",
+    "budget hits",
+    "fallbacks",
+    "streak",
+    "iters",
+    "violating",
+    "max hard viol m",
+    "max primal res",
+    "max dual res",
+    "max gap",
+)
 
 
 def _cells(r: dict) -> list[str]:
     hard = [r[f"max_violation_{n}"] for n in HARD if r[f"max_violation_{n}"] is not None]
-    return [f"{r['formulation']}/{r['backend']}", str(r["horizon"]), f"{r['captured']}/{r['hunts']}", str(r["abandoned"]),
-            _ms(r["step_time_p50_s"]), _ms(r["step_time_p95_s"]), _ms(r["step_time_p99_s"]), _ms(r["step_time_max_s"]),
-            str(r["deadline_misses_T"]), "–" if r["deadline_misses"] is None else str(r["deadline_misses"]),
-            str(r["setups"]), _ms(r["setup_max_s"]),
-            str(r["budget_hits"]), str(r["fallbacks"]), str(r["longest_failure_streak"]),
-            "–" if r["iterations_median"] is None else f"{r['iterations_median']:g}",
-            str(r["violating_plans"]), _g(max(hard) if hard else None),
-            _g(r["max_primal_residual"]), _g(r["max_dual_residual"]), _g(r["max_duality_gap"])]
+    return [
+        f"{r['formulation']}/{r['backend']}",
+        str(r["horizon"]),
+        f"{r['captured']}/{r['hunts']}",
+        str(r["abandoned"]),
+        _ms(r["step_time_p50_s"]),
+        _ms(r["step_time_p95_s"]),
+        _ms(r["step_time_p99_s"]),
+        _ms(r["step_time_max_s"]),
+        str(r["deadline_misses_T"]),
+        "–" if r["deadline_misses"] is None else str(r["deadline_misses"]),
+        str(r["setups"]),
+        _ms(r["setup_max_s"]),
+        str(r["budget_hits"]),
+        str(r["fallbacks"]),
+        str(r["longest_failure_streak"]),
+        "–" if r["iterations_median"] is None else f"{r['iterations_median']:g}",
+        str(r["violating_plans"]),
+        _g(max(hard) if hard else None),
+        _g(r["max_primal_residual"]),
+        _g(r["max_dual_residual"]),
+        _g(r["max_duality_gap"]),
+    ]
 
 
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table."""
     body = [list(COLUMNS)] + [_cells(r) for r in rows]
     widths = [max(len(line[i]) for line in body) for i in range(len(COLUMNS))]
-    return "\n".join("  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths)))
-                     for line in body)
+    return "\n".join(
+        "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))) for line in body
+    )
 
 
 def markdown_table(rows: list[dict]) -> list[str]:
     """The rows as a Markdown table."""
-    return ["| " + " | ".join(COLUMNS) + " |", "| --- | " + " | ".join("---:" for _ in COLUMNS[1:]) + " |"] \
-        + ["| " + " | ".join(_cells(r)) + " |" for r in rows]
+    return ["| " + " | ".join(COLUMNS) + " |", "| --- | " + " | ".join("---:" for _ in COLUMNS[1:]) + " |"] + [
+        "| " + " | ".join(_cells(r)) + " |" for r in rows
+    ]

@@ -40,7 +40,7 @@ from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import scenario_from_dict, scenario_to_dict
 
 FORMAT, VERSION = "mpc-hunt problem set", 1
-_ENTRY_KEYS = frozenset({"id", "scenario", "sequence", "tags"})     # beside a state's own keys
+_ENTRY_KEYS = frozenset({"id", "scenario", "sequence", "tags"})  # beside a state's own keys
 
 
 @dataclass(frozen=True)
@@ -93,8 +93,9 @@ class ProblemSet:
                 out.append(tuple(runs[entry.sequence]))
         return out
 
-    def select(self, tags: tuple[str, ...] = (), limit: int | None = None,
-               rng: np.random.Generator | None = None) -> "ProblemSet":
+    def select(
+        self, tags: tuple[str, ...] = (), limit: int | None = None, rng: np.random.Generator | None = None
+    ) -> "ProblemSet":
         """The problems carrying every tag in ``tags``; then, if ``limit`` is given, at most that many, drawn
         with ``rng`` (sequences taken whole or not at all), in the set's order."""
         kept = [p for p in self.problems if all(t in p.tags for t in tags)]
@@ -115,16 +116,25 @@ class ProblemSet:
         """A summary: description, scenarios, counts by tag and the sequences."""
         tags = Counter(t for p in self.problems for t in p.tags)
         runs = self.sequences()
-        lines = [self.description, f"{len(self.problems)} problems in {len(self.scenarios)} scenarios; "
-                                   f"{len(runs)} sequences ({sum(map(len, runs.values()))} problems)"]
+        lines = [
+            self.description,
+            f"{len(self.problems)} problems in {len(self.scenarios)} scenarios; "
+            f"{len(runs)} sequences ({sum(map(len, runs.values()))} problems)",
+        ]
         lines += [f"tag {tag}: {count}" for tag, count in sorted(tags.items())]
         return lines
 
     def to_dict(self) -> dict:
-        return {"format": FORMAT, "version": VERSION, "description": self.description,
-                "scenarios": {name: scenario_to_dict(s) for name, s in self.scenarios.items()},
-                "problems": [{"id": p.id, "scenario": p.scenario, **p.state.to_dict(), "sequence": p.sequence,
-                              "tags": list(p.tags)} for p in self.problems]}
+        return {
+            "format": FORMAT,
+            "version": VERSION,
+            "description": self.description,
+            "scenarios": {name: scenario_to_dict(s) for name, s in self.scenarios.items()},
+            "problems": [
+                {"id": p.id, "scenario": p.scenario, **p.state.to_dict(), "sequence": p.sequence, "tags": list(p.tags)}
+                for p in self.problems
+            ],
+        }
 
 
 def dumps_problem_set(problem_set: ProblemSet) -> str:
@@ -133,13 +143,13 @@ def dumps_problem_set(problem_set: ProblemSet) -> str:
     problems = data.pop("problems")
     head = json.dumps(data, indent=1, ensure_ascii=False)[:-2]
     body = ",\n  ".join(json.dumps(p, ensure_ascii=False) for p in problems)
-    return f"{head},\n \"problems\": [\n  {body}\n ]\n}}\n" if problems else f"{head},\n \"problems\": []\n}}\n"
+    return f'{head},\n "problems": [\n  {body}\n ]\n}}\n' if problems else f'{head},\n "problems": []\n}}\n'
 
 
 def problem_set_from_dict(data: object, source: str = "<data>") -> ProblemSet:
     """Build a problem set from plain data (as read from JSON); every key is checked."""
     if not isinstance(data, dict) or data.get("format") != FORMAT:
-        raise ScenarioError(f"{source}: not a problem set (expected \"format\": \"{FORMAT}\")")
+        raise ScenarioError(f'{source}: not a problem set (expected "format": "{FORMAT}")')
     if data.get("version") != VERSION:
         raise ScenarioError(f"{source}: version: expected {VERSION}, got {data.get('version')!r}")
     raw_scenarios = data.get("scenarios")
@@ -184,7 +194,7 @@ def load_problem_set(path: str | Path) -> ProblemSet:
     """Read a problem set file (JSON, see the module's docstring), checked when loaded: a damaged file is a
     one-line ScenarioError naming it."""
     path = Path(path)
-    return problem_set_from_dict(read_json(path, f"a problem set, {{\"format\": \"{FORMAT}\", ...}}"), str(path))
+    return problem_set_from_dict(read_json(path, f'a problem set, {{"format": "{FORMAT}", ...}}'), str(path))
 
 
 def save_problem_set(problem_set: ProblemSet, path: str | Path) -> None:
@@ -213,7 +223,7 @@ def builtin_problem_set(name: str = "default") -> ProblemSet:
     available = builtin_problem_sets()
     if name not in available:
         raise UnknownNameError(f"unknown problem set {name!r} (available: {', '.join(available)})")
-    with resources.as_file(files.joinpath(f"{name}.json")) as path:     # checked as any problem set file
+    with resources.as_file(files.joinpath(f"{name}.json")) as path:  # checked as any problem set file
         return load_problem_set(path)
 
 

@@ -34,18 +34,18 @@ from dataclasses import replace
 
 import numpy as np
 
-from mpc_hunt.world import attacker
 from mpc_hunt.bench.activity import ACTIVE_TOLERANCE, ActivityProbe
+from mpc_hunt.bench.problem_set import ProblemEntry
+from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.capture.evaluator import VIOLATION_NAMES
+from mpc_hunt.world import attacker
 from mpc_hunt.world.geometry import direction, norm
-from mpc_hunt.bench.problem_set import ProblemEntry
 from mpc_hunt.world.hunt_state import HuntState
 from mpc_hunt.world.scenario import Defender, Obstacle, Scenario
 
 MAX_DRAWS = 200
-SPREAD = 1e-3    # m: the controlled defenders' distances to the attacker differ by at most this
+SPREAD = 1e-3  # m: the controlled defenders' distances to the attacker differ by at most this
 
 
 def _near(rng: np.random.Generator, radius: float, n: int) -> np.ndarray:
@@ -69,12 +69,12 @@ def _layout(rng: np.random.Generator, template: Scenario, case: str) -> tuple[np
     distances = _near(rng, rng.uniform(0.8, 0.98) * reach, n)
     jitter = np.radians(45 if case == "equal_distance" else 20)
     angles = rng.uniform(0, 2 * np.pi) + 2 * np.pi * np.arange(n) / n + rng.uniform(-jitter, jitter, n)
-    if case == "separation":         # two in the capture stage, near the edge of R_agg; the rest outside it
+    if case == "separation":  # two in the capture stage, near the edge of R_agg; the rest outside it
         distances = _near(rng, rng.uniform(0.93, 0.98) * reach, n)
         angles[1] = angles[0] + np.pi + rng.uniform(-jitter, jitter)
         distances[2:] = rng.uniform(1.1, 1.5, n - 2) * reach
     defenders = p_a + distances[:, None] * direction(angles)
-    for _ in range(rng.integers(0, 3)):     # others, somewhere around
+    for _ in range(rng.integers(0, 3)):  # others, somewhere around
         radius = rng.uniform(0.3, 1.0)
         obstacles.append((p_a + direction(rng.uniform(0, 2 * np.pi)) * (radius + rng.uniform(0.3, 1.5)), radius))
     return p_a, defenders, obstacles
@@ -86,8 +86,9 @@ def _ahead(rng: np.random.Generator, defenders: np.ndarray, step: np.ndarray, cl
     return defenders[0] + (clearance + rng.uniform(0.1, 0.6) * length) * step[0] / max(length, 1e-12)
 
 
-def _block(rng: np.random.Generator, template: Scenario, case: str, defenders: np.ndarray, obstacles: list,
-           step: np.ndarray) -> None:
+def _block(
+    rng: np.random.Generator, template: Scenario, case: str, defenders: np.ndarray, obstacles: list, step: np.ndarray
+) -> None:
     """Put an obstacle (``obstacle_safety``) or the last, held, defender (``separation``) just ahead of
     defender 0, across the ``step`` it takes when nothing is there."""
     if case == "obstacle_safety":
@@ -107,26 +108,35 @@ def _admissible(template: Scenario, p_a: np.ndarray, defenders: np.ndarray, obst
     gaps = norm(defenders[:, None] - defenders[None]) + np.eye(len(defenders)) * 1e9
     if gaps.min() < hunt.min_separation:
         return False
-    return all(norm(p_a - centre) > radius and norm(defenders - centre).min() >= radius + hunt.safety_distance
-               for centre, radius in obstacles)
+    return all(
+        norm(p_a - centre) > radius and norm(defenders - centre).min() >= radius + hunt.safety_distance
+        for centre, radius in obstacles
+    )
 
 
-def _scenario(template: Scenario, name: str, case: str, p_a: np.ndarray, defenders: np.ndarray,
-              obstacles: list) -> Scenario:
-    return replace(template, name=name, description=f"A random capture-stage state (case {case}).",
-                   attacker=replace(template.attacker, start=tuple(p_a)),
-                   defenders=tuple(Defender(tuple(p), d.max_speed) for p, d in zip(defenders, template.defenders)),
-                   obstacles=tuple(Obstacle(tuple(c), float(r)) for c, r in obstacles))
+def _scenario(
+    template: Scenario, name: str, case: str, p_a: np.ndarray, defenders: np.ndarray, obstacles: list
+) -> Scenario:
+    return replace(
+        template,
+        name=name,
+        description=f"A random capture-stage state (case {case}).",
+        attacker=replace(template.attacker, start=tuple(p_a)),
+        defenders=tuple(Defender(tuple(p), d.max_speed) for p, d in zip(defenders, template.defenders)),
+        obstacles=tuple(Obstacle(tuple(c), float(r)) for c, r in obstacles),
+    )
 
 
-def random_entry(template: Scenario, case: str, name: str, rng: np.random.Generator,
-                 probe: ActivityProbe) -> tuple[Scenario, ProblemEntry]:
+def random_entry(
+    template: Scenario, case: str, name: str, rng: np.random.Generator, probe: ActivityProbe
+) -> tuple[Scenario, ProblemEntry]:
     """One random state of ``case`` (a family name) as scenario ``name``, tagged ``random``, ``case:<case>``."""
     if case not in VIOLATION_NAMES:
         raise MpcHuntError(f"case: unknown family {case!r} (known: {', '.join(VIOLATION_NAMES)})")
-    if len(template.defenders) < 3:     # a separation state needs two defenders inside R_agg and one held
-        raise MpcHuntError(f"scenario {template.name}: random states need at least 3 defenders, it has "
-                           f"{len(template.defenders)}")
+    if len(template.defenders) < 3:  # a separation state needs two defenders inside R_agg and one held
+        raise MpcHuntError(
+            f"scenario {template.name}: random states need at least 3 defenders, it has {len(template.defenders)}"
+        )
     for _ in range(MAX_DRAWS):
         p_a, defenders, obstacles = _layout(rng, template, case)
         if not _admissible(template, p_a, defenders, obstacles):
@@ -138,19 +148,22 @@ def random_entry(template: Scenario, case: str, name: str, rng: np.random.Genera
             if plan is None:
                 continue
             _block(rng, template, case, defenders, obstacles, plan[0] - defenders)
-            if not _admissible(template, p_a, defenders, obstacles) or \
-                    not np.array_equal(attacker.perceives(template, p_a, defenders), problem.controlled):
+            if not _admissible(template, p_a, defenders, obstacles) or not np.array_equal(
+                attacker.perceives(template, p_a, defenders), problem.controlled
+            ):
                 continue
         scenario = _scenario(template, name, case, p_a, defenders, obstacles)
         violation, tags = probe.examine(CaptureProblem.at_state(scenario, p_a, defenders, 1))
         if violation is not None and violation <= ACTIVE_TOLERANCE and f"active:{case}" in tags:
-            return scenario, ProblemEntry(f"{name}/{case}", name, HuntState(0.0, p_a, defenders), None,
-                                          ("random", f"case:{case}") + tags)
+            return scenario, ProblemEntry(
+                f"{name}/{case}", name, HuntState(0.0, p_a, defenders), None, ("random", f"case:{case}") + tags
+            )
     raise MpcHuntError(f"case {case!r}: no draw in {MAX_DRAWS} made the family active")
 
 
-def random_entries(template: Scenario, per_case: int, rng: np.random.Generator,
-                   probe: ActivityProbe | None = None) -> tuple[dict[str, Scenario], list[ProblemEntry]]:
+def random_entries(
+    template: Scenario, per_case: int, rng: np.random.Generator, probe: ActivityProbe | None = None
+) -> tuple[dict[str, Scenario], list[ProblemEntry]]:
     """``per_case`` random states for every family, their scenarios named ``random-<i>``."""
     probe = probe or ActivityProbe()
     scenarios, entries = {}, []

@@ -11,5 +11,14 @@ from mpc_hunt.capture.problem import CaptureProblem, CaptureWeights
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.capture.structure import Structure
 
-__all__ = ["CaptureProblem", "CaptureWeights", "Evaluation", "Solution", "Status", "Structure", "WarmStart",
-           "evaluate", "shift_plan"]
+__all__ = [
+    "CaptureProblem",
+    "CaptureWeights",
+    "Evaluation",
+    "Solution",
+    "Status",
+    "Structure",
+    "WarmStart",
+    "evaluate",
+    "shift_plan",
+]

@@ -56,8 +56,17 @@ def _bound_terms(bound: np.ndarray, multiplier: np.ndarray) -> np.ndarray:
     return out
 
 
-def qp_certificate(P: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, l: np.ndarray, u: np.ndarray, x: np.ndarray,
-                   y: np.ndarray, cones: tuple[tuple[int, int], ...] = (), upper: bool = True) -> Certificate:
+def qp_certificate(
+    P: sp.spmatrix,
+    q: np.ndarray,
+    A: sp.spmatrix,
+    l: np.ndarray,
+    u: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    cones: tuple[tuple[int, int], ...] = (),
+    upper: bool = True,
+) -> Certificate:
     """The certificate of ``(x, y)`` for min ½xᵀPx + qᵀx s.t. l ≤ Ax ≤ u (rows in ``cones``: (start, size) of
     second-order cones t ≥ |v| written u − Ax), ``P`` given as its upper triangle when ``upper``."""
     P = sp.csc_matrix(P)
@@ -66,8 +75,8 @@ def qp_certificate(P: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, l: np.ndarray,
     cone = np.zeros(len(Ax), dtype=bool)
     worst = 0.0
     for start, size in cones:
-        cone[start:start + size] = True
-        s = u[start:start + size] - Ax[start:start + size]
+        cone[start : start + size] = True
+        s = u[start : start + size] - Ax[start : start + size]
         worst = max(worst, float(np.linalg.norm(s[1:]) - s[0]))
     linear = ~cone
     with np.errstate(invalid="ignore"):
@@ -75,8 +84,11 @@ def qp_certificate(P: sp.spmatrix, q: np.ndarray, A: sp.spmatrix, l: np.ndarray,
     worst = max(worst, float(np.max(np.nan_to_num(over, nan=0.0, neginf=0.0))))
     dual = float(np.max(np.abs(Px + q + A.T @ y), initial=0.0))
     y_lin = np.where(linear, y, 0.0)
-    bounds = _bound_terms(u, np.maximum(y_lin, 0.0)) - _bound_terms(l, np.maximum(-y_lin, 0.0)) \
+    bounds = (
+        _bound_terms(u, np.maximum(y_lin, 0.0))
+        - _bound_terms(l, np.maximum(-y_lin, 0.0))
         + _bound_terms(u, np.where(cone, y, 0.0))
+    )
     gap = float(x @ Px + q @ x) + float(np.sum(bounds))
     return Certificate(max(worst, 0.0), dual, abs(gap))
 

@@ -66,9 +66,8 @@ class QPData:
         """The rows outside the cones with a finite upper bound, and those with a finite lower bound."""
         cone_rows = np.zeros(self.A.shape[0], dtype=bool)
         for start, size in self.cones:
-            cone_rows[start:start + size] = True
-        return (np.flatnonzero(np.isfinite(self.u) & ~cone_rows),
-                np.flatnonzero(np.isfinite(self.l) & ~cone_rows))
+            cone_rows[start : start + size] = True
+        return (np.flatnonzero(np.isfinite(self.u) & ~cone_rows), np.flatnonzero(np.isfinite(self.l) & ~cone_rows))
 
 
 @dataclass(frozen=True)

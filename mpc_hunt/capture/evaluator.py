@@ -9,7 +9,6 @@ and one violation per constraint family, in metres.
 from __future__ import annotations
 
 import time
-
 from dataclasses import dataclass
 
 import numpy as np
@@ -64,9 +63,9 @@ class Evaluation:
     objective: float
     violation: dict[str, float]
     attacker_path: np.ndarray  # (N, 2): the attacker at steps 1..N
-    terms: dict[str, float]    # the objective's terms (TERM_NAMES), summed over the horizon
-    margin: dict[str, float]   # each family's smallest distance to its bound, in metres (< 0: violated;
-                               # inf: no such constraint; Eq. 14's is −(max − min) distance, ≤ 0)
+    terms: dict[str, float]  # the objective's terms (TERM_NAMES), summed over the horizon
+    margin: dict[str, float]  # each family's smallest distance to its bound, in metres (< 0: violated;
+    # inf: no such constraint; Eq. 14's is −(max − min) distance, ≤ 0)
 
     @property
     def max_violation(self) -> float:
@@ -91,8 +90,12 @@ def score_plan(problem: CaptureProblem, plan: np.ndarray) -> dict:
     ``objective``, ``violation``, ``attacker_path`` and the time it took, ``score_time``."""
     t0 = time.perf_counter()
     evaluation = evaluate(problem, plan)
-    return dict(objective=evaluation.objective, violation=evaluation.violation,
-                attacker_path=evaluation.attacker_path, score_time=time.perf_counter() - t0)
+    return dict(
+        objective=evaluation.objective,
+        violation=evaluation.violation,
+        attacker_path=evaluation.attacker_path,
+        score_time=time.perf_counter() - t0,
+    )
 
 
 def solve_scores(problem: CaptureProblem, plan: np.ndarray | None, status: Status, score: bool) -> dict:
@@ -123,8 +126,8 @@ def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:
     for k in range(N):
         path[k] = p_a
         forces[k] = problem.resultant(p_a, plan[k])
-        p_a = p_a + problem.time_step * saturate(forces[k], a.max_speed)     # Eq. 2, as attacker_step
-    dist = norm(path[:, None, :] - plan)                                      # (N, n)
+        p_a = p_a + problem.time_step * saturate(forces[k], a.max_speed)  # Eq. 2, as attacker_step
+    dist = norm(path[:, None, :] - plan)  # (N, n)
     steps = plan - np.concatenate([problem.defender_positions[None], plan[:-1]])
     mine = dist[:, c]
     if problem.objective == "enclose":
@@ -137,18 +140,19 @@ def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:
             "move": w.move * float(np.sum(np.sum(steps[:, c] ** 2, axis=2) / r_d[c] ** 2)),
             "equal_distance": w.equal_distance * equal_distance_penalty(mine**2) / hunt.hunt_radius**2,
         }
-    apart = norm(plan[:, c][:, :, None, :] - plan[:, None, :, :])            # (N, controlled, n)
+    apart = norm(plan[:, c][:, :, None, :] - plan[:, None, :, :])  # (N, controlled, n)
     others = np.arange(n)[None, :] != np.flatnonzero(c)[:, None]
     worst = {
         "motion_limit": _largest(norm(steps) - r_d),
         "equal_distance": _largest(mine.max(axis=1) - mine.min(axis=1)),
-        "obstacle_safety": _largest(radii + hunt.safety_distance
-                                    - norm(plan[:, c][:, :, None, :] - centres[None, None])),
+        "obstacle_safety": _largest(
+            radii + hunt.safety_distance - norm(plan[:, c][:, :, None, :] - centres[None, None])
+        ),
         "separation": _largest(hunt.min_separation - apart[:, others]),
         "attacker_distance": _largest(hunt.min_attacker_distance - mine),
     }
     violation = {k: max(v, 0.0) for k, v in worst.items()}
-    if problem.objective == "enclose":      # Eq. 14 is no constraint of this objective (only a regulariser)
+    if problem.objective == "enclose":  # Eq. 14 is no constraint of this objective (only a regulariser)
         violation["equal_distance"] = 0.0
     return Evaluation(sum(terms.values()), violation, path, terms, {k: -v for k, v in worst.items()})
 
@@ -161,8 +165,18 @@ def _enclose_terms(problem: CaptureProblem, plan, path, steps, r_d) -> dict[str,
         beyond = np.zeros((len(path), 4))
     else:
         m = e.edge_margin
-        beyond = np.maximum(np.stack([arena[0] + m - path[:, 0], arena[1] + m - path[:, 1],
-                                      path[:, 0] - arena[2] + m, path[:, 1] - arena[3] + m], axis=1), 0.0)
+        beyond = np.maximum(
+            np.stack(
+                [
+                    arena[0] + m - path[:, 0],
+                    arena[1] + m - path[:, 1],
+                    path[:, 0] - arena[2] + m,
+                    path[:, 1] - arena[3] + m,
+                ],
+                axis=1,
+            ),
+            0.0,
+        )
     length = float(np.mean(problem.step_limits[c]))
     slot = np.sum((plan[:, c] - ref.defenders[:, c]) ** 2, axis=(1, 2)) / length**2
     return {

@@ -34,8 +34,10 @@ def horizon_error(horizon: object) -> str | None:
     rule of a horizon's bounds (a problem's, a controller's, a command line's), in the words of every count's
     refusal (:func:`mpc_hunt.arguments.out_of_range`)."""
     if isinstance(horizon, bool) or not isinstance(horizon, (int, np.integer)):
-        return (f"expected a whole number from 1 to {MAX_HORIZON}, got "
-                f"{shown(horizon) if isinstance(horizon, str) else repr(horizon)}")
+        return (
+            f"expected a whole number from 1 to {MAX_HORIZON}, got "
+            f"{shown(horizon) if isinstance(horizon, str) else repr(horizon)}"
+        )
     return out_of_range(int(horizon), 1, MAX_HORIZON)
 
 
@@ -51,6 +53,7 @@ def checked_horizon(horizon: object) -> int:
 # smoothness, Eq. 14's penalty); ``enclose``, a reference of places on the hunting circle tracked through the
 # attacker's response (built by the controller, :mod:`mpc_hunt.control.enclosure`).
 OBJECTIVES = ("paper", "enclose")
+
 
 @dataclass(frozen=True)
 class CaptureWeights:
@@ -114,8 +117,7 @@ class CaptureProblem:
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         n = len(self.scenario.defenders)
-        for name, shape in (("attacker_position", (2,)), ("defender_positions", (n, 2)),
-                            ("desired_velocity", (2,))):
+        for name, shape in (("attacker_position", (2,)), ("defender_positions", (n, 2)), ("desired_velocity", (2,))):
             value = np.array(getattr(self, name), dtype=float)
             if value.shape != shape:
                 raise ProblemError(f"{name}: expected shape {shape}, got {value.shape}")
@@ -139,8 +141,9 @@ class CaptureProblem:
     def _checked_reference(self, n: int) -> Reference:
         ref, N = self.reference, self.horizon
         if not isinstance(ref, Reference):
-            raise ProblemError("reference: the enclose objective needs a Reference (mpc_hunt.control.enclosure "
-                               "builds one)")
+            raise ProblemError(
+                "reference: the enclose objective needs a Reference (mpc_hunt.control.enclosure builds one)"
+            )
         arrays = {}
         for name, shape in (("defenders", (N, n, 2)), ("attacker", (N, 2)), ("slot_weight", (N,))):
             value = np.array(getattr(ref, name), dtype=float)
@@ -151,10 +154,17 @@ class CaptureProblem:
         return Reference(**arrays)
 
     @classmethod
-    def at_state(cls, scenario: Scenario, attacker_position, defender_positions, horizon: int = 1,
-                 weights: CaptureWeights | None = None, active=None,
-                 reference: Reference | None = None,
-                 enclose_weights: EncloseWeights | None = None) -> "CaptureProblem":
+    def at_state(
+        cls,
+        scenario: Scenario,
+        attacker_position,
+        defender_positions,
+        horizon: int = 1,
+        weights: CaptureWeights | None = None,
+        active=None,
+        reference: Reference | None = None,
+        enclose_weights: EncloseWeights | None = None,
+    ) -> "CaptureProblem":
         """The problem the strategy poses at this state (controlled set and u'_a derived).
 
         ``active`` (default: every defender) marks the robots that can move; a
@@ -173,8 +183,18 @@ class CaptureProblem:
         if reference is None:
             circle = members(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii, a.perception_radius)
             u_des = desired_velocity(p_a, circle.centre, a.max_speed, hunt.hunt_radius)
-        return cls(scenario, p_a, p_d, controlled, u_des, horizon, weights or CaptureWeights(),
-                   "paper" if reference is None else "enclose", reference, enclose_weights or EncloseWeights())
+        return cls(
+            scenario,
+            p_a,
+            p_d,
+            controlled,
+            u_des,
+            horizon,
+            weights or CaptureWeights(),
+            "paper" if reference is None else "enclose",
+            reference,
+            enclose_weights or EncloseWeights(),
+        )
 
     # Derived quantities, named as in the paper.
     @property
@@ -222,7 +242,7 @@ class CaptureProblem:
         """Every defender's positions (N, n, 2): the controlled defenders' from ``controlled`` (N·n_c·2 numbers,
         step by step), the others held."""
         positions = np.asarray(controlled, dtype=float).reshape(self.horizon, self.structure.planned, 2)
-        if not self.structure.fixed:                # every defender controlled
+        if not self.structure.fixed:  # every defender controlled
             return positions.copy()
         plan = self.held_plan()
         plan[:, self.controlled] = positions
@@ -231,7 +251,7 @@ class CaptureProblem:
     def plan_from_x(self, x: np.ndarray) -> np.ndarray:
         """Every defender's positions (N, n, 2) from a decision vector that starts with the controlled
         defenders' positions (the rest, slacks and the like, is ignored)."""
-        return self.plan_with(np.asarray(x, dtype=float)[:self.structure.plan_size])
+        return self.plan_with(np.asarray(x, dtype=float)[: self.structure.plan_size])
 
     def x_from_plan(self, plan: np.ndarray) -> np.ndarray:
         """The controlled defenders' positions of a full plan, flat (inverse of :meth:`plan_with`)."""

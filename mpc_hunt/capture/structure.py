@@ -29,10 +29,14 @@ class Structure:
 
     def __str__(self) -> str:
         if self.robot:
-            return (f"one robot of a team with {self.fixed} neighbour slots, {self.obstacles} obstacles, "
-                    f"horizon {self.horizon}, objective {self.objective}")
-        return (f"{self.planned} planned and {self.fixed} held defenders, {self.obstacles} obstacles, "
-                f"horizon {self.horizon}, objective {self.objective}")
+            return (
+                f"one robot of a team with {self.fixed} neighbour slots, {self.obstacles} obstacles, "
+                f"horizon {self.horizon}, objective {self.objective}"
+            )
+        return (
+            f"{self.planned} planned and {self.fixed} held defenders, {self.obstacles} obstacles, "
+            f"horizon {self.horizon}, objective {self.objective}"
+        )
 
     @property
     def defenders(self) -> int:

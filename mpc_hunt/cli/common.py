@@ -16,20 +16,25 @@ from mpc_hunt.interrupt import CLEAR_FIRST
 from mpc_hunt.world.belief import Belief, parse_belief
 
 # The upper bounds of the command line's counts (docs/robustness.md, "Limits"; the seed's: mpc_hunt.arguments).
-MAX_STARTS = 100                   # compare's reference starts per problem
-MAX_PROBLEMS = 100_000             # compare --limit, problems --every (closed-loop states)
-MAX_RUN_LENGTH = 1_000             # problems --run-length
-MAX_RANDOM = 1_000                 # problems --random: states per family, each up to 200 draws with a solve
-MAX_HUNTS = 1_000_000              # sweep --hunts per strategy
-MAX_WORKERS_PER_CORE = 4           # sweep --workers: at most this many per core (each holds a solver's memory)
+MAX_STARTS = 100  # compare's reference starts per problem
+MAX_PROBLEMS = 100_000  # compare --limit, problems --every (closed-loop states)
+MAX_RUN_LENGTH = 1_000  # problems --run-length
+MAX_RANDOM = 1_000  # problems --random: states per family, each up to 200 draws with a solve
+MAX_HUNTS = 1_000_000  # sweep --hunts per strategy
+MAX_WORKERS_PER_CORE = 4  # sweep --workers: at most this many per core (each holds a solver's memory)
 
 
 # A field the library's errors name (mpc_hunt.errors.field_name, SettingError.fields) and the flag that gives it,
 # where that is not --the-field (horizon: --horizon, time_limit: --time-limit).
 FLAGS = {
-    "prediction": "--no-prediction", "path": "--output",            # path: a sweep's results file (SweepStore)
-    "scheduler": "--dask-scheduler", "strategies": "--strategy", "attackers": "--attacker", "beliefs": "--belief",
-    "pairs": "--pair", "random_per_case": "--random",
+    "prediction": "--no-prediction",
+    "path": "--output",  # path: a sweep's results file (SweepStore)
+    "scheduler": "--dask-scheduler",
+    "strategies": "--strategy",
+    "attackers": "--attacker",
+    "beliefs": "--belief",
+    "pairs": "--pair",
+    "random_per_case": "--random",
 }
 
 
@@ -38,7 +43,7 @@ def flag(name: str) -> str:
     return FLAGS.get(name, "--" + name.replace("_", "-"))
 
 
-_messages: list = []                # the real stderr while quiet_solvers drops the rest
+_messages: list = []  # the real stderr while quiet_solvers drops the rest
 
 
 @contextlib.contextmanager
@@ -77,7 +82,7 @@ def belief(text: str) -> Belief:
     or ``exact``; :func:`mpc_hunt.world.belief.parse_belief`)."""
     try:
         return parse_belief(text)
-    except MpcHuntError as exc:      # a ValueError too, which argparse would report without the message
+    except MpcHuntError as exc:  # a ValueError too, which argparse would report without the message
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
@@ -100,12 +105,19 @@ class Progress:
         if self.quiet:
             return None
         from tqdm import tqdm
+
         self.shown_from = time.monotonic() + self.DELAY
-        self.bar = tqdm(total=round(self.total, 1), desc=self.what, unit=f" {self.unit}", delay=self.DELAY,
-                        file=messages(), leave=False,
-                        bar_format=f"{{desc}}: {{percentage:3.0f}}%|{{bar}}| {{n:.0f}}/{{total:.0f}} {self.unit} "
-                                   "[{elapsed}<{remaining}]")
-        CLEAR_FIRST.append(self._clear)         # Ctrl-C's line on a line of its own (mpc_hunt.interrupt)
+        self.bar = tqdm(
+            total=round(self.total, 1),
+            desc=self.what,
+            unit=f" {self.unit}",
+            delay=self.DELAY,
+            file=messages(),
+            leave=False,
+            bar_format=f"{{desc}}: {{percentage:3.0f}}%|{{bar}}| {{n:.0f}}/{{total:.0f}} {self.unit} "
+            "[{elapsed}<{remaining}]",
+        )
+        CLEAR_FIRST.append(self._clear)  # Ctrl-C's line on a line of its own (mpc_hunt.interrupt)
         return self._update
 
     def _update(self, t: float) -> None:

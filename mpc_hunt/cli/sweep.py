@@ -16,45 +16,74 @@ def add_parsers(sub) -> None:
     from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, MAX_TASKS
 
     sw = sub.add_parser(
-        "sweep", help="run many random hunts for one or more strategies",
+        "sweep",
+        help="run many random hunts for one or more strategies",
         description="Run --hunts random hunts (mpc_hunt.sweep.random_scenario; ranges from --ranges FILE and --set) "
-                    "for each strategy against each attacker with each belief, on local worker processes or a Dask "
-                    "cluster, streaming one row per hunt into an SQLite file; then print the summary per strategy, "
-                    "attacker and belief. A strategy is a controller spec, "
-                    "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
-                    "paper:qp:daqp:5, apf; a field left out is what simulate --controller takes for it (enclose is "
-                    "enclose:rti:hpipm:10). "
-                    "Failure causes and the file's columns: docs/robustness.md.")
-    sw.add_argument("--strategy", action="append", metavar="SPEC",
-                    help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})")
-    sw.add_argument("--attacker", action="append", choices=list(BEHAVIOURS), metavar="NAME",
-                    help=f"how the world moves the attacker: {', '.join(BEHAVIOURS)}; repeatable (default: "
-                         f"{DEFAULT_BEHAVIOUR}, the paper's). Hunt i's scenario is the same for every attacker, its "
-                         "behaviour replaced")
-    sw.add_argument("--belief", action="append", type=belief, metavar="SPEC",
-                    help="the defenders' model of the attacker, as errors against the world: "
-                         "perception_radius=1.3x,eta=3x,intent_heading=60 (degrees), or exact; repeatable "
-                         "(default: exact). Stored and run as its label (values to 6 significant digits)")
-    sw.add_argument("--hunts", type=count(MAX_HUNTS), default=100,
-                    help=f"hunts per strategy, attacker and belief (default: 100; at most {MAX_TASKS} hunts in all)")
-    sw.add_argument("--seed", type=seed, default=0,
-                    help="the sweep's seed (≥ 0); hunt i uses scenario (seed, i)")
+        "for each strategy against each attacker with each belief, on local worker processes or a Dask "
+        "cluster, streaming one row per hunt into an SQLite file; then print the summary per strategy, "
+        "attacker and belief. A strategy is a controller spec, "
+        "controller[:formulation[:backend[:horizon]]], e.g. paper:nlp:ipopt:1 (the paper's), "
+        "paper:qp:daqp:5, apf; a field left out is what simulate --controller takes for it (enclose is "
+        "enclose:rti:hpipm:10). "
+        "Failure causes and the file's columns: docs/robustness.md.",
+    )
+    sw.add_argument(
+        "--strategy", action="append", metavar="SPEC", help=f"repeatable (default: {' '.join(DEFAULT_STRATEGIES)})"
+    )
+    sw.add_argument(
+        "--attacker",
+        action="append",
+        choices=list(BEHAVIOURS),
+        metavar="NAME",
+        help=f"how the world moves the attacker: {', '.join(BEHAVIOURS)}; repeatable (default: "
+        f"{DEFAULT_BEHAVIOUR}, the paper's). Hunt i's scenario is the same for every attacker, its "
+        "behaviour replaced",
+    )
+    sw.add_argument(
+        "--belief",
+        action="append",
+        type=belief,
+        metavar="SPEC",
+        help="the defenders' model of the attacker, as errors against the world: "
+        "perception_radius=1.3x,eta=3x,intent_heading=60 (degrees), or exact; repeatable "
+        "(default: exact). Stored and run as its label (values to 6 significant digits)",
+    )
+    sw.add_argument(
+        "--hunts",
+        type=count(MAX_HUNTS),
+        default=100,
+        help=f"hunts per strategy, attacker and belief (default: 100; at most {MAX_TASKS} hunts in all)",
+    )
+    sw.add_argument("--seed", type=seed, default=0, help="the sweep's seed (≥ 0); hunt i uses scenario (seed, i)")
     sw.add_argument("--ranges", type=Path, metavar="FILE", help="TOML file of scenario ranges ([ranges] table)")
-    sw.add_argument("--set", action="append", default=[], metavar="FIELD=VALUE",
-                    help="override one range, e.g. --set n_defenders=3 --set defender_failure=0.5 (TOML values)")
+    sw.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="FIELD=VALUE",
+        help="override one range, e.g. --set n_defenders=3 --set defender_failure=0.5 (TOML values)",
+    )
     sw.add_argument("--output", type=Path, default=Path("sweep.db"), help="the results file (default: sweep.db)")
     sw.add_argument("--resume", action="store_true", help="continue the sweep in --output, skipping finished hunts")
-    sw.add_argument("--workers", type=cores_count,
-                    help="local worker processes (default: the number of cores; at most 4 per core)")
+    sw.add_argument(
+        "--workers", type=cores_count, help="local worker processes (default: the number of cores; at most 4 per core)"
+    )
     sw.add_argument("--dask-scheduler", metavar="ADDRESS", help="run on this Dask distributed scheduler instead")
     sw.add_argument("--json", action="store_true", help="print the summary as JSON")
-    rep = sub.add_parser("sweep-report", help="summarise a sweep's results file",
-                         description="Recompute a sweep's summary, table and plots from its results file alone.")
+    rep = sub.add_parser(
+        "sweep-report",
+        help="summarise a sweep's results file",
+        description="Recompute a sweep's summary, table and plots from its results file alone.",
+    )
     rep.add_argument("file", type=Path)
-    rep.add_argument("--plot", type=Path, metavar="DIR",
-                     help="write the figures (PNG) into this folder, with the best strategy's typical captured and "
-                          "lost hunt (of every attacker and belief) rerun with their own attacker and belief "
-                          "(a few seconds each)")
+    rep.add_argument(
+        "--plot",
+        type=Path,
+        metavar="DIR",
+        help="write the figures (PNG) into this folder, with the best strategy's typical captured and "
+        "lost hunt (of every attacker and belief) rerun with their own attacker and belief "
+        "(a few seconds each)",
+    )
     rep.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
@@ -88,31 +117,38 @@ def _ranges(args):
 
 
 def sweep(args) -> int:
+    from mpc_hunt.sweep.random_scenario import ranges_to_dict
     from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, connect_dask, tasks, total_tasks
     from mpc_hunt.sweep.store import SweepStore
     from mpc_hunt.sweep.stored_run import run_into
-    from mpc_hunt.sweep.random_scenario import ranges_to_dict
 
     strategies = [_strategy(s).label for s in (args.strategy or DEFAULT_STRATEGIES)]
     attackers = list(dict.fromkeys(args.attacker or [DEFAULT_BEHAVIOUR]))
-    beliefs = list(dict.fromkeys(b.label() for b in (args.belief or [Belief()])))   # eta=3 and eta=3x are one
-    total_tasks(strategies, args.hunts, attackers, beliefs)      # bounded, before any file is written
+    beliefs = list(dict.fromkeys(b.label() for b in (args.belief or [Belief()])))  # eta=3 and eta=3x are one
+    total_tasks(strategies, args.hunts, attackers, beliefs)  # bounded, before any file is written
     ranges = _ranges(args)
     if args.output.is_dir() or not args.output.parent.is_dir():
         raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
     check_writable(args.output.parent, "--output", args.output)
-    arguments = {"strategies": strategies, "attackers": attackers, "beliefs": beliefs, "hunts": args.hunts,
-                 "seed": args.seed, "ranges": ranges_to_dict(ranges)}
-    client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None    # before any file is written
+    arguments = {
+        "strategies": strategies,
+        "attackers": attackers,
+        "beliefs": beliefs,
+        "hunts": args.hunts,
+        "seed": args.seed,
+        "ranges": ranges_to_dict(ranges),
+    }
+    client = connect_dask(args.dask_scheduler) if args.dask_scheduler else None  # before any file is written
     store = SweepStore(args.output, arguments, resume=args.resume)
     todo = tasks(strategies, args.hunts, args.seed, ranges, store.done(), attackers, beliefs)
     with Progress(len(todo), "sweep", quiet=args.json, unit="hunts") as update:
         stopped = run_into(store, todo, args.workers, client, update)
-    code = _report(store.rows(), args.json, None)    # the summary so far, if stopped
+    code = _report(store.rows(), args.json, None)  # the summary so far, if stopped
     store.close()
     if stopped:
-        print(f"mpc-hunt sweep: {stopped}; finished hunts are in {args.output} (continue with --resume)",
-              file=messages())
+        print(
+            f"mpc-hunt sweep: {stopped}; finished hunts are in {args.output} (continue with --resume)", file=messages()
+        )
         return 2
     return code
 
@@ -139,6 +175,7 @@ def _report(rows: list[dict], as_json: bool, plot: Path | None) -> int:
         from mpc_hunt.plots.sweep import write_plots
         from mpc_hunt.plots.typical_hunts import plot_typical_hunts
         from mpc_hunt.sweep.typical import typical_hunts
+
         for path in write_plots(rows, plot) + plot_typical_hunts(typical_hunts(rows, summaries), plot):
             if not as_json:
                 print(f"wrote {path}")

@@ -7,5 +7,15 @@ from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROL
 from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.control.strategy import HuntingStrategy
 
-__all__ = ["Command", "Controller", "ControllerSpec", "EncirclingController", "HuntingStrategy", "Observation", "PAPER",
-           "RECOMMENDED", "RECOMMENDED_CONTROLLER", "make_controller"]
+__all__ = [
+    "Command",
+    "Controller",
+    "ControllerSpec",
+    "EncirclingController",
+    "HuntingStrategy",
+    "Observation",
+    "PAPER",
+    "RECOMMENDED",
+    "RECOMMENDED_CONTROLLER",
+    "make_controller",
+]

@@ -4,7 +4,8 @@ The ``enclose`` reference (:mod:`mpc_hunt.control.enclosure`) is built on the
 defenders' model of the attacker: it gathers outside R_agg because the model
 says the attacker does not perceive them there, puts the first place on the
 model's undisturbed course and freezes the closing circle's centre. Against an
-attacker that follows another law it loses (docs/model.md, E15). This reference assumes only what the defenders observe and the
+attacker that follows another law it loses (docs/model.md, E15). This reference assumes only what the defenders
+observe and the
 attacker's top speed:
 
 - each mover's place comes from the Voronoi encirclement
@@ -34,9 +35,9 @@ import numpy as np
 
 from mpc_hunt.capture.problem import EncloseWeights, Reference
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.reference import Places
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
 from mpc_hunt.control.observed import ObservedVelocity
+from mpc_hunt.control.reference import Places
 from mpc_hunt.control.voronoi import VoronoiController, route
 from mpc_hunt.world.scenario import Scenario
 
@@ -45,8 +46,7 @@ from mpc_hunt.world.scenario import Scenario
 CONTAIN_WEIGHTS = EncloseWeights(attacker=0.0)
 
 
-def around(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, guard: float,
-           reach: float) -> np.ndarray:
+def around(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, guard: float, reach: float) -> np.ndarray:
     """The place at ``angle`` on the circle (``centre``, ``radius``), straight, unless the straight way passes
     inside the ``guard`` circle round the centre (the tightest ring any defender aims at): then round that
     circle (:func:`~mpc_hunt.control.voronoi.route` on it). A far defender takes the short way to a far-side place
@@ -79,8 +79,10 @@ class Containment(Unmodelled):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``contain`` controller."""
 
     NAME = "contain"
-    SUMMARY = ("the capture problem tracking the Voronoi rule's places, moved with the attacker's observed "
-               "velocity (no model of the attacker)")
+    SUMMARY = (
+        "the capture problem tracking the Voronoi rule's places, moved with the attacker's observed "
+        "velocity (no model of the attacker)"
+    )
 
     def __init__(self, scenario: Scenario, horizon: int):
         super().__init__(scenario, horizon)

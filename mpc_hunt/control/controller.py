@@ -23,7 +23,7 @@ class Observation:
     attacker: np.ndarray
     previous_attacker: np.ndarray | None
     defenders: np.ndarray
-    failed: np.ndarray | None = None   # (n,) bool: robots that have stopped for good (None: none)
+    failed: np.ndarray | None = None  # (n,) bool: robots that have stopped for good (None: none)
 
     @property
     def active(self) -> np.ndarray:
@@ -35,11 +35,11 @@ class Observation:
 class Command:
     """The defenders' velocities for the next step, and why."""
 
-    velocities: np.ndarray             # (n, 2)
-    capture_stage: np.ndarray          # (n,) bool
-    intercepts: np.ndarray             # (n, 2): approach targets p'_di (NaN where none)
-    solution: Solution | None = None   # the capture-stage solve of this step, if any
-    fallback: bool = False             # the command did not come from a successful solve
+    velocities: np.ndarray  # (n, 2)
+    capture_stage: np.ndarray  # (n,) bool
+    intercepts: np.ndarray  # (n, 2): approach targets p'_di (NaN where none)
+    solution: Solution | None = None  # the capture-stage solve of this step, if any
+    fallback: bool = False  # the command did not come from a successful solve
 
 
 @runtime_checkable

@@ -62,12 +62,14 @@ def described() -> str:
 
 def table() -> str:
     """The registry as a Markdown table (docs/architecture.md holds it; a test compares)."""
-    rows = [f"| `{name}` | {'the ' + entry.OBJECTIVE + ' objective' if name in SOLVING else 'no optimisation'} "
-            f"| {entry.SUMMARY} |" for name, entry in CONTROLLERS.items()]
+    rows = [
+        f"| `{name}` | {'the ' + entry.OBJECTIVE + ' objective' if name in SOLVING else 'no optimisation'} "
+        f"| {entry.SUMMARY} |"
+        for name, entry in CONTROLLERS.items()
+    ]
     return "\n".join(["| controller | capture stage | what it does |", "| --- | --- | --- |", *rows]) + "\n"
 
 
 def controller_objective(name: str) -> str:
     """The capture objective the solving controller ``name`` (one of :data:`SOLVING`) poses."""
     return registered(CONTROLLERS, "controller", name).OBJECTIVE
-

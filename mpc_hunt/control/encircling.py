@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.control.strategy import approach_commands
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_velocity
-from mpc_hunt.control.controller import Command, Observation
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
-from mpc_hunt.control.strategy import approach_commands
 
 
 def circle_targets(p_a: np.ndarray, p_d: np.ndarray, ring_radius: float) -> np.ndarray:
@@ -34,7 +34,7 @@ def circle_targets(p_a: np.ndarray, p_d: np.ndarray, ring_radius: float) -> np.n
     for i in range(n):
         for j in range(n):
             if i != j:
-                gap = (bearing[i] - bearing[j] + np.pi) % (2 * np.pi) - np.pi   # in (−π, π]
+                gap = (bearing[i] - bearing[j] + np.pi) % (2 * np.pi) - np.pi  # in (−π, π]
                 if abs(gap) < spacing:
                     turn[i] += 0.5 * np.sign(gap or 1.0) * (spacing - abs(gap))
     angle = bearing + turn
@@ -64,6 +64,13 @@ class EncirclingController:
             for target, i in zip(targets, inside):
                 others = np.delete(obs.defenders, i, axis=0)
                 velocities[i] = approach_velocity(s, obs.defenders[i], target, speeds[i], others)
-        velocities = keep_separation(obs.defenders, velocities, obs.active, obs.defenders, s.hunt.time_step,
-                                     s.defender_max_speeds, s.hunt.min_separation)
+        velocities = keep_separation(
+            obs.defenders,
+            velocities,
+            obs.active,
+            obs.defenders,
+            s.hunt.time_step,
+            s.defender_max_speeds,
+            s.hunt.min_separation,
+        )
         return Command(velocities, capture, intercepts)

@@ -48,21 +48,21 @@ from mpc_hunt.world import attacker
 from mpc_hunt.world.geometry import direction, norm, unit
 from mpc_hunt.world.scenario import Scenario
 
-CLEARANCE = 0.3          # m beyond R_agg: the gathering circle, which the attacker does not perceive
-ARRIVED_ANGLE = 0.3      # rad: a defender this close to its place's bearing (and ARRIVED_RADIUS to its radius) is there
-ARRIVED_RADIUS = 0.25    # m
-ORBIT_STEP = 0.5         # rad: how far ahead on the circle a defender going round aims
-SHRINK_RATE = 0.5        # of the slowest defender's speed: how fast the closing circle contracts
-FOLLOW_SLACK = 0.1       # m: the circle waits while a defender of the first three is this much farther out
-PUSH = 0.8               # of R_agg: how close the movers herd the attacker from behind
-ANCHOR_GAP = 0.3         # m from an anchor's surface (or a failed robot): where an anchor's circle is centred
-HERDED = 0.3             # m: the attacker this close to that point, the circle closes
-TERMINAL_WEIGHT = 5.0    # the places' weight at step N (the others: 1)
-CORE = 3                 # the fewest members that enclose
-DRIFT = 0.7              # of the attacker's top speed: how fast the closing circle moves towards a latecomer
-BLOCK = 0.9              # of R_agg: where the escape-side defender holds the attacker while the others come
-MAX_GAP = 2.6            # rad (about 150°): the widest gap between neighbours that still surrounds the attacker
-SWAP_MARGIN = 0.5        # m: how much nearer a defender must be to take a first member's place
+CLEARANCE = 0.3  # m beyond R_agg: the gathering circle, which the attacker does not perceive
+ARRIVED_ANGLE = 0.3  # rad: a defender this close to its place's bearing (and ARRIVED_RADIUS to its radius) is there
+ARRIVED_RADIUS = 0.25  # m
+ORBIT_STEP = 0.5  # rad: how far ahead on the circle a defender going round aims
+SHRINK_RATE = 0.5  # of the slowest defender's speed: how fast the closing circle contracts
+FOLLOW_SLACK = 0.1  # m: the circle waits while a defender of the first three is this much farther out
+PUSH = 0.8  # of R_agg: how close the movers herd the attacker from behind
+ANCHOR_GAP = 0.3  # m from an anchor's surface (or a failed robot): where an anchor's circle is centred
+HERDED = 0.3  # m: the attacker this close to that point, the circle closes
+TERMINAL_WEIGHT = 5.0  # the places' weight at step N (the others: 1)
+CORE = 3  # the fewest members that enclose
+DRIFT = 0.7  # of the attacker's top speed: how fast the closing circle moves towards a latecomer
+BLOCK = 0.9  # of R_agg: where the escape-side defender holds the attacker while the others come
+MAX_GAP = 2.6  # rad (about 150°): the widest gap between neighbours that still surrounds the attacker
+SWAP_MARGIN = 0.5  # m: how much nearer a defender must be to take a first member's place
 
 
 def wrap(angle: float) -> float:
@@ -77,21 +77,23 @@ class _Circle:
     phase: str = "gather"
     centre: np.ndarray | None = None
     radius: float | None = None
-    heading: float | None = None     # the frozen escape (or herding) direction while closing
+    heading: float | None = None  # the frozen escape (or herding) direction while closing
 
 
 class Enclosure(Places):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``enclose`` objective."""
 
     NAME = "enclose"
-    SUMMARY = ("the paper's model and constraints with the enclose objective: every defender planned towards "
-               "places on a hunting circle round the believed attacker (docs/formulations.md)")
+    SUMMARY = (
+        "the paper's model and constraints with the enclose objective: every defender planned towards "
+        "places on a hunting circle round the believed attacker (docs/formulations.md)"
+    )
     weights = EncloseWeights()
 
     def __init__(self, scenario: Scenario, horizon: int, posed: Callable[[], Scenario] | None = None):
         super().__init__(scenario, horizon, posed)
         self.circle = _Circle()
-        self._members: list[int] = []      # the first three, kept between steps
+        self._members: list[int] = []  # the first three, kept between steps
 
     @property
     def phase(self) -> str:
@@ -107,12 +109,15 @@ class Enclosure(Places):
         anchor = self._anchor(obs, len(movers))
         c = self.circle
         if c.phase == "close" and norm(p_a - c.centre) > max(0.5 * c.radius, ANCHOR_GAP):
-            self.circle = c = _Circle()                       # it slipped out: gather again
+            self.circle = c = _Circle()  # it slipped out: gather again
         core = self._core(p_a if c.centre is None else c.centre, P, movers)
         if c.phase != "close":
             angles, heading = self._angles(p_a, P, movers, core, anchor, predicted)
-            ready = self._behind(p_a, P, movers, heading, R + CLEARANCE) if anchor is not None \
+            ready = (
+                self._behind(p_a, P, movers, heading, R + CLEARANCE)
+                if anchor is not None
                 else self._surrounded(p_a, P, movers, R + CLEARANCE)
+            )
             if c.phase == "gather" and ready:
                 c.phase = "herd" if anchor is not None and norm(p_a - anchor) > HERDED else "close"
             if c.phase == "herd" and norm(p_a - anchor) <= HERDED:
@@ -122,7 +127,7 @@ class Enclosure(Places):
                 c.radius = max(0.5 * s.hunt.hunt_radius, min(R + CLEARANCE, max(norm(P[i] - c.centre) for i in core)))
         places = np.repeat(P[None], N, axis=0).astype(float)
         undisturbed = self._predicted(p_a, P[:0])
-        target = undisturbed                       # gathering, the attacker should not notice anybody
+        target = undisturbed  # gathering, the attacker should not notice anybody
         if c.phase == "close":
             angles = self._spread(c.centre, P, movers, core, anchor, c.heading, c.radius)
             farthest = max(norm(P[i] - c.centre) for i in core)
@@ -138,13 +143,16 @@ class Enclosure(Places):
             target = centres
         else:
             radius = PUSH * R if c.phase == "herd" else R + CLEARANCE
-            blocker = self._blocker(p_a, P, core, angles, heading, R + CLEARANCE) if c.phase == "gather" \
-                and anchor is None else None
+            blocker = (
+                self._blocker(p_a, P, core, angles, heading, R + CLEARANCE)
+                if c.phase == "gather" and anchor is None
+                else None
+            )
             for i in movers:
                 ring = BLOCK * R if i == blocker else radius
                 places[:, i] = self._route(P[i], predicted, angles[i], ring, s.defender_max_speeds[i] * T)
             if blocker is not None:
-                target = np.repeat(p_a[None], N, axis=0)     # held while the others come
+                target = np.repeat(p_a[None], N, axis=0)  # held while the others come
             if c.phase == "herd":
                 target[:] = anchor
         weight = np.ones(N)
@@ -174,8 +182,9 @@ class Enclosure(Places):
             return None
         gaps = norm(p_a - s.obstacle_centres) - s.obstacle_radii
         j = int(np.argmin(gaps))
-        return s.obstacle_centres[j] + (s.obstacle_radii[j] + s.hunt.safety_distance + ANCHOR_GAP) \
-            * unit(p_a - s.obstacle_centres[j])
+        return s.obstacle_centres[j] + (s.obstacle_radii[j] + s.hunt.safety_distance + ANCHOR_GAP) * unit(
+            p_a - s.obstacle_centres[j]
+        )
 
     def _core(self, centre: np.ndarray, P: np.ndarray, movers: np.ndarray) -> np.ndarray:
         """The (up to) three movers nearest ``centre``: the first members of the circle (once per step).
@@ -201,13 +210,13 @@ class Enclosure(Places):
         """Each mover's bearing on the circle around ``centre``, and the direction the first place faces."""
         if heading is None:
             if anchor is not None:
-                heading = math.atan2(*(centre - anchor)[::-1])          # behind the attacker, seen from the anchor
+                heading = math.atan2(*(centre - anchor)[::-1])  # behind the attacker, seen from the anchor
             else:
                 v = self._predicted(centre, P[:0])[0] - centre
                 heading = math.atan2(v[1], v[0]) if np.hypot(*v) > 0 else 0.0
         bearing = {int(i): math.atan2(*(P[i] - centre)[::-1]) for i in movers}
         angles: dict[int, float] = {}
-        if anchor is not None:     # the anchor holds the place opposite the heading; the movers share the rest
+        if anchor is not None:  # the anchor holds the place opposite the heading; the movers share the rest
             n = len(movers)
             slots = [heading + math.pi + 2 * math.pi * (j + 1) / (n + 1) for j in range(n)]
             order = sorted(movers, key=lambda i: wrap(bearing[int(i)] - heading - math.pi) % (2 * math.pi))
@@ -215,8 +224,10 @@ class Enclosure(Places):
         k = len(core)
         slots = [heading + 2 * math.pi * j / k for j in range(k)]
         order = sorted(core, key=lambda i: bearing[int(i)] % (2 * math.pi))
-        best = min(range(k), key=lambda rot: max(abs(wrap(slots[(j + rot) % k] - bearing[int(i)]))
-                                                 for j, i in enumerate(order)))
+        best = min(
+            range(k),
+            key=lambda rot: max(abs(wrap(slots[(j + rot) % k] - bearing[int(i)])) for j, i in enumerate(order)),
+        )
         angles.update({int(i): slots[(j + best) % k] for j, i in enumerate(order)})
         spare = [heading + math.pi / k + 2 * math.pi * j / k for j in range(k)]
         for i in sorted((i for i in movers if i not in core), key=lambda i: norm(P[i] - centre)):
@@ -235,8 +246,10 @@ class Enclosure(Places):
             present = [int(i) for i in core]
         n = len(present)
         order = sorted(present, key=lambda i: bearing[i] % (2 * math.pi))
-        offset = math.atan2(sum(math.sin(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)),
-                            sum(math.cos(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)))
+        offset = math.atan2(
+            sum(math.sin(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)),
+            sum(math.cos(bearing[i] - 2 * math.pi * j / n) for j, i in enumerate(order)),
+        )
         angles = {i: offset + 2 * math.pi * j / n for j, i in enumerate(order)}
         taken = sorted(a % (2 * math.pi) for a in angles.values())
         for i in (int(i) for i in movers if int(i) not in angles):
@@ -268,8 +281,12 @@ class Enclosure(Places):
         ``heading``), where it can push the attacker towards it?"""
         offsets = P[movers] - p_a
         bearings = np.arctan2(offsets[:, 1], offsets[:, 0])
-        return bool(np.any((norm(offsets) <= radius + ARRIVED_RADIUS)
-                           & (np.abs((bearings - heading + math.pi) % (2 * math.pi) - math.pi) <= math.pi / 2)))
+        return bool(
+            np.any(
+                (norm(offsets) <= radius + ARRIVED_RADIUS)
+                & (np.abs((bearings - heading + math.pi) % (2 * math.pi) - math.pi) <= math.pi / 2)
+            )
+        )
 
     def _surrounded(self, p_a, P, movers, radius) -> bool:
         """Do at least three movers near the gathering circle surround the attacker, no gap between
@@ -287,8 +304,10 @@ class Enclosure(Places):
         ``radius`` allows? (Nearer counts: a defender stepping in from its place is still there, so the test
         does not flip as it moves.)"""
         offset = P[i] - p_a
-        return abs(wrap(math.atan2(offset[1], offset[0]) - angle)) <= ARRIVED_ANGLE \
+        return (
+            abs(wrap(math.atan2(offset[1], offset[0]) - angle)) <= ARRIVED_ANGLE
             and norm(offset) <= radius + ARRIVED_RADIUS
+        )
 
     def _route(self, p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
         """A defender's targets at steps 1..N: towards its place on the circle round the predicted attacker,

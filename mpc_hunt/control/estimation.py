@@ -61,22 +61,22 @@ from mpc_hunt.world.field import FIELD_FLOOR, nominal_intent, obstacle_repulsion
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Scenario
 
-WINDOW = 100            # velocity samples kept: 10 s at T = 0.1 s
-MIN_SAMPLES = 10        # fewer samples: the prior is kept
-REFIT = 10              # updates between two searches (tracking steps in between)
-SURPRISE = 10.0         # a tracked objective this many times the last one calls for a search at once
-GRID = 9                # perception radii tried per level of the search
-RADIUS_SPAN = 3.0       # R within [R₀/3, 3 R₀]
-GAIN_SPAN = 1e3         # g within [g₀/10³, 10³ g₀]
-LEVELS = 3              # nested grids of the search: the last spaced 1.7 % apart
-SEARCH_STEPS = 40       # Levenberg–Marquardt steps after a search, at most (12 left a 2 mm/s intent against g = 1 short)
-SETTLED = 1e-9          # they end on a step gaining less than this fraction, or a track error this fraction of v_a T
-TRACK_STEPS = 2         # Levenberg–Marquardt steps per update between searches, at most
-ACTIVE_SET_STEPS = 6    # active-set iterations of the convex fit
-SCALES = 8              # points of the scale search along λ(v_nom, g)
-SIGNIFICANCE = 10.0     # F-ratio above which the defenders' field counts as seen
-SCALE_CHANGE = 0.1      # the scale of (v_nom, g) counts as seen when changing it this much would be significant
-NOISE_FLOOR = 1e-3      # of v_a T: the smallest track error taken as noise
+WINDOW = 100  # velocity samples kept: 10 s at T = 0.1 s
+MIN_SAMPLES = 10  # fewer samples: the prior is kept
+REFIT = 10  # updates between two searches (tracking steps in between)
+SURPRISE = 10.0  # a tracked objective this many times the last one calls for a search at once
+GRID = 9  # perception radii tried per level of the search
+RADIUS_SPAN = 3.0  # R within [R₀/3, 3 R₀]
+GAIN_SPAN = 1e3  # g within [g₀/10³, 10³ g₀]
+LEVELS = 3  # nested grids of the search: the last spaced 1.7 % apart
+SEARCH_STEPS = 40  # Levenberg–Marquardt steps after a search, at most (12 left a 2 mm/s intent against g = 1 short)
+SETTLED = 1e-9  # they end on a step gaining less than this fraction, or a track error this fraction of v_a T
+TRACK_STEPS = 2  # Levenberg–Marquardt steps per update between searches, at most
+ACTIVE_SET_STEPS = 6  # active-set iterations of the convex fit
+SCALES = 8  # points of the scale search along λ(v_nom, g)
+SIGNIFICANCE = 10.0  # F-ratio above which the defenders' field counts as seen
+SCALE_CHANGE = 0.1  # the scale of (v_nom, g) counts as seen when changing it this much would be significant
+NOISE_FLOOR = 1e-3  # of v_a T: the smallest track error taken as noise
 SATURATED = 1.0 - 1e-6  # of v_a: an observed speed at least this counts as capped
 
 
@@ -84,13 +84,13 @@ SATURATED = 1.0 - 1e-6  # of v_a: an observed speed at least this counts as capp
 class Estimate:
     """The attacker model fitted to the window, and how far the window supports it (the module's docstring)."""
 
-    model: AttackerModel      # the prior with the fitted v_nom, g = k_d η and R_agg put in (AttackerModel.fitted)
-    identified: bool          # the defenders' field was seen: gain and perception_radius were fitted
-    speed_identified: bool    # the scale of (v_nom, g) is seen, not only the intent's direction and g/|v_nom|
-                              # (False too for an intent of zero with no push: it has no scale)
-    samples: int              # velocity samples used
-    residual: float           # m/s: RMS of the fitted model's velocity error over the samples
-    solve_time: float         # s: the cost of this update
+    model: AttackerModel  # the prior with the fitted v_nom, g = k_d η and R_agg put in (AttackerModel.fitted)
+    identified: bool  # the defenders' field was seen: gain and perception_radius were fitted
+    speed_identified: bool  # the scale of (v_nom, g) is seen, not only the intent's direction and g/|v_nom|
+    # (False too for an intent of zero with no push: it has no scale)
+    samples: int  # velocity samples used
+    residual: float  # m/s: RMS of the fitted model's velocity error over the samples
+    solve_time: float  # s: the cost of this update
 
 
 def _field(radii: np.ndarray, offsets: np.ndarray, distances: np.ndarray) -> np.ndarray:
@@ -114,8 +114,9 @@ def _cap(u: np.ndarray, top: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     return u * scale[..., None], scale, length
 
 
-def _velocities(x: np.ndarray, offsets: np.ndarray, distances: np.ndarray, pushes: np.ndarray, top: float,
-                jacobian: bool = True):
+def _velocities(
+    x: np.ndarray, offsets: np.ndarray, distances: np.ndarray, pushes: np.ndarray, top: float, jacobian: bool = True
+):
     """The model's velocities sat(u_k) (Eqs. 2 and 9) for parameter rows x = (v_nom, g, R), shape (m, 4), and,
     with ``jacobian``, their derivatives (m, K, 2, 4). ``pushes`` (K, 2) is the obstacles' field o_k."""
     R = x[:, 3]
@@ -129,7 +130,7 @@ def _velocities(x: np.ndarray, offsets: np.ndarray, distances: np.ndarray, pushe
     columns[..., 2] = phi
     dphi = (distances < R[:, None, None]) * (3 * R[:, None, None] ** 2 / distances**3)
     columns[..., 3] = x[:, 2, None, None] * _sum_over_defenders(dphi, offsets)
-    capped = u * ((scale < 1) / np.maximum(length, 1e-300))[..., None]     # û where the cap acts, else 0
+    capped = u * ((scale < 1) / np.maximum(length, 1e-300))[..., None]  # û where the cap acts, else 0
     columns -= capped[..., None] * np.sum(capped[..., None] * columns, axis=-2, keepdims=True)
     return v, columns * scale[..., None, None]
 
@@ -152,10 +153,10 @@ class AttackerEstimator:
         self.upper = np.r_[self.top, self.top, g0 * GAIN_SPAN, r0 * RADIUS_SPAN]
         self.scenario = scenario
         self.window: deque = deque(maxlen=WINDOW)
-        self.last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None   # p_a, p_d, o at the last observation
-        self.x = self.prior.copy()                  # the last fit (v_nom, g, R)
+        self.last: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # p_a, p_d, o at the last observation
+        self.x = self.prior.copy()  # the last fit (v_nom, g, R)
         self.alone = np.r_[self.prior[:2], 0.0, r0]  # the last fit of the intent alone (g = 0: no push)
-        self.cost = np.inf                          # its objective
+        self.cost = np.inf  # its objective
         self.updates = 0
 
     def update(self, obs: Observation) -> Estimate:
@@ -167,7 +168,7 @@ class AttackerEstimator:
         if self.last is not None and obs.previous_attacker is not None:
             p_a, p_d, push = self.last
             v = (attacker - p_a) / self.T
-            if p_d.shape != defenders.shape:        # a different team: the old samples no longer pair up
+            if p_d.shape != defenders.shape:  # a different team: the old samples no longer pair up
                 self.window.clear()
             elif np.all(np.isfinite(v)) and np.all(np.isfinite(p_d)):
                 self.window.append((p_a - p_d, push, v))
@@ -175,7 +176,7 @@ class AttackerEstimator:
         if len(self.window) < MIN_SAMPLES:
             return self._estimate(self.prior, False, False, 0.0, start)
         self._load()
-        floor = (NOISE_FLOOR * self.top * self.T) ** 2                 # per track coordinate
+        floor = (NOISE_FLOOR * self.top * self.T) ** 2  # per track coordinate
         # Track the fit and the intent alone; search now and then, or when the tracked fit got much worse.
         self.x, self.alone = self._refine(np.array([self.x, self.alone]), TRACK_STEPS)[0]
         cost, alone_cost = self._cost(np.array([self.x, self.alone]))
@@ -188,25 +189,35 @@ class AttackerEstimator:
         noise = max(cost / max(2 * len(self.window) - 4, 1), floor)
         identified = bool(alone_cost - cost > 2 * SIGNIFICANCE * noise)
         fitted = self.x if identified else self.alone
-        change = np.array([[1 - SCALE_CHANGE], [1 + SCALE_CHANGE]])      # λ(v_nom, g), λ = 0.9 and 1.1
+        change = np.array([[1 - SCALE_CHANGE], [1 + SCALE_CHANGE]])  # λ(v_nom, g), λ = 0.9 and 1.1
         worse = self._cost(np.c_[fitted[:3] * change, np.full(2, fitted[3])]) > (
-            (cost if identified else alone_cost) + 2 * SIGNIFICANCE * noise)
+            (cost if identified else alone_cost) + 2 * SIGNIFICANCE * noise
+        )
         scaled = bool(worse[0] and (worse[1] or (1 + SCALE_CHANGE) * norm(fitted[:2]) > self.top))
         v = _velocities(fitted[None], self.offsets, self.distances, self.pushes, self.top, jacobian=False)[0]
         residual = float(np.sqrt(np.mean(np.sum((v - self.v) ** 2, axis=-1))))
-        return self._estimate(fitted if identified else np.r_[self.alone[:2], self.prior[2:]], identified, scaled,
-                              residual, start)
+        return self._estimate(
+            fitted if identified else np.r_[self.alone[:2], self.prior[2:]], identified, scaled, residual, start
+        )
 
     def _obstacle_push(self, p_a: np.ndarray) -> np.ndarray:
         """o = k_o Σ_o H(r_ao) (Eqs. 3 and 9), known to the defenders."""
         s, hunt = self.scenario, self.scenario.hunt
-        return hunt.k_o * obstacle_repulsion(p_a, s.obstacle_centres, s.obstacle_radii, hunt.protective_distance,
-                                             self.prior_model.eta)
+        return hunt.k_o * obstacle_repulsion(
+            p_a, s.obstacle_centres, s.obstacle_radii, hunt.protective_distance, self.prior_model.eta
+        )
 
-    def _estimate(self, x: np.ndarray, identified: bool, speed_identified: bool, residual: float,
-                  start: float) -> Estimate:
-        return Estimate(self.prior_model.fitted(x[:2], x[2], x[3]), identified, speed_identified, len(self.window),
-                        residual, time.perf_counter() - start)
+    def _estimate(
+        self, x: np.ndarray, identified: bool, speed_identified: bool, residual: float, start: float
+    ) -> Estimate:
+        return Estimate(
+            self.prior_model.fitted(x[:2], x[2], x[3]),
+            identified,
+            speed_identified,
+            len(self.window),
+            residual,
+            time.perf_counter() - start,
+        )
 
     def _load(self) -> None:
         """The window as arrays: offsets floored as the field floors them (FIELD_FLOOR), pushes, velocities."""
@@ -231,9 +242,10 @@ class AttackerEstimator:
         It steps in log g and log R: there the valley along which g R³ (a near defender's push) stays put is
         straight, and g = 0 (the intent alone, no push) stays 0. Returns the rows and their objectives.
         """
+
         def residuals(x):
             v, dv = _velocities(x, self.offsets, self.distances, self.pushes, self.top)
-            dv[..., 2:] *= x[:, None, None, 2:]                                    # d/dlog g, d/dlog R
+            dv[..., 2:] *= x[:, None, None, 2:]  # d/dlog g, d/dlog R
             return self._track(v).reshape(len(x), -1), self.T * np.cumsum(dv, axis=1).reshape(len(x), -1, 4)
 
         r, jac = residuals(x)
@@ -276,8 +288,8 @@ class AttackerEstimator:
         capped = speed >= SATURATED * self.top
         along = v / np.where(speed > 0, speed, 1.0)[:, None]
         across = np.c_[-along[:, 1], along[:, 0]]
-        rows = np.where(capped[:, None, None], np.stack([across, along], axis=1), np.eye(2))    # (K, 2, 2)
-        bound = np.c_[np.zeros(K, bool), capped].ravel()                                          # v̂·u ≥ |v| rows
+        rows = np.where(capped[:, None, None], np.stack([across, along], axis=1), np.eye(2))  # (K, 2, 2)
+        bound = np.c_[np.zeros(K, bool), capped].ravel()  # v̂·u ≥ |v| rows
         target = (rows @ (v - self.pushes)[..., None]).ravel()
         phi = _field(radii, self.offsets, self.distances)
         a = np.concatenate([np.broadcast_to(rows, (m, K, 2, 2)), (rows @ phi[..., None])], axis=-1).reshape(m, 2 * K, 3)
@@ -295,16 +307,17 @@ class AttackerEstimator:
         side the bounds point to.
         """
         equal = a * ~bound[:, None]
-        values, vectors = np.linalg.eigh(equal.transpose(0, 2, 1) @ a)                      # ascending
+        values, vectors = np.linalg.eigh(equal.transpose(0, 2, 1) @ a)  # ascending
         kept = values > 1e-10 * values[:, -1:]
         inverse = np.where(kept, 1.0 / np.where(kept, values, 1.0), 0.0)
-        theta = np.einsum("mij,mj,mkj,mk->mi", vectors, inverse, vectors,
-                          (equal.transpose(0, 2, 1) @ target[..., None])[..., 0])
+        theta = np.einsum(
+            "mij,mj,mkj,mk->mi", vectors, inverse, vectors, (equal.transpose(0, 2, 1) @ target[..., None])[..., 0]
+        )
         free, start = vectors[:, :, 0], theta[:, :2]
         qa, qb = np.sum(free[:, :2] ** 2, axis=1), np.sum(start * free[:, :2], axis=1)
         root = np.sqrt(np.maximum(qb**2 - qa * (np.sum(start**2, axis=1) - self.top**2), 0.0))
         step = (-qb + root) / np.maximum(qa, 1e-300)
-        ahead = np.sum((a @ free[..., None])[..., 0] * bound, axis=1) * step >= 0           # the bounds' side
+        ahead = np.sum((a @ free[..., None])[..., 0] * bound, axis=1) * step >= 0  # the bounds' side
         step = np.where(ahead, step, (-qb - root) / np.maximum(qa, 1e-300))
         theta = np.where(~kept[:, :1] & (qa[:, None] > 1e-12), theta + step[:, None] * free, theta)
         active = np.broadcast_to(~bound, target.shape)

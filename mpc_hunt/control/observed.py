@@ -10,7 +10,7 @@ from mpc_hunt.control.controller import Observation
 from mpc_hunt.world.geometry import saturate
 from mpc_hunt.world.scenario import Scenario
 
-VELOCITY_WINDOW = 5      # observed steps averaged into the attacker's velocity
+VELOCITY_WINDOW = 5  # observed steps averaged into the attacker's velocity
 
 
 class ObservedVelocity:

@@ -21,5 +21,6 @@ def posed_problem(scenario: Scenario, state: HuntState, horizon: int = 1, object
         reference = Enclosure(scenario, horizon).reference(observation)
     elif objective not in OBJECTIVES:
         raise UnknownNameError(f"objective: unknown {objective!r} (available: {', '.join(OBJECTIVES)})")
-    return CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon, active=active,
-                                   reference=reference)
+    return CaptureProblem.at_state(
+        scenario, state.attacker, state.defenders, horizon, active=active, reference=reference
+    )

@@ -37,7 +37,7 @@ from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 
 POLICY = "ppo_team.npz"
-RESIDUAL = 0.5            # the largest correction, per component, as a share of the top speed
+RESIDUAL = 0.5  # the largest correction, per component, as a share of the top speed
 TEAM_VIEW = DEFENDER_VIEW + 2
 
 
@@ -48,20 +48,25 @@ def policy_file():
 
 def team_policy(path=None) -> Mlp:
     """The team's network: the shipped one, or the policy file ``path``."""
-    return shipped_mlp(__package__, POLICY, "defender", TEAM_VIEW) if path is None else \
-        load_mlp(path, "defender", TEAM_VIEW)
+    return (
+        shipped_mlp(__package__, POLICY, "defender", TEAM_VIEW)
+        if path is None
+        else load_mlp(path, "defender", TEAM_VIEW)
+    )
 
 
-def team_view(scenario: Scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray,
-              base: np.ndarray) -> np.ndarray:
+def team_view(
+    scenario: Scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray, base: np.ndarray
+) -> np.ndarray:
     """Defender ``i``'s view: :func:`~mpc_hunt.world.agent_view.defender_view` and its base velocity, over the
     top speed."""
     top = float(scenario.defender_max_speeds.max())
     return np.concatenate([defender_view(scenario, i, p_a, v_a, p_d, v_d), base[i] / top])
 
 
-def corrected(scenario: Scenario, p_d: np.ndarray, base: np.ndarray, corrections: np.ndarray,
-              active: np.ndarray) -> np.ndarray:
+def corrected(
+    scenario: Scenario, p_d: np.ndarray, base: np.ndarray, corrections: np.ndarray, active: np.ndarray
+) -> np.ndarray:
     """The team's velocities: each base velocity plus its correction (``RESIDUAL`` · v_d · a_i), :func:`shielded`."""
     top = float(scenario.defender_max_speeds.max())
     return shielded(scenario, p_d, base + RESIDUAL * top * np.asarray(corrections, dtype=float), active)
@@ -88,8 +93,10 @@ class PpoTeam:
     """The Voronoi rule corrected by the trained network on every defender (CLI ``--controller ppo``; the module's
     docstring)."""
 
-    SUMMARY = ("the Voronoi encirclement with a correction one neural policy, shared by the team, learned by PPO "
-               "(Stable-Baselines3)")
+    SUMMARY = (
+        "the Voronoi encirclement with a correction one neural policy, shared by the team, learned by PPO "
+        "(Stable-Baselines3)"
+    )
 
     def __init__(self, scenario: Scenario, *, policy: str | None = None):
         self.scenario, self.policy_path = scenario, policy
@@ -110,8 +117,9 @@ class PpoTeam:
         if self.held == 0:
             v_a = attacker_velocity_estimate(obs, T)
             v_d = np.zeros_like(P) if self.last is None else (P - self.last) / T
-            self.corrections = np.array([self.network.action(team_view(s, i, p_a, v_a, P, v_d, base.velocities))
-                                         for i in range(len(P))])
+            self.corrections = np.array(
+                [self.network.action(team_view(s, i, p_a, v_a, P, v_d, base.velocities)) for i in range(len(P))]
+            )
             self.held = self.network.decision_steps
         self.held -= 1
         self.last = P.copy()

@@ -25,4 +25,4 @@ default backend over OTHER_HORIZON steps.
 RECOMMENDED_CONTROLLER = "trap"
 RECOMMENDED = {"formulation": "rti", "backend": "hpipm", "horizon": 10}
 PAPER = {"formulation": "nlp", "backend": "ipopt", "horizon": 1}
-OTHER_HORIZON = 1       # the horizon of a formulation other than the default's, unless one is given
+OTHER_HORIZON = 1  # the horizon of a formulation other than the default's, unless one is given

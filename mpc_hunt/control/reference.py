@@ -27,10 +27,10 @@ from mpc_hunt.world.scenario import Scenario
 class CaptureReference(Protocol):
     """The reference half of a solving controller (the module's docstring)."""
 
-    NAME: str                           # the controller's name (:data:`~mpc_hunt.control.controllers.CONTROLLERS`)
-    SUMMARY: str                        # one line: what the controller does (the CLI's help, the docs)
-    OBJECTIVE: str                      # the capture objective it poses: "paper" or "enclose"
-    weights: EncloseWeights | None      # the enclose objective's weights; None for the paper's
+    NAME: str  # the controller's name (:data:`~mpc_hunt.control.controllers.CONTROLLERS`)
+    SUMMARY: str  # one line: what the controller does (the CLI's help, the docs)
+    OBJECTIVE: str  # the capture objective it poses: "paper" or "enclose"
+    weights: EncloseWeights | None  # the enclose objective's weights; None for the paper's
 
     def __init__(self, scenario: Scenario, horizon: int) -> None: ...
 
@@ -45,8 +45,10 @@ class PaperObjective:
     """The paper's capture stage, Eq. 12 as published: no places to track; the defenders within R_agg plan."""
 
     NAME, OBJECTIVE = "paper", "paper"
-    SUMMARY = ("the paper's strategy: Eq. 6 towards the predicted intercept outside R_agg, the capture-stage "
-               "optimisation (Eqs. 12-15) within it")
+    SUMMARY = (
+        "the paper's strategy: Eq. 6 towards the predicted intercept outside R_agg, the capture-stage "
+        "optimisation (Eqs. 12-15) within it"
+    )
     weights = None
 
     def __init__(self, scenario: Scenario, horizon: int):

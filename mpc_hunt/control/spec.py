@@ -20,8 +20,8 @@ from typing import Any, Mapping
 import numpy as np
 
 from mpc_hunt.arguments import count, shown
-from mpc_hunt.capture.solution import Status
 from mpc_hunt.capture.problem import MAX_HORIZON, horizon_error
+from mpc_hunt.capture.solution import Status
 from mpc_hunt.control import controllers
 from mpc_hunt.control.posing import posed_problem
 from mpc_hunt.control.recommended import OTHER_HORIZON, RECOMMENDED, RECOMMENDED_CONTROLLER
@@ -30,7 +30,7 @@ from mpc_hunt.solving import registry
 from mpc_hunt.world.belief import Belief, believed
 from mpc_hunt.world.hunt_state import HuntState
 
-STAGE = ("formulation", "backend", "horizon")      # a solving controller's capture stage, in the label's order
+STAGE = ("formulation", "backend", "horizon")  # a solving controller's capture stage, in the label's order
 FORM = "controller[:formulation[:backend[:horizon]]]"
 
 horizon_argument = count(MAX_HORIZON)
@@ -57,12 +57,19 @@ class ControllerSpec:
     def __post_init__(self, stage: Mapping[str, Any] | None) -> None:
         name = self.controller
         if not isinstance(name, str) or name not in controllers.CONTROLLERS:
-            raise SettingError("controller", f"unknown controller {name!r} (available: "
-                                             f"{', '.join(controllers.CONTROLLERS)})")
+            raise SettingError(
+                "controller", f"unknown controller {name!r} (available: {', '.join(controllers.CONTROLLERS)})"
+            )
         options = _options(self.options)
         if name in controllers.SOLVING:
-            settled = _stage(name, controllers.controller_objective(name), self.formulation, self.backend,
-                             self.horizon, stage or RECOMMENDED)
+            settled = _stage(
+                name,
+                controllers.controller_objective(name),
+                self.formulation,
+                self.backend,
+                self.horizon,
+                stage or RECOMMENDED,
+            )
         else:
             _refuse_settings(name, [f for f in STAGE if getattr(self, f) is not None] + list(options))
             settled = dict.fromkeys(STAGE)
@@ -71,8 +78,12 @@ class ControllerSpec:
         object.__setattr__(self, "options", MappingProxyType(options))
 
     @classmethod
-    def of(cls, controller: str = RECOMMENDED_CONTROLLER, settings: Mapping[str, Any] | None = None,
-           stage: Mapping[str, Any] | None = None) -> ControllerSpec:
+    def of(
+        cls,
+        controller: str = RECOMMENDED_CONTROLLER,
+        settings: Mapping[str, Any] | None = None,
+        stage: Mapping[str, Any] | None = None,
+    ) -> ControllerSpec:
         """The spec of ``controller`` with ``settings``, :func:`make_controller`'s keywords (its capture stage's
         fields and its options)."""
         rest = _mapping(settings or {})
@@ -87,7 +98,7 @@ class ControllerSpec:
             raise OptionError(f"expected {FORM}, got {shown(str(text))}")
         name, given = parts[0], [part or None for part in parts[1:]]
         if name not in controllers.SOLVING and name in controllers.CONTROLLERS and len(parts) > 1:
-            _refuse_settings(name, STAGE[:len(given)])
+            _refuse_settings(name, STAGE[: len(given)])
         horizon = given[2] if len(given) > 2 else None
         if horizon is not None:
             try:
@@ -133,17 +144,22 @@ class ControllerSpec:
         passed = [k for k in self.options if mpc is not None and k in mpc.solver.backend.options]
         if passed:
             solver, keys = mpc.solver, ", ".join(map(repr, passed))
-            problem = posed_problem(controller.scenario, _ring(controller.scenario), controller.horizon,
-                                    controller.objective)
+            problem = posed_problem(
+                controller.scenario, _ring(controller.scenario), controller.horizon, controller.objective
+            )
             try:
                 solution = solver.solve(problem)
             except Exception as exc:  # noqa: BLE001 - a solver library's own exception types (OSQPException, ...)
                 first = str(exc).splitlines()[0] if str(exc) else ""
-                raise OptionError(f"{argument}: {solver.backend.name} refused its options {keys} "
-                                  f"({type(exc).__name__}: {first}); check their names and values") from None
+                raise OptionError(
+                    f"{argument}: {solver.backend.name} refused its options {keys} "
+                    f"({type(exc).__name__}: {first}); check their names and values"
+                ) from None
             if solution.status is Status.ERROR:
-                raise OptionError(f"{argument}: {solver.backend.name} erred with its options {keys} "
-                                  f"({solution.message}); check their names and values")
+                raise OptionError(
+                    f"{argument}: {solver.backend.name} erred with its options {keys} "
+                    f"({solution.message}); check their names and values"
+                )
         return controller
 
 
@@ -168,8 +184,11 @@ def _options(options: object) -> dict[str, Any]:
     options = _mapping(options)
     fields = [key for key in options if key in ("controller",) + STAGE]
     if fields:
-        raise SettingError(fields, "a field of the spec, not an option: give it as a field "
-                                   f"(ControllerSpec({', '.join(f'{key}=...' for key in fields)}))")
+        raise SettingError(
+            fields,
+            "a field of the spec, not an option: give it as a field "
+            f"(ControllerSpec({', '.join(f'{key}=...' for key in fields)}))",
+        )
     return options
 
 
@@ -179,13 +198,17 @@ def _refuse_settings(name: str, given: list[str] | tuple[str, ...]) -> None:
     taken = controllers.keyword_options(name)
     refused = [key for key in given if key not in taken]
     if refused:
-        raise SettingError(refused, f"controller {name!r} solves no capture problem and takes only "
-                                    f"{', '.join(taken) or 'no options'}: drop {'it' if len(refused) == 1 else 'them'}, "
-                                    f"or use a controller that solves one ({', '.join(controllers.SOLVING)})")
+        raise SettingError(
+            refused,
+            f"controller {name!r} solves no capture problem and takes only "
+            f"{', '.join(taken) or 'no options'}: drop {'it' if len(refused) == 1 else 'them'}, "
+            f"or use a controller that solves one ({', '.join(controllers.SOLVING)})",
+        )
 
 
-def _stage(name: str, objective: str, formulation: str | None, backend: str | None, horizon: object,
-           default: Mapping[str, Any]) -> dict[str, Any]:
+def _stage(
+    name: str, objective: str, formulation: str | None, backend: str | None, horizon: object, default: Mapping[str, Any]
+) -> dict[str, Any]:
     """The capture stage of the solving controller ``name``, each unset field ``default``'s (the class's
     docstring), checked: known, pairing and installed, a horizon in bounds, the pair posing ``objective``
     (:func:`~mpc_hunt.solving.registry.objective_refusal`)."""

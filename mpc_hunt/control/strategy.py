@@ -17,22 +17,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.world.approach import approach_target, approach_velocity
 from mpc_hunt.capture.problem import CaptureProblem, checked_horizon
+from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
-from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.reference import CaptureReference, PaperObjective
+from mpc_hunt.solving import registry
+from mpc_hunt.solving.mpc import CaptureMPC
+from mpc_hunt.world.approach import approach_target, approach_velocity
 from mpc_hunt.world.belief import AttackerModel
 from mpc_hunt.world.safety import keep_safety_distance
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
-from mpc_hunt.solving import registry
-from mpc_hunt.solving.mpc import CaptureMPC
 
 
-def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndarray,
-                      prediction: bool) -> tuple[np.ndarray, np.ndarray]:
+def approach_commands(
+    scenario: Scenario, obs: Observation, approaching: np.ndarray, prediction: bool
+) -> tuple[np.ndarray, np.ndarray]:
     """Velocities (Eq. 6, kept out of R_safe: :mod:`mpc_hunt.world.safety`) and intercepts (Eqs. 7–8) of the
     ``approaching`` defenders; zero elsewhere."""
     speeds = scenario.defender_max_speeds
@@ -45,8 +46,14 @@ def approach_commands(scenario: Scenario, obs: Observation, approaching: np.ndar
         intercepts[i] = target
         others = np.delete(obs.defenders, i, axis=0)
         velocities[i] = keep_safety_distance(
-            obs.defenders[i], approach_velocity(scenario, obs.defenders[i], target, speeds[i], others),
-            scenario.obstacle_centres, scenario.obstacle_radii, hunt.safety_distance, hunt.time_step, speeds[i])
+            obs.defenders[i],
+            approach_velocity(scenario, obs.defenders[i], target, speeds[i], others),
+            scenario.obstacle_centres,
+            scenario.obstacle_radii,
+            hunt.safety_distance,
+            hunt.time_step,
+            speeds[i],
+        )
     return velocities, intercepts
 
 
@@ -63,9 +70,19 @@ class HuntingStrategy:
     docstring).
     """
 
-    def __init__(self, scenario: Scenario, reference: type[CaptureReference] = PaperObjective, *,
-                 formulation: str, backend: str | None = None, horizon: int, prediction: bool = True,
-                 time_limit: float | None = None, score: bool = False, **solver_options):
+    def __init__(
+        self,
+        scenario: Scenario,
+        reference: type[CaptureReference] = PaperObjective,
+        *,
+        formulation: str,
+        backend: str | None = None,
+        horizon: int,
+        prediction: bool = True,
+        time_limit: float | None = None,
+        score: bool = False,
+        **solver_options,
+    ):
         self.scenario = scenario
         self.prediction = prediction
         self.horizon = checked_horizon(horizon)
@@ -73,13 +90,18 @@ class HuntingStrategy:
         self.objective = reference.OBJECTIVE
         self.mpc = CaptureMPC(formulation, backend, time_limit=time_limit, score=score, **solver_options)
         refusal = registry.objective_refusal(formulation, self.mpc.solver.backend.name, self.objective)
-        if refusal is not None:      # every solve would fail: refuse at once
+        if refusal is not None:  # every solve would fail: refuse at once
             raise refusal
 
     def describe(self) -> dict:
-        return {"controller": self.reference.NAME, "prediction": self.prediction,
-                "formulation": self.mpc.solver.formulation.name, "backend": self.mpc.solver.backend.name,
-                "horizon": self.horizon, "objective": self.objective}
+        return {
+            "controller": self.reference.NAME,
+            "prediction": self.prediction,
+            "formulation": self.mpc.solver.formulation.name,
+            "backend": self.mpc.solver.backend.name,
+            "horizon": self.horizon,
+            "objective": self.objective,
+        }
 
     def posed(self) -> Scenario:
         """The believed scenario this step is posed on: the one the controller was built on."""
@@ -93,16 +115,29 @@ class HuntingStrategy:
         velocities, intercepts = approach_commands(s, obs, ~capture & obs.active, self.prediction)
         solution, fallback, planned_next = None, False, obs.defenders
         if capture.any():
-            problem = CaptureProblem.at_state(s, obs.attacker, obs.defenders, self.horizon, active=obs.active,
-                                              reference=self.reference.reference(obs),
-                                              enclose_weights=self.reference.weights)
+            problem = CaptureProblem.at_state(
+                s,
+                obs.attacker,
+                obs.defenders,
+                self.horizon,
+                active=obs.active,
+                reference=self.reference.reference(obs),
+                enclose_weights=self.reference.weights,
+            )
             solution, plan, fallback = self._capture(problem)
             velocities[capture] = (plan[0][capture] - obs.defenders[capture]) / s.hunt.time_step
             planned_next = plan[0]
         else:
             self.mpc.reset()
-        velocities = keep_separation(obs.defenders, velocities, ~capture & obs.active, planned_next, s.hunt.time_step,
-                                     s.defender_max_speeds, s.hunt.min_separation)
+        velocities = keep_separation(
+            obs.defenders,
+            velocities,
+            ~capture & obs.active,
+            planned_next,
+            s.hunt.time_step,
+            s.defender_max_speeds,
+            s.hunt.min_separation,
+        )
         return Command(velocities, capture, intercepts, solution, fallback)
 
     def _capture(self, problem: CaptureProblem):
@@ -129,7 +164,7 @@ class AdaptiveStrategy(HuntingStrategy):
         self.estimate: Estimate | None = None
         self.estimator = AttackerEstimator(scenario, self.prior)
         self.reference = Enclosure(scenario, self.horizon, posed=self.posed)
-        self._posed = (self.prior, scenario)       # the last model and the hunt posed with it
+        self._posed = (self.prior, scenario)  # the last model and the hunt posed with it
 
     @property
     def model(self) -> AttackerModel:

@@ -16,7 +16,8 @@ arena's edge). The reference has two phases:
   the region's area plus a penalty on every ray along which it comes within
   ``EDGE_MARGIN`` of the arena's edge before any obstacle (s: the defenders'
   limit along the ray, a soft minimum (Σ s_i^−p)^(−1/p) over them, so every mover has a share;
-  b: the nearest obstacle; e: the edge), whose gradient reaches the farthest mover too. This is the area-minimising pursuit of
+  b: the nearest obstacle; e: the edge), whose gradient reaches the farthest mover too. This is the area-minimising
+  pursuit of
   a reachable set (Huang et al. 2011; Pierson et al., RA-L 2017) with the
   edge's openings closed first: the defender that owns an open arc cuts it, the
   others close the rest, and a team too small to enclose alone leans on the
@@ -93,22 +94,22 @@ from mpc_hunt.world.prediction import intercept_time
 from mpc_hunt.world.reachable_set import defender_reach, edge_distance, obstacle_block, ray_directions
 from mpc_hunt.world.scenario import Scenario
 
-W_EDGE = 20.0         # m: an open ray's penalty per metre beyond the edge less the margin (a ray this long's weight)
-EDGE_MARGIN = 1.0     # m: how far inside the edge the shrink's penalty keeps the region's boundary
-SHARPNESS = 4.0       # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
-TINY = 1e-9           # m: a limit's floor in that minimum (a defender already within reach)
-STEP = 1e-4           # m: the finite difference of the gradient
-NEAR = 5.0            # of R_hunt: a mover this near the attacker before the ring can close takes its place in a spread
-                      # (at 3, three movers came within a gap-seeker's sensing from one side and drove it out)
-HERD_SPREAD = np.radians(50.0)    # rad: either side of the attacker's far side from the anchor, where a mover herds
+W_EDGE = 20.0  # m: an open ray's penalty per metre beyond the edge less the margin (a ray this long's weight)
+EDGE_MARGIN = 1.0  # m: how far inside the edge the shrink's penalty keeps the region's boundary
+SHARPNESS = 4.0  # p of the soft minimum (Σ s_i^−p)^(−1/p) over the defenders' limits: positive, at most the least
+TINY = 1e-9  # m: a limit's floor in that minimum (a defender already within reach)
+STEP = 1e-4  # m: the finite difference of the gradient
+NEAR = 5.0  # of R_hunt: a mover this near the attacker before the ring can close takes its place in a spread
+# (at 3, three movers came within a gap-seeker's sensing from one side and drove it out)
+HERD_SPREAD = np.radians(50.0)  # rad: either side of the attacker's far side from the anchor, where a mover herds
 HERD_TOLERANCE = np.radians(30.0)  # rad: a mover this close to its herding bearing closes in; farther, goes round
-HOLD_BAND = 0.25      # m: the ring closes on an obstacle from this far beyond R_hunt of it, herds again from twice it
-CENTRE_SLACK = 0.5    # of the centre tolerance: the ring's members' centroid is moved no nearer the attacker than this
-HERD_DRIFT = 0.3      # of v_a: an attacker moving slower than this has no drift the herd corrects
-HERD_ORBIT = 1.0      # m: how close a mover going round comes while it does (it closes in at top speed down to this)
-HERD_STEER = np.radians(60.0)     # rad: the herd's push turned at most this far past the way to the anchor
-PRESS_FROM = 0.8      # of R_hunt: a stationary member farther than this from the attacker makes the ring press
-PRESS_CLEARANCE = 0.05            # m: how far beyond the capture problem's least attacker distance the ring presses
+HOLD_BAND = 0.25  # m: the ring closes on an obstacle from this far beyond R_hunt of it, herds again from twice it
+CENTRE_SLACK = 0.5  # of the centre tolerance: the ring's members' centroid is moved no nearer the attacker than this
+HERD_DRIFT = 0.3  # of v_a: an attacker moving slower than this has no drift the herd corrects
+HERD_ORBIT = 1.0  # m: how close a mover going round comes while it does (it closes in at top speed down to this)
+HERD_STEER = np.radians(60.0)  # rad: the herd's push turned at most this far past the way to the anchor
+PRESS_FROM = 0.8  # of R_hunt: a stationary member farther than this from the attacker makes the ring press
+PRESS_CLEARANCE = 0.05  # m: how far beyond the capture problem's least attacker distance the ring presses
 
 
 def run_towards(q: np.ndarray, target: np.ndarray, reach: float) -> np.ndarray:
@@ -127,16 +128,18 @@ class Trap(Unmodelled):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``trap`` controller."""
 
     NAME = "trap"
-    SUMMARY = ("the capture problem tracking a minimum-time shrink of the attacker's reachable set (no model of "
-               "the attacker)")
+    SUMMARY = (
+        "the capture problem tracking a minimum-time shrink of the attacker's reachable set (no model of the attacker)"
+    )
 
     def __init__(self, scenario: Scenario, horizon: int):
         super().__init__(scenario, horizon)
         self.rays = ray_directions()
         self.phase = "shrink"
 
-    def cost(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, blocked: np.ndarray,
-             edge: np.ndarray) -> float:
+    def cost(
+        self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, blocked: np.ndarray, edge: np.ndarray
+    ) -> float:
         """J of the module's docstring for the movers at ``movers`` (k, 2)."""
         s = self.scenario
         limits = defender_reach(p_a, self.rays, movers, s.attacker.max_speed / speeds, 0.5 * s.hunt.hunt_radius)
@@ -149,8 +152,9 @@ class Trap(Unmodelled):
     def bounds(self, p_a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(the nearest obstacle's surface, the arena's edge) along each ray from ``p_a``."""
         s = self.scenario
-        return obstacle_block(p_a, self.rays, s.obstacle_centres, s.obstacle_radii), edge_distance(p_a, self.rays,
-                                                                                                   s.arena)
+        return obstacle_block(p_a, self.rays, s.obstacle_centres, s.obstacle_radii), edge_distance(
+            p_a, self.rays, s.arena
+        )
 
     def headings(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray) -> np.ndarray:
         """Each mover's unit direction down the gradient of J (towards the attacker where J is flat for it)."""
@@ -187,7 +191,7 @@ class Trap(Unmodelled):
         movers = np.flatnonzero(obs.active)
         speeds = s.defender_max_speeds[movers]
         m = members(p_a, P, s.obstacle_centres, s.obstacle_radii, s.hunt.hunt_radius)
-        stationary = np.vstack([P[~obs.active], m.anchors[len(P):]])
+        stationary = np.vstack([P[~obs.active], m.anchors[len(P) :]])
         places = np.repeat(P[None], N, axis=0).astype(float)
         steps = (np.arange(1, N + 1) * T)[:, None]
         anchor = m.anchors[len(P)] if len(P) < MIN_MEMBERS and len(m.anchors) > len(P) else None
@@ -210,26 +214,40 @@ class Trap(Unmodelled):
         weight[-1] = TERMINAL_WEIGHT
         return Reference(places, p_a + drift, weight)
 
-    def _spread(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray,
-                steps: np.ndarray, drift: np.ndarray) -> np.ndarray:
+    def _spread(
+        self,
+        p_a: np.ndarray,
+        movers: np.ndarray,
+        speeds: np.ndarray,
+        stationary: np.ndarray,
+        steps: np.ndarray,
+        drift: np.ndarray,
+    ) -> np.ndarray:
         """The places (N, k, 2) of movers that have come within ``NEAR`` R_hunt while the ring cannot close yet: on
         that circle round the attacker, at their places in an even spread in the order they stand (a stationary
         member first), going round the circle where the straight way would cross it, at top speed."""
         s = self.scenario
         radius = NEAR * s.hunt.hunt_radius
-        if s.arena is not None:       # the spread inside the arena, R_safe from its edge: no place clamped onto it
+        if s.arena is not None:  # the spread inside the arena, R_safe from its edge: no place clamped onto it
             gap = min(p_a[0] - s.arena[0], p_a[1] - s.arena[1], s.arena[2] - p_a[0], s.arena[3] - p_a[1])
             radius = min(radius, max(0.5 * s.hunt.hunt_radius, gap - s.hunt.safety_distance))
         angles = ring_bearings(p_a, movers, stationary)
-        reach = speeds[None] * steps                                                                # (N, k)
+        reach = speeds[None] * steps  # (N, k)
         places = np.empty((len(steps), len(movers), 2))
         for k, centre in enumerate(p_a + drift):
             for i, (q, angle) in enumerate(zip(movers, angles)):
                 places[k, i] = run_towards(q, route(q, centre, angle, radius, reach[k, i]), reach[k, i])
         return places
 
-    def _herd(self, p_a: np.ndarray, velocity: np.ndarray, movers: np.ndarray, speeds: np.ndarray,
-              anchor: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    def _herd(
+        self,
+        p_a: np.ndarray,
+        velocity: np.ndarray,
+        movers: np.ndarray,
+        speeds: np.ndarray,
+        anchor: np.ndarray,
+        steps: np.ndarray,
+    ) -> np.ndarray:
         """The herd phase's places (N, k, 2): behind the attacker as seen from ``anchor``, ``HERD_SPREAD`` either
         side, on the circle R_hunt / 2 round where each mover meets it (its intercept with the attacker's observed
         velocity, Eqs. 7–8 with no model, or where it stands once met), at top speed; a mover not yet on its side
@@ -241,11 +259,11 @@ class Trap(Unmodelled):
         if norm(velocity) > HERD_DRIFT * s.attacker.max_speed and norm(anchor - p_a) > s.hunt.protective_distance:
             error = float(np.clip(wrap(towards - np.arctan2(velocity[1], velocity[0])), -HERD_STEER, HERD_STEER))
         # (within the obstacle's protective distance its field, not the attacker, bends the drift: none corrected)
-        away = towards + np.pi + error        # pushed along the way to the anchor turned past the attacker's drift
+        away = towards + np.pi + error  # pushed along the way to the anchor turned past the attacker's drift
         bearings = np.arctan2(movers[:, 1] - p_a[1], movers[:, 0] - p_a[0])
         side = np.where(wrap(bearings - away) >= 0, 1.0, -1.0)
         if len(movers) == 2 and side[0] == side[1]:
-            side[np.argmin(wrap(bearings - away) * side[0])] *= -1.0      # one each side
+            side[np.argmin(wrap(bearings - away) * side[0])] *= -1.0  # one each side
         goals = away + side * HERD_SPREAD if len(movers) > 1 else np.array([away])
         going = np.abs(wrap(goals - bearings)) > HERD_TOLERANCE
         places = np.empty((len(steps), len(movers), 2))
@@ -254,12 +272,14 @@ class Trap(Unmodelled):
             meet = (intercept_time(p_a, velocity, q, speed) or 0.0) if far else 0.0
             radius = HERD_ORBIT if going[i] else inner
             for k, t in enumerate(steps[:, 0]):
-                places[k, i] = run_towards(q, route(q, p_a + velocity * max(meet, t), goals[i], radius, speed * t),
-                                           speed * t)
+                places[k, i] = run_towards(
+                    q, route(q, p_a + velocity * max(meet, t), goals[i], radius, speed * t), speed * t
+                )
         return places
 
-    def _ring(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray,
-              steps: np.ndarray) -> np.ndarray:
+    def _ring(
+        self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray, steps: np.ndarray
+    ) -> np.ndarray:
         """The close phase's places (N, k, 2) round the attacker where it stands (the module's docstring)."""
         s = self.scenario
         inner = 0.5 * s.hunt.hunt_radius
@@ -267,11 +287,11 @@ class Trap(Unmodelled):
             inner = s.hunt.min_attacker_distance + PRESS_CLEARANCE
         angles = ring_bearings(p_a, movers, stationary)
         start = float(np.min(norm(movers - p_a)))
-        radii = np.maximum(inner, start - float(np.min(speeds)) * steps)                         # (N, 1)
+        radii = np.maximum(inner, start - float(np.min(speeds)) * steps)  # (N, 1)
         places = p_a + radii[:, :, None] * direction(angles)[None]
         near = stationary[norm(stationary - p_a) <= s.hunt.hunt_radius + HOLD_BAND]
         count = len(movers) + len(near)
-        off = p_a - (places.sum(axis=1) + near.sum(axis=0)) / count                               # (N, 2)
+        off = p_a - (places.sum(axis=1) + near.sum(axis=0)) / count  # (N, 2)
         size = np.maximum(norm(off), 1e-12)[:, None]
         slack = CENTRE_SLACK * s.hunt.centre_tolerance
         return places + (off * np.maximum(0.0, 1.0 - slack / size) * count / len(movers))[:, None, :]

@@ -32,7 +32,6 @@ import math
 import numpy as np
 
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
-from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
 from mpc_hunt.world import attacker
 from mpc_hunt.world.approach import approach_target
 from mpc_hunt.world.arena import kept_clear, safe_velocity
@@ -40,6 +39,7 @@ from mpc_hunt.world.geometry import direction, encloses, norm, saturate
 from mpc_hunt.world.hunting_circle import members
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
+from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
 
 
 def _bearing(v: np.ndarray) -> float:
@@ -91,8 +91,10 @@ def route(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, reac
 class VoronoiController:
     """Voronoi encirclement, no optimisation (CLI ``--controller voronoi``)."""
 
-    SUMMARY = ("the Voronoi encirclement of the pursuit-evasion literature (area-minimising pursuit, Zhou et al. "
-               "2016), no optimisation")
+    SUMMARY = (
+        "the Voronoi encirclement of the pursuit-evasion literature (area-minimising pursuit, Zhou et al. "
+        "2016), no optimisation"
+    )
 
     def __init__(self, scenario: Scenario, *, prediction: bool = True):
         self.scenario = scenario
@@ -117,8 +119,9 @@ class VoronoiController:
         shift = self._centring(p_a, places, stationary) if enclosed else np.zeros(2)
         v_a = attacker_velocity_estimate(obs, hunt.time_step)
         speeds = s.defender_max_speeds
-        centres = np.array([p_a + shift if enclosed else approach_target(p_a, v_a, P[i], speeds[i], self.prediction)
-                            for i in movers]).reshape(-1, 2)
+        centres = np.array(
+            [p_a + shift if enclosed else approach_target(p_a, v_a, P[i], speeds[i], self.prediction) for i in movers]
+        ).reshape(-1, 2)
         return movers, centres, angles, radii, enclosed
 
     def command(self, obs: Observation) -> Command:
@@ -141,7 +144,7 @@ class VoronoiController:
         s = self.scenario
         m = members(obs.attacker, obs.defenders, s.obstacle_centres, s.obstacle_radii, s.hunt.hunt_radius)
         failed = obs.defenders[~obs.active]
-        return np.vstack([failed, m.anchors[len(obs.defenders):]])
+        return np.vstack([failed, m.anchors[len(obs.defenders) :]])
 
     def _centring(self, p_a: np.ndarray, places: np.ndarray, stationary: np.ndarray) -> np.ndarray:
         """The movers' common shift that puts the centroid of their places and the stationary members

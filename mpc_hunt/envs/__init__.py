@@ -17,6 +17,7 @@ try:
     import pettingzoo  # noqa: F401
 except ImportError:
     from mpc_hunt.errors import MpcHuntError
+
     raise MpcHuntError('mpc_hunt.envs needs Gymnasium and PettingZoo: pip install "mpc-hunt[envs]"') from None
 
 from mpc_hunt.envs.attacker_env import AttackerEnv

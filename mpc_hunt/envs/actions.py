@@ -24,14 +24,13 @@ def checked_action(action, space: spaces.Box, agent: str, what: str | None = Non
         what = "a velocity (vx, vy) in m/s" + ("" if space.shape == (2,) else " per defender, one row each")
     try:
         raw = np.asarray(action)
-        if raw.dtype.kind not in "biufO":            # bool, integers, floats; objects that may hold numbers
+        if raw.dtype.kind not in "biufO":  # bool, integers, floats; objects that may hold numbers
             raise TypeError(raw.dtype)
         value = np.array(raw, dtype=np.float64)
-    except (TypeError, ValueError):                  # text, complex numbers, ragged rows, a dict...
+    except (TypeError, ValueError):  # text, complex numbers, ragged rows, a dict...
         raise ActionError(f"{agent}: {what}, not {type(action).__name__} {str(action)[:60]!r}") from None
     if value.shape != space.shape:
-        raise ActionError(f"{agent}: shape {value.shape}, not its space's {space.shape} ({what}; nothing is "
-                          f"broadcast)")
+        raise ActionError(f"{agent}: shape {value.shape}, not its space's {space.shape} ({what}; nothing is broadcast)")
     if not np.all(np.isfinite(value)):
         raise ActionError(f"{agent}: not finite ({value.tolist()}); give finite numbers, {what}")
     return value

@@ -28,15 +28,23 @@ class AttackerEnv(HuntEnv):
     """The attacker learns; the defenders run ``controller``: a name with ``controller_options`` (the spec's fields
     and options, :meth:`ControllerSpec.of`: the recommended stage for a field not given), or a spec."""
 
-    def __init__(self, scenario: Scenario | None = None, ranges: ScenarioRanges | None = None,
-                 defenders: int | None = None, controller: str | ControllerSpec = RECOMMENDED_CONTROLLER,
-                 controller_options: dict | None = None, belief: Belief = Belief(), render_mode: str | None = None):
+    def __init__(
+        self,
+        scenario: Scenario | None = None,
+        ranges: ScenarioRanges | None = None,
+        defenders: int | None = None,
+        controller: str | ControllerSpec = RECOMMENDED_CONTROLLER,
+        controller_options: dict | None = None,
+        belief: Belief = Belief(),
+        render_mode: str | None = None,
+    ):
         super().__init__(Hunts(scenario, ranges, defenders), render_mode)
         speed = self.hunts.attacker_speed
         self.action_space = spaces.Box(-speed, speed, shape=(2,), dtype=np.float64)
         self.belief = belief
-        self.controller_spec = controller_spec(controller, controller_options, "controller_options",
-                                               self.hunts.probe(), belief)     # a bad name or option fails here, once
+        self.controller_spec = controller_spec(
+            controller, controller_options, "controller_options", self.hunts.probe(), belief
+        )  # a bad name or option fails here, once
         self.controller = None
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -45,7 +53,7 @@ class AttackerEnv(HuntEnv):
         return self.episode.observation(), self.info()
 
     def step(self, action):
-        e, action = self.started(), self.checked(action)        # both before the controller moves
+        e, action = self.started(), self.checked(action)  # both before the controller moves
         command = self.controller.command(e.controller_observation())
         outcome = e.step(command.velocities, e.attacker_move(action))
         return e.observation(), outcome.reward, outcome.terminated, outcome.truncated, self.info()

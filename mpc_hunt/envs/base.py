@@ -27,14 +27,15 @@ class HuntEnv(gym.Env):
     def __init__(self, hunts: Hunts, render_mode: str | None = None):
         check_render_mode(render_mode)
         self.hunts, self.render_mode = hunts, render_mode
-        self.observation_space = observation_space(hunts.defenders, hunts.max_obstacles,
-                                                   max(hunts.attacker_speed, hunts.defender_speed), hunts.time_step)
+        self.observation_space = observation_space(
+            hunts.defenders, hunts.max_obstacles, max(hunts.attacker_speed, hunts.defender_speed), hunts.time_step
+        )
         self.episode: Episode | None = None
 
     def new_episode(self, seed: int | None, options: dict | None) -> np.random.Generator:
         """Seed (Gymnasium's ``np_random``), draw the hunt, start its episode; the generator for what else the
         reset draws (the other side's randomness)."""
-        given = self.hunts.given(options)                   # before anything changes
+        given = self.hunts.given(options)  # before anything changes
         super().reset(seed=seed)
         world, other = self.np_random.spawn(2)
         self.episode = Episode(self.hunts.draw(world, given), self.hunts.max_obstacles)

@@ -16,8 +16,8 @@ from gymnasium import spaces
 
 from mpc_hunt.envs.base import HuntEnv
 from mpc_hunt.envs.hunts import Hunts
-from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.errors import UnknownNameError
+from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.world.behaviours import BEHAVIOURS, make_behaviour, with_behaviour
 from mpc_hunt.world.scenario import Scenario
 
@@ -25,8 +25,14 @@ from mpc_hunt.world.scenario import Scenario
 class DefenderEnv(HuntEnv):
     """The team learns; the attacker follows ``attacker`` (the module's docstring)."""
 
-    def __init__(self, scenario: Scenario | None = None, ranges: ScenarioRanges | None = None,
-                 defenders: int | None = None, attacker: str | None = None, render_mode: str | None = None):
+    def __init__(
+        self,
+        scenario: Scenario | None = None,
+        ranges: ScenarioRanges | None = None,
+        defenders: int | None = None,
+        attacker: str | None = None,
+        render_mode: str | None = None,
+    ):
         super().__init__(Hunts(scenario, ranges, defenders), render_mode)
         speed = self.hunts.defender_speed
         self.action_space = spaces.Box(-speed, speed, shape=(self.hunts.defenders, 2), dtype=np.float64)
@@ -42,6 +48,6 @@ class DefenderEnv(HuntEnv):
         return self.episode.observation(), self.info()
 
     def step(self, action):
-        e, action = self.started(), self.checked(action)        # both before the attacker's behaviour draws
+        e, action = self.started(), self.checked(action)  # both before the attacker's behaviour draws
         outcome = e.step(action, self.behaviour.velocity(e.attacker, e.defenders))
         return e.observation(), -outcome.reward, outcome.terminated, outcome.truncated, self.info()

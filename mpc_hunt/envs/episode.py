@@ -30,7 +30,7 @@ from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Scenario
 
 OUTCOME = {"captured": -1.0, "attacker_escaped": 1.0, "time_limit": 1.0, "non_finite_state": 0.0}
-NO_ARENA_DIAGONAL = 20.0     # m: Φ's scale for a scenario with no arena
+NO_ARENA_DIAGONAL = 20.0  # m: Φ's scale for a scenario with no arena
 
 
 @dataclass(frozen=True)
@@ -66,14 +66,26 @@ class Episode:
         return self.step_count * self.scenario.hunt.time_step
 
     def observation(self) -> np.ndarray:
-        return observe(self.scenario, self.time, self.attacker, self.attacker_velocity, self.defenders,
-                       self.defender_velocities, self.max_obstacles)
+        return observe(
+            self.scenario,
+            self.time,
+            self.attacker,
+            self.attacker_velocity,
+            self.defenders,
+            self.defender_velocities,
+            self.max_obstacles,
+        )
 
     def controller_observation(self) -> Observation:
         """What a controller of the project is handed at this state (:mod:`mpc_hunt.control.controller`)."""
         stopped = self.scenario.failed(self.time)
-        return Observation(self.time, self.attacker.copy(), self.previous_attacker, self.defenders.copy(),
-                           stopped if stopped.any() else None)
+        return Observation(
+            self.time,
+            self.attacker.copy(),
+            self.previous_attacker,
+            self.defenders.copy(),
+            stopped if stopped.any() else None,
+        )
 
     def attacker_move(self, action) -> np.ndarray:
         return attacker_move(self.scenario, self.attacker, action)
@@ -107,9 +119,14 @@ class Episode:
         stopped = self.scenario.failed(self.time)
         previous_a, previous_d = self.attacker, self.defenders
         self.previous_attacker = previous_a.copy()
-        self.attacker, self.defenders = moved(self.scenario, previous_a, previous_d,
-                                              np.asarray(defender_velocities, dtype=float).reshape(-1, 2),
-                                              attacker_velocity, stopped)
+        self.attacker, self.defenders = moved(
+            self.scenario,
+            previous_a,
+            previous_d,
+            np.asarray(defender_velocities, dtype=float).reshape(-1, 2),
+            attacker_velocity,
+            stopped,
+        )
         T = self.scenario.hunt.time_step
         self.attacker_velocity = (self.attacker - previous_a) / T
         self.defender_velocities = (self.defenders - previous_d) / T

@@ -27,7 +27,7 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
 from mpc_hunt.world.scenario import MAX_DEFENDERS, MAX_MAGNITUDE, Scenario
 
 DEFAULT_DEFENDERS = 3
-PROBE_SEED = 0          # the random hunt the settings are checked on before the first reset
+PROBE_SEED = 0  # the random hunt the settings are checked on before the first reset
 
 
 @dataclasses.dataclass(frozen=True)
@@ -42,19 +42,24 @@ class Hunts:
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         d = self.defenders
-        if d is not None and (isinstance(d, bool) or not isinstance(d, (int, np.integer)) or
-                              not 1 <= d <= MAX_DEFENDERS):
+        if d is not None and (
+            isinstance(d, bool) or not isinstance(d, (int, np.integer)) or not 1 <= d <= MAX_DEFENDERS
+        ):
             raise OptionError(f"defenders: a whole number from 1 to {MAX_DEFENDERS}, got {d!r}")
         if self.scenario is not None:
             if not isinstance(self.scenario, Scenario):
                 raise OptionError(f"scenario: a mpc_hunt Scenario or None, got {type(self.scenario).__name__}")
             if self.ranges is not None:
-                raise OptionError("ranges: a given scenario is played at every reset, so ranges would not be used; "
-                                  "give one or the other")
+                raise OptionError(
+                    "ranges: a given scenario is played at every reset, so ranges would not be used; "
+                    "give one or the other"
+                )
             team = len(self.scenario.defenders)
             if d is not None and d != team:
-                raise OptionError(f"defenders: {d}, but the scenario has {team}; leave defenders out (the "
-                                  f"scenario's team is the environment's) or give a scenario of {d}")
+                raise OptionError(
+                    f"defenders: {d}, but the scenario has {team}; leave defenders out (the "
+                    f"scenario's team is the environment's) or give a scenario of {d}"
+                )
             set_(self, "defenders", team)
             _check_scenario_reach("scenario", self.scenario)
             return
@@ -65,12 +70,18 @@ class Hunts:
         if d is None:
             d = low if self.ranges is not None and low == high else DEFAULT_DEFENDERS
         if self.ranges is not None and not low <= d <= high:
-            raise OptionError(f"defenders: {d}, outside ranges.n_defenders ({low}, {high}); give defenders within "
-                              f"them (an environment's team is fixed)")
+            raise OptionError(
+                f"defenders: {d}, outside ranges.n_defenders ({low}, {high}); give defenders within "
+                f"them (an environment's team is fixed)"
+            )
         set_(self, "defenders", int(d))
         set_(self, "ranges", dataclasses.replace(ranges, n_defenders=(int(d), int(d))))
-        _check_reach("ranges", max(map(abs, self.ranges.arena)), max(self.attacker_speed, self.defender_speed),
-                     self.ranges.time_limit + self.time_step)
+        _check_reach(
+            "ranges",
+            max(map(abs, self.ranges.arena)),
+            max(self.attacker_speed, self.defender_speed),
+            self.ranges.time_limit + self.time_step,
+        )
 
     @property
     def max_obstacles(self) -> int:
@@ -97,8 +108,11 @@ class Hunts:
 
     def probe(self) -> Scenario:
         """A hunt of the source, to check settings on before the first reset."""
-        return self.scenario if self.scenario is not None else \
-            random_scenario(np.random.default_rng(PROBE_SEED), self.ranges, name="env")
+        return (
+            self.scenario
+            if self.scenario is not None
+            else random_scenario(np.random.default_rng(PROBE_SEED), self.ranges, name="env")
+        )
 
     def draw(self, rng: np.random.Generator, given: Scenario | None) -> Scenario:
         """The hunt of this reset: ``given`` (from :meth:`given`), else the source's."""
@@ -110,18 +124,25 @@ class Hunts:
         """The scenario a reset's ``options`` give, checked against the spaces, or None. Other keys are left to
         wrappers (PettingZoo's API test hands one over and expects it ignored)."""
         if options is not None and not isinstance(options, dict):
-            raise OptionError(f"options: None or a dict (key 'scenario': a hunt to play once), got "
-                              f"{type(options).__name__}")
+            raise OptionError(
+                f"options: None or a dict (key 'scenario': a hunt to play once), got {type(options).__name__}"
+            )
         given = (options or {}).get("scenario")
         if given is not None:
-            if not isinstance(given, Scenario) or len(given.defenders) != self.defenders or \
-                    len(given.obstacles) > self.max_obstacles or given.attacker.max_speed > self.attacker_speed or \
-                    float(given.defender_max_speeds.max()) > self.defender_speed or \
-                    given.hunt.time_step < self.time_step:
-                raise OptionError(f"options['scenario']: a Scenario that fits the spaces: {self.defenders} defenders "
-                                  f"no faster than {self.defender_speed:g} m/s, an attacker no faster than "
-                                  f"{self.attacker_speed:g} m/s, at most {self.max_obstacles} obstacles, a time "
-                                  f"step of at least {self.time_step:g} s")
+            if (
+                not isinstance(given, Scenario)
+                or len(given.defenders) != self.defenders
+                or len(given.obstacles) > self.max_obstacles
+                or given.attacker.max_speed > self.attacker_speed
+                or float(given.defender_max_speeds.max()) > self.defender_speed
+                or given.hunt.time_step < self.time_step
+            ):
+                raise OptionError(
+                    f"options['scenario']: a Scenario that fits the spaces: {self.defenders} defenders "
+                    f"no faster than {self.defender_speed:g} m/s, an attacker no faster than "
+                    f"{self.attacker_speed:g} m/s, at most {self.max_obstacles} obstacles, a time "
+                    f"step of at least {self.time_step:g} s"
+                )
             _check_scenario_reach("options['scenario']", given)
         return given
 
@@ -136,8 +157,12 @@ def _check_reach(where: str, start: float, speed: float, duration: float) -> Non
     """Refuse hunts whose robots (at most ``start`` from the origin, at ``speed``) or time could leave the
     observation's ±MAX_MAGNITUDE within ``duration``."""
     if duration > MAX_MAGNITUDE:
-        raise OptionError(f"{where}: its hunts last up to {duration:.6g} s, beyond the observation's "
-                          f"{MAX_MAGNITUDE:g}; shorten the time limit")
+        raise OptionError(
+            f"{where}: its hunts last up to {duration:.6g} s, beyond the observation's "
+            f"{MAX_MAGNITUDE:g}; shorten the time limit"
+        )
     if start + speed * duration > MAX_MAGNITUDE:
-        raise OptionError(f"{where}: a robot could reach {start + speed * duration:.6g} m from the origin, beyond the "
-                          f"observation's ±{MAX_MAGNITUDE:g}; shorten the time limit or start nearer the origin")
+        raise OptionError(
+            f"{where}: a robot could reach {start + speed * duration:.6g} m from the origin, beyond the "
+            f"observation's ±{MAX_MAGNITUDE:g}; shorten the time limit or start nearer the origin"
+        )

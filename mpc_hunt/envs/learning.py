@@ -40,8 +40,8 @@ from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
 from mpc_hunt.world.behaviours.base import sensed, sensing_radius, undisturbed
 from mpc_hunt.world.mlp import MAX_DECISION_STEPS
 
-BOUND = 1e3         # a view's numbers are within a few REACH; the Box says so loosely
-MAX_REDRAWS = 100   # hunts a reset may draw before one reaches its first decision
+BOUND = 1e3  # a view's numbers are within a few REACH; the Box says so loosely
+MAX_REDRAWS = 100  # hunts a reset may draw before one reaches its first decision
 
 
 def _decision_steps(value) -> int:
@@ -53,8 +53,9 @@ def _decision_steps(value) -> int:
 class AttackerViewEnv(gym.Env):
     """The attacker learning against ``controller`` on random hunts (the module's docstring)."""
 
-    def __init__(self, controller: str = RECOMMENDED_CONTROLLER, teams: tuple[int, ...] = (2, 3, 4, 5),
-                 decision_steps: int = 5):
+    def __init__(
+        self, controller: str = RECOMMENDED_CONTROLLER, teams: tuple[int, ...] = (2, 3, 4, 5), decision_steps: int = 5
+    ):
         self.decision_steps = _decision_steps(decision_steps)
         if not teams or any(isinstance(t, bool) or not isinstance(t, (int, np.integer)) for t in teams):
             raise OptionError(f"teams: team sizes (whole numbers), got {teams!r}")
@@ -97,12 +98,15 @@ class AttackerViewEnv(gym.Env):
             _, terminated, truncated, info = self._run(None)
             if not (terminated or truncated):
                 return self._view(), info
-        raise MpcHuntError("reset: options['scenario'] ends before the attacker senses a defender, so the agent has "
-                           "nothing to decide; give a hunt whose defenders come within its sensing radius" if given
-                           else f"reset: {MAX_REDRAWS} hunts ended before the attacker sensed a defender")
+        raise MpcHuntError(
+            "reset: options['scenario'] ends before the attacker senses a defender, so the agent has "
+            "nothing to decide; give a hunt whose defenders come within its sensing radius"
+            if given
+            else f"reset: {MAX_REDRAWS} hunts ended before the attacker sensed a defender"
+        )
 
     def step(self, action):
-        a = np.clip(checked_action(action, self.action_space, "action"), -1.0, 1.0)   # before anything moves
+        a = np.clip(checked_action(action, self.action_space, "action"), -1.0, 1.0)  # before anything moves
         total, terminated, truncated, info = self._run(a)
         return self._view(), total, terminated, truncated, info
 
@@ -110,16 +114,18 @@ class AttackerViewEnv(gym.Env):
 class TeamHunts:
     """``hunts`` hunts of a team of ``defenders`` sharing one policy (the module's docstring)."""
 
-    def __init__(self, hunts: int, attackers: tuple[str, ...], defenders: int = 3, decision_steps: int = 5,
-                 seed: int = 0):
+    def __init__(
+        self, hunts: int, attackers: tuple[str, ...], defenders: int = 3, decision_steps: int = 5, seed: int = 0
+    ):
         self.decision_steps = _decision_steps(decision_steps)
         self.defenders = defenders
-        self.envs = [{name: DefenderEnv(defenders=defenders, attacker=name) for name in attackers}
-                     for _ in range(hunts)]
+        self.envs = [
+            {name: DefenderEnv(defenders=defenders, attacker=name) for name in attackers} for _ in range(hunts)
+        ]
         self.rng = np.random.default_rng(seed)
         self.playing: list[DefenderEnv] = [None] * hunts
         self.bases: list[VoronoiController] = [None] * hunts
-        self.next_base: list[np.ndarray | None] = [None] * hunts   # the base at each hunt's state, once
+        self.next_base: list[np.ndarray | None] = [None] * hunts  # the base at each hunt's state, once
         self.terminal_views: list[np.ndarray | None] = [None] * hunts
 
     @property
@@ -146,9 +152,13 @@ class TeamHunts:
     def views(self, k: int) -> np.ndarray:
         """Hunt ``k``'s views, one row per defender (:func:`~mpc_hunt.control.ppo_team.team_view`)."""
         e, base = self.playing[k].episode, self._base(k)
-        self.next_base[k] = base            # the state's first step uses it again
-        return np.array([team_view(e.scenario, i, e.attacker, e.attacker_velocity, e.defenders,
-                                   e.defender_velocities, base) for i in range(self.defenders)])
+        self.next_base[k] = base  # the state's first step uses it again
+        return np.array(
+            [
+                team_view(e.scenario, i, e.attacker, e.attacker_velocity, e.defenders, e.defender_velocities, base)
+                for i in range(self.defenders)
+            ]
+        )
 
     def reset(self) -> np.ndarray:
         """Every hunt started anew: the views, one row per agent (hunt by hunt)."""
@@ -160,9 +170,16 @@ class TeamHunts:
         """One decision of every agent (``actions``: a correction in [−1, 1]² each): the views after it, each
         agent's reward (its team's), whether its hunt ended, and an info per hunt (``termination``, ``truncated``,
         and ``behaviour``, the attacker's) for a hunt that ended, else {}."""
-        actions = np.clip(checked_action(actions, spaces.Box(-1.0, 1.0, (self.agents, 2)), "actions",
-                                         "a correction (ax, ay) in [-1, 1] per agent, one row each"),
-                          -1.0, 1.0).reshape(len(self.envs), self.defenders, 2)     # before anything moves
+        actions = np.clip(
+            checked_action(
+                actions,
+                spaces.Box(-1.0, 1.0, (self.agents, 2)),
+                "actions",
+                "a correction (ax, ay) in [-1, 1] per agent, one row each",
+            ),
+            -1.0,
+            1.0,
+        ).reshape(len(self.envs), self.defenders, 2)  # before anything moves
         views, rewards, dones, infos = [], [], [], []
         for k, env in enumerate(self.playing):
             e = env.episode

@@ -44,8 +44,7 @@ def velocity_bound(max_speed: float, time_step: float) -> float:
 
 def field_names(defenders: int, max_obstacles: int) -> list[str]:
     """The observation's fields, in order (the module's docstring)."""
-    names = ["time", "attacker_x", "attacker_y", "attacker_vx", "attacker_vy", "attacker_intent_x",
-             "attacker_intent_y"]
+    names = ["time", "attacker_x", "attacker_y", "attacker_vx", "attacker_vy", "attacker_intent_x", "attacker_intent_y"]
     names += [f"defender_{i}_{k}" for i in range(defenders) for k in ("x", "y", "vx", "vy")]
     names += [f"obstacle_{j}_{k}" for j in range(max_obstacles) for k in ("x", "y", "radius")]
     return names + ["arena_x_min", "arena_y_min", "arena_x_max", "arena_y_max"]
@@ -61,14 +60,28 @@ def observation_space(defenders: int, max_obstacles: int, max_speed: float, time
     return spaces.Box(low, high, dtype=np.float64)
 
 
-def observe(scenario: Scenario, time: float, attacker: np.ndarray, attacker_velocity: np.ndarray,
-            defenders: np.ndarray, defender_velocities: np.ndarray, max_obstacles: int) -> np.ndarray:
+def observe(
+    scenario: Scenario,
+    time: float,
+    attacker: np.ndarray,
+    attacker_velocity: np.ndarray,
+    defenders: np.ndarray,
+    defender_velocities: np.ndarray,
+    max_obstacles: int,
+) -> np.ndarray:
     """The vector of :func:`field_names` for this state."""
     a = scenario.attacker
     obstacles = np.zeros((max_obstacles, 3))
     for j, o in enumerate(scenario.obstacles[:max_obstacles]):
         obstacles[j] = (*o.centre, o.radius)
-    return np.concatenate([[time], attacker, attacker_velocity, nominal_intent(np.array(a.nominal_velocity),
-                                                                                 a.max_speed),
-                           np.hstack([defenders, defender_velocities]).ravel(), obstacles.ravel(),
-                           scenario.arena if scenario.arena is not None else NO_ARENA]).astype(np.float64)
+    return np.concatenate(
+        [
+            [time],
+            attacker,
+            attacker_velocity,
+            nominal_intent(np.array(a.nominal_velocity), a.max_speed),
+            np.hstack([defenders, defender_velocities]).ravel(),
+            obstacles.ravel(),
+            scenario.arena if scenario.arena is not None else NO_ARENA,
+        ]
+    ).astype(np.float64)

@@ -38,17 +38,25 @@ class HuntParallelEnv(ParallelEnv):
 
     metadata = {"name": "mpc_hunt_v0", "render_modes": RENDER_MODES, "render_fps": 10, "is_parallelizable": True}
 
-    def __init__(self, scenario: Scenario | None = None, ranges: ScenarioRanges | None = None,
-                 defenders: int | None = None, render_mode: str | None = None):
+    def __init__(
+        self,
+        scenario: Scenario | None = None,
+        ranges: ScenarioRanges | None = None,
+        defenders: int | None = None,
+        render_mode: str | None = None,
+    ):
         check_render_mode(render_mode)
         self.hunts, self.render_mode = Hunts(scenario, ranges, defenders), render_mode
         self.possible_agents = [ATTACKER] + [f"defender_{i}" for i in range(self.hunts.defenders)]
         self.agents: list[str] = []
         self.episode: Episode | None = None
         self.rng: np.random.Generator | None = None
-        self._observation = observation_space(self.hunts.defenders, self.hunts.max_obstacles,
-                                              max(self.hunts.attacker_speed, self.hunts.defender_speed),
-                                              self.hunts.time_step)
+        self._observation = observation_space(
+            self.hunts.defenders,
+            self.hunts.max_obstacles,
+            max(self.hunts.attacker_speed, self.hunts.defender_speed),
+            self.hunts.time_step,
+        )
 
     @functools.cache
     def observation_space(self, agent: str) -> spaces.Box:
@@ -60,8 +68,8 @@ class HuntParallelEnv(ParallelEnv):
         return spaces.Box(-speed, speed, shape=(2,), dtype=np.float64)
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        given = self.hunts.given(options)               # before anything changes
-        if seed is not None or self.rng is None:      # as Gymnasium's: an unseeded reset goes on with the stream
+        given = self.hunts.given(options)  # before anything changes
+        if seed is not None or self.rng is None:  # as Gymnasium's: an unseeded reset goes on with the stream
             self.rng = np.random.default_rng(seed)
         self.episode = Episode(self.hunts.draw(self.rng, given), self.hunts.max_obstacles)
         self.agents = list(self.possible_agents)
@@ -89,15 +97,18 @@ class HuntParallelEnv(ParallelEnv):
     def _checked(self, actions: dict) -> dict[str, np.ndarray]:
         """Every agent's action checked (:mod:`mpc_hunt.envs.actions`): one for each agent, no other."""
         if not isinstance(actions, dict):
-            raise ActionError(f"actions: a dict of one action per agent ({', '.join(self.agents)}), got "
-                              f"{type(actions).__name__}")
+            raise ActionError(
+                f"actions: a dict of one action per agent ({', '.join(self.agents)}), got {type(actions).__name__}"
+            )
         missing = [a for a in self.agents if a not in actions]
         unknown = [repr(a) for a in actions if a not in self.agents]
-        wrong = ([f"no action for {', '.join(missing)}"] if missing else []) + \
-            ([f"unknown agent {', '.join(unknown)}"] if unknown else [])
+        wrong = ([f"no action for {', '.join(missing)}"] if missing else []) + (
+            [f"unknown agent {', '.join(unknown)}"] if unknown else []
+        )
         if wrong:
-            raise ActionError(f"actions: {'; '.join(wrong)} (one action per agent of env.agents: "
-                              f"{', '.join(self.agents)})")
+            raise ActionError(
+                f"actions: {'; '.join(wrong)} (one action per agent of env.agents: {', '.join(self.agents)})"
+            )
         return {a: checked_action(actions[a], self.action_space(a), f"actions[{a!r}]") for a in self.agents}
 
     def render(self):

@@ -23,16 +23,17 @@ class Formulation:
     name: ClassVar[str]
     kind: ClassVar[str]
     default_backend: ClassVar[str]
-    exact: ClassVar[frozenset[str]]     # the constraint families (evaluator names) it keeps exactly
-    per_robot: ClassVar[bool] = False   # one QP per robot (``distributed``), not one for the team
-    objectives: ClassVar[tuple[str, ...]] = OBJECTIVES     # the capture objectives it poses
+    exact: ClassVar[frozenset[str]]  # the constraint families (evaluator names) it keeps exactly
+    per_robot: ClassVar[bool] = False  # one QP per robot (``distributed``), not one for the team
+    objectives: ClassVar[tuple[str, ...]] = OBJECTIVES  # the capture objectives it poses
 
     def prepare(self, structure: Structure) -> None:
         """Build (once, cached) the symbolic functions for ``structure``; timed as set-up."""
         raise NotImplementedError
 
-    def solve(self, problem: CaptureProblem, backend: SolvesData, warm_plan: np.ndarray | None,
-              duals: WarmStart | None) -> Solution:
+    def solve(
+        self, problem: CaptureProblem, backend: SolvesData, warm_plan: np.ndarray | None, duals: WarmStart | None
+    ) -> Solution:
         """Solve ``problem`` on ``backend``; the :class:`Solution` carries ``plan`` (N, n, 2)."""
         raise NotImplementedError
 

@@ -13,17 +13,32 @@ from functools import cached_property, lru_cache
 import casadi as ca
 import numpy as np
 
-from mpc_hunt.formulations.field import norm, obstacle_repulsion, repulsion, saturate
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.structure import Structure
+from mpc_hunt.formulations.field import norm, obstacle_repulsion, repulsion, saturate
 
-SCALARS = ("perception_radius", "eta", "k_d", "k_o", "attacker_max_speed", "protective_distance",
-           "safety_distance", "min_separation", "min_attacker_distance", "ring_radius", "time_step",
-           "hunt_radius", "w_force", "w_ring", "w_move", "w_equal")
+SCALARS = (
+    "perception_radius",
+    "eta",
+    "k_d",
+    "k_o",
+    "attacker_max_speed",
+    "protective_distance",
+    "safety_distance",
+    "min_separation",
+    "min_attacker_distance",
+    "ring_radius",
+    "time_step",
+    "hunt_radius",
+    "w_force",
+    "w_ring",
+    "w_move",
+    "w_equal",
+)
 
 
 ENCLOSE_SCALARS = ("w_attacker", "w_edge", "edge_margin")
-FAR = 1e9    # m: the arena's edges when a scenario has none (no edge term, no bound)
+FAR = 1e9  # m: the arena's edges when a scenario has none (no edge term, no bound)
 
 
 def reference_size(nc: int) -> int:
@@ -50,8 +65,16 @@ def _layout(structure: Structure, steps: int | None = None) -> list[tuple[str, i
     scale) and the rest of the team's push on the attacker now (``pushed``)."""
     nc, nf, m = structure.planned, structure.fixed, structure.obstacles
     steps = structure.reference_steps if steps is None else steps
-    layout = [("attacker", 2), ("controlled", 2 * nc), ("held", 0 if structure.robot else 2 * nf), ("desired", 2),
-              ("nominal", 2), ("centres", 2 * m), ("radii", m), ("step_limits", nc)] + [(s, 1) for s in SCALARS]
+    layout = [
+        ("attacker", 2),
+        ("controlled", 2 * nc),
+        ("held", 0 if structure.robot else 2 * nf),
+        ("desired", 2),
+        ("nominal", 2),
+        ("centres", 2 * m),
+        ("radii", m),
+        ("step_limits", nc),
+    ] + [(s, 1) for s in SCALARS]
     if structure.objective == "enclose":
         layout += [("arena", 4)] + [(s, 1) for s in ENCLOSE_SCALARS]
         if structure.robot:
@@ -64,7 +87,7 @@ def unpack(theta, structure: Structure, steps: int | None = None) -> dict:
     """The named parts of θ (symbols or numbers), in the order of :func:`_layout`."""
     out, offset = {}, 0
     for name, size in _layout(structure, steps):
-        out[name] = theta[offset:offset + size]
+        out[name] = theta[offset : offset + size]
         offset += size
     return out
 
@@ -76,18 +99,18 @@ def parameter_size(structure: Structure, steps: int | None = None) -> int:
 def step_reference(p: dict, k: int, structure: Structure):
     """Step k's reference (k = 0..steps−1) from unpacked θ: (places (nc·2), attacker (2), weight)."""
     nc = structure.planned
-    ref = p["reference"][k * step_size(structure):]
-    return ref[:2 * nc], ref[2 * nc:2 * nc + 2], ref[2 * nc + 2]
+    ref = p["reference"][k * step_size(structure) :]
+    return ref[: 2 * nc], ref[2 * nc : 2 * nc + 2], ref[2 * nc + 2]
 
 
 def team_step(p: dict, structure: Structure) -> dict:
     """A robot's team terms of its stage (θ of one stage, :data:`TEAM_STEP`): ``slots`` (K·2), ``pushed`` (2),
     ``push_jacobian`` (2×2), ``push_attacker`` (2)."""
     offset = reference_size(structure.planned)
-    out = {"slots": p["reference"][offset:offset + 2 * structure.fixed]}
+    out = {"slots": p["reference"][offset : offset + 2 * structure.fixed]}
     offset += 2 * structure.fixed
     for name, size in TEAM_STEP:
-        out[name] = p["reference"][offset:offset + size]
+        out[name] = p["reference"][offset : offset + size]
         offset += size
     out["push_jacobian"] = ca.reshape(out["push_jacobian"], 2, 2)
     return out
@@ -105,10 +128,10 @@ def stage_parameters(theta, structure: Structure, k: int):
         return theta
     common = parameter_size(structure, 0)
     size = step_size(structure)
-    step = theta[common + (max(k, 1) - 1) * size:common + max(k, 1) * size]
+    step = theta[common + (max(k, 1) - 1) * size : common + max(k, 1) * size]
     if k == 0 and structure.robot:
         p = unpack(theta, structure)
-        step = ca.vertcat(step[:size - 8], p["pushed"], ca.DM.zeros(4), p["attacker"])
+        step = ca.vertcat(step[: size - 8], p["pushed"], ca.DM.zeros(4), p["attacker"])
     return ca.vertcat(theta[:common], step, theta[-1])
 
 
@@ -144,20 +167,37 @@ class ParameterWriter:
         self._scalars = slice(at[SCALARS[0]].start, at["hunt_radius"].stop)
         self._weights = slice(at["w_force"].start, at["w_equal"].stop)
         self._enclose = slice(at["arena"].start, at[ENCLOSE_SCALARS[-1]].stop) if "arena" in at else None
-        self._fixed: tuple = (None, ())    # (a scenario, its numbers): read and replaced whole
+        self._fixed: tuple = (None, ())  # (a scenario, its numbers): read and replaced whole
 
     def _scenario_numbers(self, problem: CaptureProblem) -> tuple:
         """(nominal velocity and obstacles, the scenario's scalars, every defender's step limit, the arena)."""
         s = problem.scenario
         scenario, numbers = self._fixed
-        if s is not scenario:               # a scenario is frozen: its numbers are too
+        if s is not scenario:  # a scenario is frozen: its numbers are too
             hunt = s.hunt
-            run = np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in
-                                  (problem.nominal_velocity, s.obstacle_centres, s.obstacle_radii)])
-            scalars = np.array([s.attacker.perception_radius, hunt.eta, hunt.k_d, hunt.k_o, s.attacker.max_speed,
-                                hunt.protective_distance, hunt.safety_distance, hunt.min_separation,
-                                hunt.min_attacker_distance, problem.ring_radius, hunt.time_step, hunt.hunt_radius],
-                               dtype=float)
+            run = np.concatenate(
+                [
+                    np.ravel(np.asarray(v, dtype=float))
+                    for v in (problem.nominal_velocity, s.obstacle_centres, s.obstacle_radii)
+                ]
+            )
+            scalars = np.array(
+                [
+                    s.attacker.perception_radius,
+                    hunt.eta,
+                    hunt.k_d,
+                    hunt.k_o,
+                    s.attacker.max_speed,
+                    hunt.protective_distance,
+                    hunt.safety_distance,
+                    hunt.min_separation,
+                    hunt.min_attacker_distance,
+                    problem.ring_radius,
+                    hunt.time_step,
+                    hunt.hunt_radius,
+                ],
+                dtype=float,
+            )
             arena = s.arena if s.arena is not None else (-FAR, -FAR, FAR, FAR)
             numbers = (run, scalars, np.asarray(problem.step_limits, dtype=float), tuple(arena))
             self._fixed = (s, numbers)
@@ -175,7 +215,7 @@ class ParameterWriter:
             theta[at["controlled"]] = p_d[c].reshape(-1)
             theta[at["held"]] = p_d[~c].reshape(-1)
             theta[at["step_limits"]] = step_limits[c]
-        else:                               # every defender controlled
+        else:  # every defender controlled
             theta[at["controlled"]] = p_d.reshape(-1)
             theta[at["step_limits"]] = step_limits
         theta[at["desired"]] = problem.desired_velocity
@@ -188,8 +228,8 @@ class ParameterWriter:
             nc, N = structure.planned, structure.horizon
             steps = theta[at["reference"]].reshape(N, reference_size(nc))
             places = ref.defenders[:, c] if structure.fixed else ref.defenders
-            steps[:, :2 * nc] = places.reshape(N, -1)
-            steps[:, 2 * nc:2 * nc + 2] = ref.attacker
+            steps[:, : 2 * nc] = places.reshape(N, -1)
+            steps[:, 2 * nc : 2 * nc + 2] = ref.attacker
             steps[:, 2 * nc + 2] = ref.slot_weight
         else:
             w = problem.weights
@@ -216,12 +256,16 @@ def enclose_residuals(p: dict, attacker, defenders: list, places, attacker_place
     reads the team's from θ, so that its objective is the team's with the others held).
     """
     length = p["length"] if "length" in p else ca.sum1(p["step_limits"]) / p["step_limits"].shape[0]
-    out = [ca.sqrt(weight) * (d - places[2 * i:2 * i + 2]) / length for i, d in enumerate(defenders)]
+    out = [ca.sqrt(weight) * (d - places[2 * i : 2 * i + 2]) / length for i, d in enumerate(defenders)]
     out.append(ca.sqrt(p["w_attacker"]) * (attacker - attacker_place) / length)
     x_min, y_min, x_max, y_max = (p["arena"][j] for j in range(4))
     margin = p["edge_margin"]
-    beyond = ca.vertcat(x_min + margin - attacker[0], y_min + margin - attacker[1],
-                        attacker[0] - x_max + margin, attacker[1] - y_max + margin)
+    beyond = ca.vertcat(
+        x_min + margin - attacker[0],
+        y_min + margin - attacker[1],
+        attacker[0] - x_max + margin,
+        attacker[1] - y_max + margin,
+    )
     out.append(ca.sqrt(p["w_edge"]) * ca.fmax(beyond, 0) / length)
     return out
 
@@ -241,13 +285,13 @@ class CaptureModel:
     def defender(self, k: int, i: int):
         """p_di at step k+1 (k = 0..N−1) for controlled defender i."""
         start = (k * self.nc + i) * 2
-        return self.X[start:start + 2]
+        return self.X[start : start + 2]
 
     def previous(self, k: int, i: int):
-        return self.p["controlled"][2 * i:2 * i + 2] if k == 0 else self.defender(k - 1, i)
+        return self.p["controlled"][2 * i : 2 * i + 2] if k == 0 else self.defender(k - 1, i)
 
     def held(self, j: int):
-        return self.p["held"][2 * j:2 * j + 2]
+        return self.p["held"][2 * j : 2 * j + 2]
 
     def _resultant(self, p_a, defenders):
         p = self.p
@@ -256,15 +300,15 @@ class CaptureModel:
             force = force + p["k_d"] * repulsion(p_a - d, p["perception_radius"], p["eta"])
         for o in range(self.m):
             force = force + p["k_o"] * obstacle_repulsion(
-                p_a, p["centres"][2 * o:2 * o + 2], p["radii"][o], p["protective_distance"], p["eta"])
+                p_a, p["centres"][2 * o : 2 * o + 2], p["radii"][o], p["protective_distance"], p["eta"]
+            )
         return force
 
     def _build(self) -> None:
         p, nc, N = self.p, self.nc, self.N
         held = [self.held(j) for j in range(self.nf)]
-        start = [p["controlled"][2 * i:2 * i + 2] for i in range(nc)] + held
-        p_a = p["attacker"] + p["time_step"] * saturate(self._resultant(p["attacker"], start),
-                                                        p["attacker_max_speed"])
+        start = [p["controlled"][2 * i : 2 * i + 2] for i in range(nc)] + held
+        p_a = p["attacker"] + p["time_step"] * saturate(self._resultant(p["attacker"], start), p["attacker_max_speed"])
         residuals, attacker, sq_dist = [], [], []
         for k in range(N):
             team = [self.defender(k, i) for i in range(nc)] + held
@@ -276,15 +320,16 @@ class CaptureModel:
                 residuals.append(ca.sqrt(p["w_force"]) * (p["desired"] - force) / p["attacker_max_speed"])
             for i in range(nc):
                 r = self.defender(k, i) - p_a
-                sq_dist.append(ca.dot(r, r) if self.objective == "paper" else ca.SX.zeros(1, 1))   # enclose: no Eq. 14
+                sq_dist.append(ca.dot(r, r) if self.objective == "paper" else ca.SX.zeros(1, 1))  # enclose: no Eq. 14
                 if self.objective != "enclose":
                     residuals.append(ca.sqrt(p["w_ring"]) * (norm(r) - p["ring_radius"]) / p["hunt_radius"])
-                residuals.append(ca.sqrt(p["w_move"]) * (self.defender(k, i) - self.previous(k, i))
-                                 / p["step_limits"][i])
+                residuals.append(
+                    ca.sqrt(p["w_move"]) * (self.defender(k, i) - self.previous(k, i)) / p["step_limits"][i]
+                )
             p_a = p_a + p["time_step"] * saturate(force, p["attacker_max_speed"])
         self.residual = ca.vertcat(*residuals)
-        self.attacker = ca.vertcat(*attacker)          # (2N,): attacker at steps 1..N
-        self.squared_distance = ca.vertcat(*sq_dist)   # (N·nc,): |r_ai,k|², Eq. 14
+        self.attacker = ca.vertcat(*attacker)  # (2N,): attacker at steps 1..N
+        self.squared_distance = ca.vertcat(*sq_dist)  # (N·nc,): |r_ai,k|², Eq. 14
 
     @cached_property
     def squared_distance_function(self) -> ca.Function:

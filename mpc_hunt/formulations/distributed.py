@@ -38,13 +38,13 @@ from typing import Callable
 
 import numpy as np
 
+from mpc_hunt.capture.problem import CaptureProblem
+from mpc_hunt.capture.solution import Solution, Status
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.base import Formulation
 from mpc_hunt.formulations.rti import RTIFormulation, linearised_stages
 from mpc_hunt.formulations.team import Team, robot_structure
 from mpc_hunt.formulations.team_push import team_push
-from mpc_hunt.capture.problem import CaptureProblem
-from mpc_hunt.capture.solution import Solution, Status
-from mpc_hunt.capture.structure import Structure
 
 SCHEMES = ("jacobi", "gauss-seidel")
 MAX_ROUNDS = 100
@@ -84,15 +84,19 @@ class Rounds:
     message: str = ""
     iterations: int = 0
     qps: int = 0
-    failed: int = 0                                       # robot QPs that failed (their robots kept their reference)
-    robot_times: list = field(default_factory=list)      # s, each robot QP's inputs and solve, in order
+    failed: int = 0  # robot QPs that failed (their robots kept their reference)
+    robot_times: list = field(default_factory=list)  # s, each robot QP's inputs and solve, in order
     unseen_neighbours: int = 0
 
     def extras(self, rounds: int) -> dict:
         times = np.array(self.robot_times)
-        return {"qps": self.qps, "rounds": rounds, "failed_robot_qps": self.failed,
-                "robot_time_max": float(times.max()) if times.size else 0.0,
-                "unseen_neighbours": self.unseen_neighbours}
+        return {
+            "qps": self.qps,
+            "rounds": rounds,
+            "failed_robot_qps": self.failed,
+            "robot_time_max": float(times.max()) if times.size else 0.0,
+            "unseen_neighbours": self.unseen_neighbours,
+        }
 
 
 # (robot, θ, reference) → (status, plan (N·2) or None, iterations, message)
@@ -110,7 +114,7 @@ class DistributedFormulation(Formulation):
     exact = RTIFormulation.exact
     smoothing = RTIFormulation.smoothing
     per_robot = True
-    objectives = ("enclose",)     # the paper's objective plans only defenders within R_agg: nothing to distribute
+    objectives = ("enclose",)  # the paper's objective plans only defenders within R_agg: nothing to distribute
 
     def __init__(self, rounds: int = 1, scheme: str = "jacobi"):
         if isinstance(rounds, bool) or not isinstance(rounds, int) or not 1 <= rounds <= MAX_ROUNDS:
@@ -177,5 +181,12 @@ class DistributedFormulation(Formulation):
 
         out = self.run(team, start.reshape(problem.horizon, -1, 2), solve_robot)
         x = out.plans.reshape(-1)
-        return Solution(status=out.status, message=out.message, x=x, plan=problem.plan_from_x(x),
-                        iterations=out.iterations, extras=out.extras(self.rounds), **times)
+        return Solution(
+            status=out.status,
+            message=out.message,
+            x=x,
+            plan=problem.plan_from_x(x),
+            iterations=out.iterations,
+            extras=out.extras(self.rounds),
+            **times,
+        )

@@ -30,7 +30,7 @@ _TINY = 1e-18
 def ramp(z, w):
     """C² approximation of max(z, 0): (z + w)³ (3w − z) / (16 w³) on |z| < w, exact outside; w = 0 is exact."""
     width = ca.fmax(w, 1e-12)
-    blend = (z + width) ** 3 * (3 * width - z) / (16 * width ** 3)
+    blend = (z + width) ** 3 * (3 * width - z) / (16 * width**3)
     return ca.if_else(z >= width, z, ca.if_else(z <= -width, 0, blend))
 
 

@@ -26,13 +26,13 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+from mpc_hunt.capture.data import NLPData
+from mpc_hunt.capture.solution import Solution, WarmStart
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.base import Formulation
 from mpc_hunt.formulations.capture_model import parameter_size, parameter_vector, stage_parameters, unpack
 from mpc_hunt.formulations.nlp import RELAXABLE, arena_bounds
 from mpc_hunt.formulations.stage_model import SMOOTHING, stage_model
-from mpc_hunt.capture.data import NLPData
-from mpc_hunt.capture.solution import Solution, WarmStart
-from mpc_hunt.capture.structure import Structure
 
 
 class StagedNLP:
@@ -43,12 +43,12 @@ class StagedNLP:
         sm = stage_model(structure)
         theta = ca.SX.sym("theta", parameter_size(structure) + 1)
 
-        def stage(k):                           # θ of stage k ≥ 1 (its own step of the reference)
+        def stage(k):  # θ of stage k ≥ 1 (its own step of the reference)
             return stage_parameters(theta, structure, max(k, 1))
 
         p = unpack(theta, structure)
-        D = ca.SX.sym("D", N * 2 * nc)          # the controlled defenders' plan, steps 1..N
-        x = x_guess = ca.vertcat(p["attacker"], p["controlled"])   # x_0: the state, a parameter
+        D = ca.SX.sym("D", N * 2 * nc)  # the controlled defenders' plan, steps 1..N
+        x = x_guess = ca.vertcat(p["attacker"], p["controlled"])  # x_0: the state, a parameter
         # The first move of the attacker follows from the state alone: the paper's field, unsmoothed.
         exact = ca.vertcat(stage(1)[:-1], 0)
         # Rows in units of one step (Eq. 13 per r_d², distances per r̄_d): IPOPT's tolerances and bound
@@ -60,37 +60,46 @@ class StagedNLP:
 
         def rows(expr, lower, upper, relaxable):
             g.append(expr)
-            lbg.extend(np.broadcast_to(lower, expr.shape[0])); ubg.extend(np.broadcast_to(upper, expr.shape[0]))
+            lbg.extend(np.broadcast_to(lower, expr.shape[0]))
+            ubg.extend(np.broadcast_to(upper, expr.shape[0]))
             relax.extend(np.broadcast_to(relaxable, expr.shape[0]))
 
         for k in range(N + 1):
             u, u_guess, u_kinds = [], [], []
             if k < N:
                 du = ca.SX.sym(f"du{k}", sm.nu)
-                u.append(du); u_guess.append(D[sm.nu * k:sm.nu * (k + 1)] - x_guess[2:]); u_kinds += ["move"] * sm.nu
+                u.append(du)
+                u_guess.append(D[sm.nu * k : sm.nu * (k + 1)] - x_guess[2:])
+                u_kinds += ["move"] * sm.nu
             if k > 0:
                 q, s = ca.SX.sym(f"q{k}"), ca.SX.sym(f"s{k}", nc)
                 sq_guess = sm.squared_distance(x_guess)
                 q_guess = ca.sum1(sq_guess) / nc
-                u += [q, s]; u_guess += [q_guess, ca.fabs(sq_guess - q_guess)]; u_kinds += ["q"] + ["s"] * nc
-            w.append(ca.vertcat(*u)); guess.append(ca.vertcat(*u_guess)); kinds.append(np.array(u_kinds, dtype=object))
+                u += [q, s]
+                u_guess += [q_guess, ca.fabs(sq_guess - q_guess)]
+                u_kinds += ["q"] + ["s"] * nc
+            w.append(ca.vertcat(*u))
+            guess.append(ca.vertcat(*u_guess))
+            kinds.append(np.array(u_kinds, dtype=object))
             if k < N:
                 x_next = ca.SX.sym(f"x{k + 1}", sm.nx)
                 rows(x_next - sm.dynamics(x, du, exact if k == 0 else stage(k)), 0.0, 0.0, False)
                 steps, limits = sm.motion(du, stage(k))
-                rows(steps / limits - 1, -np.inf, 0.0, False)                        # Eq. 13, per r_d²
+                rows(steps / limits - 1, -np.inf, 0.0, False)  # Eq. 13, per r_d²
                 f += ca.sumsqr(sm.move(du, stage(k)))
             if k > 0:
                 values, lower = sm.path(x, stage(k))
                 rows((values - lower) / length, 0.0, np.inf, np.array([fam in RELAXABLE for fam in sm.families]))
-                gap = sm.squared_distance(x) - q                                     # Eq. 14, exact L1
+                gap = sm.squared_distance(x) - q  # Eq. 14, exact L1
                 rows(gap - s, -np.inf, 0.0, False)
                 rows(gap + s, 0.0, np.inf, False)
                 f += ca.sumsqr(sm.residual(x, stage(k))) + p["w_equal"] * ca.sum1(s) / p["hunt_radius"] ** 2
             if k < N:
                 x_guess = sm.dynamics(x_guess, u_guess[0], exact if k == 0 else stage(k))
                 x = x_next
-                w.append(x); guess.append(x_guess); kinds.append(np.full(sm.nx, "state", dtype=object))
+                w.append(x)
+                guess.append(x_guess)
+                kinds.append(np.full(sm.nx, "state", dtype=object))
         w, g = ca.vertcat(*w), ca.vertcat(*g)
         self.problem = {"x": w, "p": theta, "f": f, "g": g}
         self.nc = nc
@@ -98,7 +107,7 @@ class StagedNLP:
         kinds = np.concatenate(kinds)
         self.slack = kinds == "s"
         state = np.flatnonzero(kinds == "state")
-        self.plan_index = state.reshape(N, sm.nx)[:, 2:].ravel()     # p_d,k for k = 1..N
+        self.plan_index = state.reshape(N, sm.nx)[:, 2:].ravel()  # p_d,k for k = 1..N
         guess = ca.vertcat(*guess)
         held = ca.repmat(p["controlled"], N, 1)
         at_held = ca.substitute(g, w, ca.substitute(guess, D, held))
@@ -143,8 +152,9 @@ class MSNLPFormulation(Formulation):
         lbx[nlp.plan_index] = np.tile(low, problem.horizon * nlp.nc)
         ubx[nlp.plan_index] = np.tile(high, problem.horizon * nlp.nc)
         data = NLPData(("ms-nlp", problem.structure), lambda: nlp.problem, theta, lbx, ubx, lbg, nlp.ubg, self.kind)
-        result = backend.solve(data, WarmStart(w0, None if duals is None else duals.y,
-                                                None if duals is None else duals.z))
+        result = backend.solve(
+            data, WarmStart(w0, None if duals is None else duals.y, None if duals is None else duals.z)
+        )
         if result.x is None:
             return result
         plan = problem.held_plan().copy()

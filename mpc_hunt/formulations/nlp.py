@@ -16,13 +16,13 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
-from mpc_hunt.formulations.base import Formulation, separation_pairs
-from mpc_hunt.formulations.capture_model import capture_model, decision_point, parameter_vector
 from mpc_hunt.capture.data import NLPData
-from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
+from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
 from mpc_hunt.capture.structure import Structure
+from mpc_hunt.formulations.base import Formulation, separation_pairs
+from mpc_hunt.formulations.capture_model import capture_model, decision_point, parameter_vector
 
 
 def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[str]]:
@@ -31,16 +31,19 @@ def nonlinear_constraints(model) -> tuple[ca.SX, list[float], list[float], list[
     g, lo, hi, family = [], [], [], []
 
     def add(expr, lower, upper, name):
-        g.append(expr); lo.append(lower); hi.append(upper); family.append(name)
+        g.append(expr)
+        lo.append(lower)
+        hi.append(upper)
+        family.append(name)
 
     for k in range(N):
-        a = model.attacker[2 * k:2 * k + 2]
+        a = model.attacker[2 * k : 2 * k + 2]
         for i in range(nc):
             x = model.defender(k, i)
             step = x - model.previous(k, i)
             add(ca.dot(step, step) - p["step_limits"][i] ** 2, -ca.inf, 0.0, "motion_limit")
             for o in range(m):
-                v = x - p["centres"][2 * o:2 * o + 2]
+                v = x - p["centres"][2 * o : 2 * o + 2]
                 add(ca.dot(v, v) - (p["radii"][o] + p["safety_distance"]) ** 2, 0.0, ca.inf, "obstacle_safety")
             r = x - a
             add(ca.dot(r, r) - p["min_attacker_distance"] ** 2, 0.0, ca.inf, "attacker_distance")
@@ -72,8 +75,13 @@ def constraint_set(structure: Structure):
     model = capture_model(structure)
     g, lo, hi, family = nonlinear_constraints(model)
     relax = np.array([f in RELAXABLE for f in family], dtype=bool)
-    return g, np.array(lo, dtype=float), np.array(hi, dtype=float), relax, \
-        ca.Function("constraints", [model.X, model.theta], [g])
+    return (
+        g,
+        np.array(lo, dtype=float),
+        np.array(hi, dtype=float),
+        relax,
+        ca.Function("constraints", [model.X, model.theta], [g]),
+    )
 
 
 def relaxed_lower_bounds(lower: np.ndarray, relax: np.ndarray, held_values: np.ndarray) -> np.ndarray:
@@ -131,8 +139,10 @@ class NLPFormulation(Formulation):
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         data = self.data(problem)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
-        warm = WarmStart(decision_point(problem, problem.x_from_plan(plan0), data.p),
-                         None if duals is None else duals.y, None if duals is None else duals.z)
+        warm = WarmStart(
+            decision_point(problem, problem.x_from_plan(plan0), data.p),
+            None if duals is None else duals.y,
+            None if duals is None else duals.z,
+        )
         result = backend.solve(data, warm)
         return replace(result, plan=None if result.x is None else problem.plan_from_x(result.x))
-

@@ -20,13 +20,13 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-from mpc_hunt.formulations.base import Formulation, separation_pairs
-from mpc_hunt.formulations.capture_model import capture_model, decision_point, parameter_vector
-from mpc_hunt.formulations.field import unit
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
 from mpc_hunt.capture.structure import Structure
+from mpc_hunt.formulations.base import Formulation, separation_pairs
+from mpc_hunt.formulations.capture_model import capture_model, decision_point, parameter_vector
+from mpc_hunt.formulations.field import unit
 
 POLYGON_SIDES = 8
 TRUST_REGION = 2.0  # in units of r_d
@@ -41,7 +41,7 @@ class LinearisedCapture:
         X, theta = model.X, model.theta
         nX = N * nc * 2
         Xref = ca.SX.sym("Xref", nX)
-        delta = ca.SX.sym("delta", nX)     # the decision is the step from the reference: X = X̄ + δ
+        delta = ca.SX.sym("delta", nX)  # the decision is the step from the reference: X = X̄ + δ
         q, s = ca.SX.sym("q", N), ca.SX.sym("s", N * nc)
         x = ca.vertcat(delta, q, s)
 
@@ -62,13 +62,16 @@ class LinearisedCapture:
         rows, lo, hi, relax, family, self.cones = [], [], [], [], [], []
 
         def add(expr, lower, upper, name, relaxable=False):
-            rows.append(expr); lo.append(lower); hi.append(upper)
-            relax.extend([relaxable] * expr.shape[0]); family.extend([name] * expr.shape[0])
+            rows.append(expr)
+            lo.append(lower)
+            hi.append(upper)
+            relax.extend([relaxable] * expr.shape[0])
+            family.extend([name] * expr.shape[0])
 
         step_limits = ca.vertcat(*[ca.repmat(p["step_limits"][i], 2, 1) for i in range(nc)])
         region = TRUST_REGION * ca.repmat(step_limits, N, 1)
         low, high = -region, region
-        if model.objective == "enclose":     # the arena bounds every plan (never worse than the reference)
+        if model.objective == "enclose":  # the arena bounds every plan (never worse than the reference)
             low = ca.fmax(low, ca.fmin(ca.repmat(p["arena"][:2], N * nc, 1) - Xref, 0))
             high = ca.fmin(high, ca.fmax(ca.repmat(p["arena"][2:], N * nc, 1) - Xref, 0))
         add(X - Xref, low, high, "trust_region")
@@ -78,29 +81,47 @@ class LinearisedCapture:
         add(s, ca.SX.zeros(N * nc), ca.inf * ca.SX.ones(N * nc), "equal_distance")
         n_rows = nX + N * nc
         for k in range(N):
-            a_k, a_ref_k = a_lin[2 * k:2 * k + 2], a_ref[2 * k:2 * k + 2]
+            a_k, a_ref_k = a_lin[2 * k : 2 * k + 2], a_ref[2 * k : 2 * k + 2]
             for i in range(nc):
-                xi, xi_ref = model.defender(k, i), Xref[(k * nc + i) * 2:(k * nc + i) * 2 + 2]
+                xi, xi_ref = model.defender(k, i), Xref[(k * nc + i) * 2 : (k * nc + i) * 2 + 2]
                 step = xi - model.previous(k, i)
-                if exact_motion_cone:     # b − A x = (r_d, step) ∈ SOC
+                if exact_motion_cone:  # b − A x = (r_d, step) ∈ SOC
                     self.cones.append((n_rows, 3))
-                    add(ca.vertcat(0, -step), -ca.inf * ca.SX.ones(3), ca.vertcat(p["step_limits"][i], 0, 0),
-                        "motion_limit")
+                    add(
+                        ca.vertcat(0, -step),
+                        -ca.inf * ca.SX.ones(3),
+                        ca.vertcat(p["step_limits"][i], 0, 0),
+                        "motion_limit",
+                    )
                     n_rows += 3
                 else:
                     for j in range(POLYGON_SIDES):
                         angle = 2 * np.pi * j / POLYGON_SIDES
                         normal = ca.DM([np.cos(angle), np.sin(angle)])
-                        add(ca.dot(normal, step), -ca.inf, p["step_limits"][i] * np.cos(np.pi / POLYGON_SIDES),
-                            "motion_limit")
+                        add(
+                            ca.dot(normal, step),
+                            -ca.inf,
+                            p["step_limits"][i] * np.cos(np.pi / POLYGON_SIDES),
+                            "motion_limit",
+                        )
                         n_rows += 1
                 for o in range(m):
-                    centre = p["centres"][2 * o:2 * o + 2]
-                    add(ca.dot(unit(xi_ref - centre), xi - centre) - p["radii"][o] - p["safety_distance"],
-                        0.0, ca.inf, "obstacle_safety", True)
+                    centre = p["centres"][2 * o : 2 * o + 2]
+                    add(
+                        ca.dot(unit(xi_ref - centre), xi - centre) - p["radii"][o] - p["safety_distance"],
+                        0.0,
+                        ca.inf,
+                        "obstacle_safety",
+                        True,
+                    )
                     n_rows += 1
-                add(ca.dot(unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"], 0.0, ca.inf,
-                    "attacker_distance", True)
+                add(
+                    ca.dot(unit(xi_ref - a_ref_k), xi - a_k) - p["min_attacker_distance"],
+                    0.0,
+                    ca.inf,
+                    "attacker_distance",
+                    True,
+                )
                 r_ref = xi_ref - a_ref_k
                 d2 = ca.dot(r_ref, r_ref) + 2 * ca.dot(r_ref, (xi - xi_ref) - (a_k - a_ref_k))
                 add(d2 - q[k] - s[k * nc + i], -ca.inf, 0.0, "equal_distance")
@@ -109,15 +130,15 @@ class LinearisedCapture:
             for i, j in separation_pairs(nc, nf):
                 xi = model.defender(k, i)
                 xj = model.defender(k, j) if j < nc else model.held(j - nc)
-                xi_ref = Xref[(k * nc + i) * 2:(k * nc + i) * 2 + 2]
-                xj_ref = Xref[(k * nc + j) * 2:(k * nc + j) * 2 + 2] if j < nc else model.held(j - nc)
+                xi_ref = Xref[(k * nc + i) * 2 : (k * nc + i) * 2 + 2]
+                xj_ref = Xref[(k * nc + j) * 2 : (k * nc + j) * 2 + 2] if j < nc else model.held(j - nc)
                 add(ca.dot(unit(xi_ref - xj_ref), xi - xj) - p["min_separation"], 0.0, ca.inf, "separation", True)
                 n_rows += 1
         g = ca.substitute(ca.vertcat(*rows), X, Xref + delta)
         self.relax = np.array(relax, dtype=bool)
         self.family = np.array(family)  # each row's constraint family (evaluator names, or "trust_region")
-        self.implied = np.zeros(len(self.family), dtype=bool)     # rows the others imply: the s ≥ 0 rows
-        self.implied[nX:nX + N * nc] = True
+        self.implied = np.zeros(len(self.family), dtype=bool)  # rows the others imply: the s ≥ 0 rows
+        self.implied[nX : nX + N * nc] = True
         A = ca.jacobian(g, x)
         b0 = ca.substitute(g, x, ca.DM.zeros(x.shape))
         # Never worse than now (as nlp): a row that the held plan breaks is relaxed to the held plan's
@@ -126,22 +147,34 @@ class LinearisedCapture:
         at_held = ca.substitute(b0, Xref, ca.repmat(p["controlled"], N, 1))
         lower = ca.vertcat(*lo)
         lower = ca.if_else(ca.DM(self.relax), ca.fmin(lower, at_held), lower) - b0
-        self.function = ca.Function("capture_qp", [theta, Xref],
-                                    [ca.triu(P), qvec, A, lower, ca.vertcat(*hi) - b0, Jx, c, lin])
+        self.function = ca.Function(
+            "capture_qp", [theta, Xref], [ca.triu(P), qvec, A, lower, ca.vertcat(*hi) - b0, Jx, c, lin]
+        )
         self._patterns = [self.function.sparsity_out(i) for i in (0, 2)]
 
     @staticmethod
     def _csc(pattern: ca.Sparsity, values) -> sp.csc_matrix:
         colind, row = pattern.get_ccs()
-        return sp.csc_matrix((np.array(values.nonzeros()), np.array(row), np.array(colind)),
-                             shape=(pattern.size1(), pattern.size2()))
+        return sp.csc_matrix(
+            (np.array(values.nonzeros()), np.array(row), np.array(colind)), shape=(pattern.size1(), pattern.size2())
+        )
 
     def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray) -> QPData:
         """The QP at reference X̄ in x = (δ, q, s)."""
         P, q, A, l, u, J, c, lin = self.function(theta, Xref)
-        return QPData(key, self._csc(self._patterns[0], P), np.array(q).ravel(), self._csc(self._patterns[1], A),
-                      np.array(l).ravel(), np.array(u).ravel(),
-                      np.array(J), np.array(c).ravel(), np.array(lin).ravel(), tuple(self.cones), self.implied)
+        return QPData(
+            key,
+            self._csc(self._patterns[0], P),
+            np.array(q).ravel(),
+            self._csc(self._patterns[1], A),
+            np.array(l).ravel(),
+            np.array(u).ravel(),
+            np.array(J),
+            np.array(c).ravel(),
+            np.array(lin).ravel(),
+            tuple(self.cones),
+            self.implied,
+        )
 
 
 @lru_cache(maxsize=32)
@@ -162,22 +195,27 @@ class QPFormulation(Formulation):
     def prepare(self, structure: Structure) -> None:
         linearised_capture(structure, self.exact_motion_cone)
 
-    def solve_at(self, problem: CaptureProblem, backend, reference: np.ndarray, theta: np.ndarray,
-                 duals: WarmStart | None) -> Solution:
+    def solve_at(
+        self, problem: CaptureProblem, backend, reference: np.ndarray, theta: np.ndarray, duals: WarmStart | None
+    ) -> Solution:
         """Solve the QP linearised at the plan ``reference``; ``x`` and ``plan`` in absolute positions."""
         lin = linearised_capture(problem.structure, self.exact_motion_cone)
         Xref = problem.x_from_plan(reference)
         guess = decision_point(problem, Xref, theta)
-        guess[:len(Xref)] = 0.0
+        guess[: len(Xref)] = 0.0
         data = lin.data((self.name, problem.structure), theta, Xref)
         result = backend.solve(data, WarmStart(guess, None if duals is None else duals.y))
         if result.x is None:
             return result
         # Row sums, not BLAS: the reported objective's bits do not depend on the CPU (docs/robustness.md).
         residual = np.sum(data.J * result.x, axis=1) + data.c
-        x = np.concatenate([Xref + result.x[:len(Xref)], result.x[len(Xref):]])
-        return replace(result, x=x, plan=problem.plan_from_x(x),
-                       formulation_objective=float(np.sum(residual**2) + np.sum(data.lin * result.x)))
+        x = np.concatenate([Xref + result.x[: len(Xref)], result.x[len(Xref) :]])
+        return replace(
+            result,
+            x=x,
+            plan=problem.plan_from_x(x),
+            formulation_objective=float(np.sum(residual**2) + np.sum(data.lin * result.x)),
+        )
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         reference = problem.held_plan() if warm_plan is None else warm_plan

@@ -28,16 +28,17 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+from mpc_hunt.capture.data import StageQPData
+from mpc_hunt.capture.iteration import ONE_QP
+from mpc_hunt.capture.solution import Solution
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.base import Formulation
 from mpc_hunt.formulations.capture_model import parameter_size, parameter_writer, stage_parameters, unpack
 from mpc_hunt.formulations.nlp import RELAXABLE
 from mpc_hunt.formulations.qp import TRUST_REGION
 from mpc_hunt.formulations.stage_linearisation import stage_linearisation
 from mpc_hunt.formulations.stage_model import SMOOTHING, stage_model
-from mpc_hunt.capture.data import StageQPData
-from mpc_hunt.capture.iteration import ONE_QP
-from mpc_hunt.capture.solution import Solution
-from mpc_hunt.capture.structure import Structure
+
 
 def _place(block, left: int, total: int):
     """``block`` between ``left`` zero columns and enough zero columns to make ``total``."""
@@ -53,9 +54,9 @@ class LinearisedStages:
         st = stage_linearisation(structure)
         nx, nd, nu = st.nx, st.nd, st.nu
         theta = ca.SX.sym("theta", parameter_size(structure) + 1)
-        D = ca.SX.sym("D", N * nd)                                     # the reference plan, steps 1..N
+        D = ca.SX.sym("D", N * nd)  # the reference plan, steps 1..N
 
-        def stage(k):                                                  # θ of stage k (its own reference)
+        def stage(k):  # θ of stage k (its own reference)
             return stage_parameters(theta, structure, k)
 
         p = unpack(theta, structure)
@@ -69,26 +70,30 @@ class LinearisedStages:
         from_reference = ca.DM([f == "separation" for f in st.families])
         nz = (N + 1) * nx + N * nu
         x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []
-        constant = 0                                                   # |ε|² at the reference
+        constant = 0  # |ε|² at the reference
         x_ref.append(ca.vertcat(p["attacker"], p["controlled"]))
-        held = [x_ref[0]]                                              # the held plan: "never worse than now"
+        held = [x_ref[0]]  # the held plan: "never worse than now"
         for k in range(N + 1):
-            col = k * (nx + nu)                                        # where ξ_k starts in z
-            c_rows, c_lower, c_upper = [], [], []                      # c_k: the stage's rows
+            col = k * (nx + nu)  # where ξ_k starts in z
+            c_rows, c_lower, c_upper = [], [], []  # c_k: the stage's rows
             if k == 0:
-                hessian.append(ca.SX(nx, nx)); gradient.append(ca.SX(nx, 1))
-                lbz.append(ca.DM.zeros(nx)); ubz.append(ca.DM.zeros(nx))
+                hessian.append(ca.SX(nx, nx))
+                gradient.append(ca.SX(nx, 1))
+                lbz.append(ca.DM.zeros(nx))
+                ubz.append(ca.DM.zeros(nx))
             else:
                 r, J, c, C = st.state(x_ref[k], stage(k))
                 constant += ca.sumsqr(r)
-                hessian.append(2 * ca.mtimes(J.T, J)); gradient.append(2 * ca.mtimes(J.T, r))
+                hessian.append(2 * ca.mtimes(J.T, J))
+                gradient.append(2 * ca.mtimes(J.T, r))
                 low = high = TRUST_REGION * ca.DM.ones(nd)
                 low = -low
-                if objective == "enclose":     # the arena bounds every plan (never worse than the reference)
+                if objective == "enclose":  # the arena bounds every plan (never worse than the reference)
                     scale, here = S_x[2:], x_ref[k][2:]
                     low = ca.fmax(low, ca.fmin((ca.repmat(p["arena"][:2], nc, 1) - here) / scale, 0))
                     high = ca.fmin(high, ca.fmax((ca.repmat(p["arena"][2:], nc, 1) - here) / scale, 0))
-                lbz.append(ca.vertcat(-ca.inf, -ca.inf, low)); ubz.append(ca.vertcat(ca.inf, ca.inf, high))
+                lbz.append(ca.vertcat(-ca.inf, -ca.inf, low))
+                ubz.append(ca.vertcat(ca.inf, ca.inf, high))
                 # Path rows c + C ξ ≥ 0, those the held plan breaks relaxed to its values (as nlp): their inner
                 # approximation then keeps each true distance at least as large as holding would.
                 at_held = st.state(held[k], stage(k))[2]
@@ -98,31 +103,45 @@ class LinearisedStages:
                 c_lower.append(ca.if_else(relaxable, ca.fmin(at_held, 0), 0) - c)
                 c_upper.append(ca.DM.inf(c.shape[0]))
             if k < N:
-                u_ref = D[nd * k:nd * (k + 1)] - x_ref[k][2:]
+                u_ref = D[nd * k : nd * (k + 1)] - x_ref[k][2:]
                 # The attacker's first move follows from the state alone: the paper's field, unsmoothed.
-                move, M, nxt, G_x, G_u, c, C_x, C_u, penalty = st.control(x_ref[k], u_ref, exact if k == 0 else stage(k))
+                move, M, nxt, G_x, G_u, c, C_x, C_u, penalty = st.control(
+                    x_ref[k], u_ref, exact if k == 0 else stage(k)
+                )
                 constant += ca.sumsqr(move)
                 x_ref.append(nxt)
                 held.append(sm.dynamics(held[k], ca.DM.zeros(nd), exact if k == 0 else stage(k)))
-                hessian.append(2 * ca.mtimes(M.T, M)); gradient.append(2 * ca.mtimes(M.T, move) + penalty)
+                hessian.append(2 * ca.mtimes(M.T, M))
+                gradient.append(2 * ca.mtimes(M.T, move) + penalty)
                 lo, hi, lo_rows, hi_rows = st.control_bounds(u_ref, stage(k))
-                lbz.append(lo); ubz.append(hi)
+                lbz.append(lo)
+                ubz.append(hi)
                 # gap_k: ξ_k+1 + G_x ξ_k + G_u ν_k = 0 (the reference has no gaps)
                 rows.append(_place(ca.horzcat(G_x, G_u, ca.SX.eye(nx)), col, nz))
-                lower.append(ca.SX.zeros(nx)); upper.append(ca.SX.zeros(nx))
+                lower.append(ca.SX.zeros(nx))
+                upper.append(ca.SX.zeros(nx))
                 c_rows.append(_place(ca.horzcat(C_x, C_u), col, nz))
-                c_lower.append(lo_rows - c); c_upper.append(hi_rows - c)
-            rows += c_rows; lower += c_lower; upper += c_upper
+                c_lower.append(lo_rows - c)
+                c_upper.append(hi_rows - c)
+            rows += c_rows
+            lower += c_lower
+            upper += c_upper
             ng.append(sum(row.shape[0] for row in c_rows))
         self.inputs = [theta, D]
         self.z = ca.SX.sym("z", nz)
-        self.qp = {"h": ca.diagcat(*hessian), "g": ca.vertcat(*gradient), "a": ca.vertcat(*rows),
-                   "lba": ca.vertcat(*lower), "uba": ca.vertcat(*upper),
-                   "lbx": ca.vertcat(*lbz), "ubx": ca.vertcat(*ubz)}
-        xi = [self.z[k * (nx + nu):k * (nx + nu) + nx] for k in range(N + 1)]
+        self.qp = {
+            "h": ca.diagcat(*hessian),
+            "g": ca.vertcat(*gradient),
+            "a": ca.vertcat(*rows),
+            "lba": ca.vertcat(*lower),
+            "uba": ca.vertcat(*upper),
+            "lbx": ca.vertcat(*lbz),
+            "ubx": ca.vertcat(*ubz),
+        }
+        xi = [self.z[k * (nx + nu) : k * (nx + nu) + nx] for k in range(N + 1)]
         self.plan = ca.vertcat(*[x_ref[k][2:] + S_x[2:] * xi[k][2:] for k in range(1, N + 1)])
         h, g = self.qp["h"], self.qp["g"]
-        self.cost = constant + 0.5 * ca.bilin(h, self.z, self.z) + ca.dot(g, self.z)   # the model's objective
+        self.cost = constant + 0.5 * ca.bilin(h, self.z, self.z) + ca.dot(g, self.z)  # the model's objective
         self.stages = (N, [nx] * (N + 1), [nu] * N + [0], ng)
 
 
@@ -167,7 +186,8 @@ class RTIFormulation(Formulation):
         positions = problem.defender_positions[None] if warm_plan is None else np.asarray(warm_plan, dtype=float)
         structure = problem.structure
         reference.reshape(structure.horizon, structure.planned, 2)[...] = (
-            positions[:, problem.controlled] if structure.fixed else positions)
+            positions[:, problem.controlled] if structure.fixed else positions
+        )
 
     def parameter_parts(self, theta: np.ndarray, structure: Structure) -> dict[str, np.ndarray]:
         """θ's named parts (the parameter vector's layout, then ``smoothing``) as views of the array ``theta``."""

@@ -13,10 +13,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from mpc_hunt.formulations.capture_model import parameter_vector
-from mpc_hunt.formulations.qp import QPFormulation
 from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.solution import Solution, Status
+from mpc_hunt.formulations.capture_model import parameter_vector
+from mpc_hunt.formulations.qp import QPFormulation
 
 
 class SQPFormulation(QPFormulation):
@@ -27,9 +27,13 @@ class SQPFormulation(QPFormulation):
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
         theta = parameter_vector(problem)
-        return iterate(lambda reference, duals: self.solve_at(problem, backend, reference, theta, duals),
-                       problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration,
-                       getattr(backend, "time_limit", None))
+        return iterate(
+            lambda reference, duals: self.solve_at(problem, backend, reference, theta, duals),
+            problem.held_plan() if warm_plan is None else warm_plan,
+            duals,
+            self.iteration,
+            getattr(backend, "time_limit", None),
+        )
 
 
 def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_limit: float | None = None) -> Solution:
@@ -41,21 +45,29 @@ def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_lim
     last = None
     for count in range(iteration.max_qps):
         if last is not None and time_limit is not None and solver_time >= time_limit:
-            return replace(last, status=Status.TIME_LIMIT, message=f"{count} QPs in {solver_time:.3g} s: the "
-                                                                   f"{time_limit:g} s limit reached",
-                           solver_time=solver_time, setup_time=setup_time, iterations=iterations)
+            return replace(
+                last,
+                status=Status.TIME_LIMIT,
+                message=f"{count} QPs in {solver_time:.3g} s: the {time_limit:g} s limit reached",
+                solver_time=solver_time,
+                setup_time=setup_time,
+                iterations=iterations,
+            )
         result = step(reference, duals)
         solver_time += result.solver_time
         setup_time += result.setup_time
         iterations += result.iterations
         totals = dict(solver_time=solver_time, setup_time=setup_time, iterations=iterations)
         if not result.status.usable:
-            return replace(result, message=f"QP {count + 1}: {result.message}",
-                           x=None if last is None else last.x, plan=None if last is None else last.plan,
-                           formulation_objective=None if last is None else last.formulation_objective,
-                           **totals)
+            return replace(
+                result,
+                message=f"QP {count + 1}: {result.message}",
+                x=None if last is None else last.x,
+                plan=None if last is None else last.plan,
+                formulation_objective=None if last is None else last.formulation_objective,
+                **totals,
+            )
         if iteration.settled(np.max(np.abs(result.plan - reference))):
             return replace(result, message=f"converged after {count + 1} QPs", **totals)
         last, duals, reference = result, result.duals, result.plan
-    return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {iteration.max_qps} QPs",
-                   **totals)
+    return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {iteration.max_qps} QPs", **totals)

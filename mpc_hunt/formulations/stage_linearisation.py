@@ -22,12 +22,12 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.capture_model import unpack
 from mpc_hunt.formulations.stage_model import stage_model
-from mpc_hunt.capture.structure import Structure
 
-_DIAGONALS = ca.DM([[1.0, 1.0], [-1.0, 1.0]]) / np.sqrt(2.0)   # the octagon's diagonal normals
-_APOTHEM = np.cos(np.pi / 8)                                   # distance of its sides, per r_d
+_DIAGONALS = ca.DM([[1.0, 1.0], [-1.0, 1.0]]) / np.sqrt(2.0)  # the octagon's diagonal normals
+_APOTHEM = np.cos(np.pi / 8)  # distance of its sides, per r_d
 
 
 class StageLinearisation:
@@ -42,7 +42,7 @@ class StageLinearisation:
     def __init__(self, structure: Structure):
         nc = structure.planned
         sm = stage_model(structure)
-        eq14 = structure.objective == "paper"                  # Eq. 14's rows and slacks (module docstring)
+        eq14 = structure.objective == "paper"  # Eq. 14's rows and slacks (module docstring)
         self.nx, self.nd, self.nu = sm.nx, sm.nu, sm.nu + (1 + nc if eq14 else 0)
         self.families = sm.families
         theta = ca.SX.sym("theta", sm.dynamics.size1_in(2))
@@ -50,12 +50,12 @@ class StageLinearisation:
         reach = ca.vertcat(*[p["step_limits"][i] for i in range(nc) for _ in range(2)])
         attacker_reach = p["time_step"] * p["attacker_max_speed"]
         self.S_x = ca.Function("S_x", [theta], [ca.vertcat(attacker_reach, attacker_reach, reach)])
-        length = ca.sum1(p["step_limits"]) / nc                       # the rows' length scale, r̄_d
-        sigma = p["hunt_radius"] * length                             # Eq. 14's squared-distance scale
+        length = ca.sum1(p["step_limits"]) / nc  # the rows' length scale, r̄_d
+        sigma = p["hunt_radius"] * length  # Eq. 14's squared-distance scale
         S_x = self.S_x(theta)
         x_ref, u_ref = ca.SX.sym("x_ref", self.nx), ca.SX.sym("u_ref", self.nd)
         xi, nu = ca.SX.sym("xi", self.nx), ca.SX.sym("nu", self.nu)
-        x, u = x_ref + S_x * xi, u_ref + reach * nu[:self.nd]
+        x, u = x_ref + S_x * xi, u_ref + reach * nu[: self.nd]
 
         def at_zero(name, inputs, outputs):
             """Outputs evaluated at ξ = ν = 0, as a function of ``inputs``."""
@@ -69,27 +69,46 @@ class StageLinearisation:
 
         move = sm.move(u, theta)
         nxt = sm.dynamics(x, u, theta)
-        gap = -nxt / S_x                       # the row is ξ_k+1 + gap (+ x̄_k+1 / S_x): unit diagonal on ξ_k+1
+        gap = -nxt / S_x  # the row is ξ_k+1 + gap (+ x̄_k+1 / S_x): unit diagonal on ξ_k+1
         side = ca.vertcat(*[_APOTHEM * p["step_limits"][i] for i in range(nc) for _ in range(2)])
-        diagonals = ca.vertcat(*[ca.mtimes(_DIAGONALS, u[2 * i:2 * i + 2]) for i in range(nc)]) / length
+        diagonals = ca.vertcat(*[ca.mtimes(_DIAGONALS, u[2 * i : 2 * i + 2]) for i in range(nc)]) / length
         if eq14:
-            squared = sm.squared_distance(nxt)                                # Eq. 14 for step k+1
+            squared = sm.squared_distance(nxt)  # Eq. 14 for step k+1
             q = ca.sum1(squared) / nc + sigma * nu[self.nd]
-            s = sigma * nu[self.nd + 1:]
+            s = sigma * nu[self.nd + 1 :]
             rows = ca.vertcat(diagonals, (squared - q - s) / sigma, (squared - q + s) / sigma)
             penalty = p["w_equal"] * ca.sum1(s) / p["hunt_radius"] ** 2
         else:
             rows, penalty = diagonals, ca.SX(0)
-        self.control = at_zero("control", [x_ref, u_ref, theta], [
-            move, ca.jacobian(move, nu), nxt, ca.jacobian(gap, xi), ca.jacobian(gap, nu),
-            rows, ca.jacobian(rows, xi), ca.jacobian(rows, nu), ca.gradient(penalty, nu)])
+        self.control = at_zero(
+            "control",
+            [x_ref, u_ref, theta],
+            [
+                move,
+                ca.jacobian(move, nu),
+                nxt,
+                ca.jacobian(gap, xi),
+                ca.jacobian(gap, nu),
+                rows,
+                ca.jacobian(rows, xi),
+                ca.jacobian(rows, nu),
+                ca.gradient(penalty, nu),
+            ],
+        )
         inf = ca.DM.inf(nc)
         octagon = side / length
         low, high = -octagon * length / reach - u_ref / reach, octagon * length / reach - u_ref / reach
         if eq14:
-            self.control_bounds = ca.Function("control_bounds", [u_ref, theta], [
-                ca.vertcat(low, -ca.inf, ca.DM.zeros(nc)), ca.vertcat(high, ca.inf, inf),   # Eq. 13, axis sides
-                ca.vertcat(-octagon, -inf, ca.DM.zeros(nc)), ca.vertcat(octagon, ca.DM.zeros(nc), inf)])
+            self.control_bounds = ca.Function(
+                "control_bounds",
+                [u_ref, theta],
+                [
+                    ca.vertcat(low, -ca.inf, ca.DM.zeros(nc)),
+                    ca.vertcat(high, ca.inf, inf),  # Eq. 13, axis sides
+                    ca.vertcat(-octagon, -inf, ca.DM.zeros(nc)),
+                    ca.vertcat(octagon, ca.DM.zeros(nc), inf),
+                ],
+            )
         else:
             self.control_bounds = ca.Function("control_bounds", [u_ref, theta], [low, high, -octagon, octagon])
 

@@ -29,12 +29,12 @@ from functools import lru_cache
 
 import casadi as ca
 
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.base import separation_pairs
 from mpc_hunt.formulations.capture_model import enclose_residuals, parameter_size, step_reference, team_step, unpack
 from mpc_hunt.formulations.field import norm, obstacle_repulsion, repulsion, saturate
-from mpc_hunt.capture.structure import Structure
 
-SMOOTHING = 0.001   # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)
+SMOOTHING = 0.001  # m: half-width of the band around R_agg (and the obstacles' range) where H is rounded (E11)
 
 
 class StageModel:
@@ -45,7 +45,7 @@ class StageModel:
     """
 
     def __init__(self, structure: Structure):
-        structure = structure.stage                  # a stage's θ: its own step of the reference
+        structure = structure.stage  # a stage's θ: its own step of the reference
         nc, nf, m, objective = structure.planned, structure.fixed, structure.obstacles, structure.objective
         self.nc, self.nf, self.m, self.objective = nc, nf, m, objective
         self.nx, self.nu = 2 + 2 * nc, 2 * nc
@@ -54,21 +54,22 @@ class StageModel:
         w = theta[-1]
         x, u = ca.SX.sym("x", self.nx), ca.SX.sym("u", self.nu)
         a = x[:2]
-        defenders = [x[2 + 2 * i:4 + 2 * i] for i in range(nc)]
-        held = [p["held"][2 * j:2 * j + 2] for j in range(0 if structure.robot else nf)]
+        defenders = [x[2 + 2 * i : 4 + 2 * i] for i in range(nc)]
+        held = [p["held"][2 * j : 2 * j + 2] for j in range(0 if structure.robot else nf)]
 
         force = p["nominal"]
         pushers, separation = defenders + held, p["min_separation"]
         if structure.robot:
             team = team_step(p, structure)
-            held = [team["slots"][2 * j:2 * j + 2] for j in range(nf)]
+            held = [team["slots"][2 * j : 2 * j + 2] for j in range(nf)]
             pushers, separation = defenders, separation / 2
             force = force + team["pushed"] + ca.mtimes(team["push_jacobian"], a - team["push_attacker"])
         for d in pushers:
             force = force + p["k_d"] * repulsion(a - d, p["perception_radius"], p["eta"], w)
         for o in range(m):
-            force = force + p["k_o"] * obstacle_repulsion(a, p["centres"][2 * o:2 * o + 2], p["radii"][o],
-                                                          p["protective_distance"], p["eta"], w)
+            force = force + p["k_o"] * obstacle_repulsion(
+                a, p["centres"][2 * o : 2 * o + 2], p["radii"][o], p["protective_distance"], p["eta"], w
+            )
         step = p["time_step"] * saturate(force, p["attacker_max_speed"])
         self.dynamics = ca.Function("f", [x, u, theta], [ca.vertcat(a + step, x[2:] + u)])
 
@@ -91,17 +92,18 @@ class StageModel:
         rows, lower, self.families = [], [], []
         for d in defenders:
             for o in range(m):
-                rows.append(norm(d - p["centres"][2 * o:2 * o + 2]))
+                rows.append(norm(d - p["centres"][2 * o : 2 * o + 2]))
                 lower.append(p["radii"][o] + p["safety_distance"])
                 self.families.append("obstacle_safety")
-            rows.append(norm(d - a)); lower.append(p["min_attacker_distance"])
+            rows.append(norm(d - a))
+            lower.append(p["min_attacker_distance"])
             self.families.append("attacker_distance")
         for i, j in separation_pairs(nc, nf):
             rows.append(norm(defenders[i] - (defenders[j] if j < nc else held[j - nc])))
             lower.append(separation)
             self.families.append("separation")
         self.path = ca.Function("path", [x, theta], [ca.vertcat(*rows), ca.vertcat(*lower)])
-        steps = [ca.dot(u[2 * i:2 * i + 2], u[2 * i:2 * i + 2]) for i in range(nc)]
+        steps = [ca.dot(u[2 * i : 2 * i + 2], u[2 * i : 2 * i + 2]) for i in range(nc)]
         self.motion = ca.Function("motion", [u, theta], [ca.vertcat(*steps), p["step_limits"] ** 2])
 
 

@@ -10,9 +10,9 @@ each QP (|δp_d| ≤ 2 r_d round its reference) bounds every step.
 
 from __future__ import annotations
 
+from mpc_hunt.capture.solution import Solution
 from mpc_hunt.formulations.rti import RTIFormulation
 from mpc_hunt.formulations.sqp import SQPFormulation, iterate
-from mpc_hunt.capture.solution import Solution
 
 
 class StageSQPFormulation(RTIFormulation):
@@ -23,5 +23,10 @@ class StageSQPFormulation(RTIFormulation):
         def step(reference, duals):
             return RTIFormulation.solve(self, problem, backend, reference, duals)
 
-        return iterate(step, problem.held_plan() if warm_plan is None else warm_plan, duals, self.iteration,
-                       getattr(backend, "time_limit", None))
+        return iterate(
+            step,
+            problem.held_plan() if warm_plan is None else warm_plan,
+            duals,
+            self.iteration,
+            getattr(backend, "time_limit", None),
+        )

@@ -1,4 +1,5 @@
-"""A team's capture problem as its robots see it (the ``distributed`` formulation, :mod:`mpc_hunt.formulations.distributed`).
+"""A team's capture problem as its robots see it (the ``distributed`` formulation,
+:mod:`mpc_hunt.formulations.distributed`).
 
 The numbers the team shares at a state (the team's θ, each robot's places), the
 round's broadcast (:mod:`mpc_hunt.formulations.team_push`: the attacker's path under the
@@ -17,13 +18,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpc_hunt.formulations.capture_model import pack, parameter_size, parameter_vector, reference_size, step_size, unpack
-from mpc_hunt.formulations.qp import TRUST_REGION
-from mpc_hunt.formulations.team_push import team_push
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.structure import Structure
+from mpc_hunt.formulations.capture_model import (
+    pack,
+    parameter_size,
+    parameter_vector,
+    reference_size,
+    step_size,
+    unpack,
+)
+from mpc_hunt.formulations.qp import TRUST_REGION
+from mpc_hunt.formulations.team_push import team_push
 
-NEIGHBOURS = 8      # slots: 7 team-mates d_min apart fit within d_min + 2ρ of a robot at the paper's numbers
+NEIGHBOURS = 8  # slots: 7 team-mates d_min apart fit within d_min + 2ρ of a robot at the paper's numbers
 
 
 def robot_structure(team: Structure) -> Structure:
@@ -52,7 +60,7 @@ class Team:
         self.structure = problem.structure
         self.robot = robot_structure(self.structure)
         self.push = team_push(self.structure)
-        parts = unpack(np.arange(parameter_size(self.robot) + 1), self.robot)     # where each part sits in θ
+        parts = unpack(np.arange(parameter_size(self.robot) + 1), self.robot)  # where each part sits in θ
         self._at = {name: (int(v[0]), int(v[-1]) + 1) for name, v in parts.items() if len(v)}
         self.load(problem, smoothing)
 
@@ -67,11 +75,18 @@ class Team:
         self.step_limits = p["step_limits"]
         self.reach = p["min_separation"][0] + 2 * math.sqrt(2) * TRUST_REGION * self.step_limits
         steps = p["reference"].reshape(N, reference_size(nc))
-        self.places = steps[:, :2 * nc].reshape(N, nc, 2)
+        self.places = steps[:, : 2 * nc].reshape(N, nc, 2)
         reference = np.zeros((N, step_size(robot)))
-        reference[:, 2:5] = steps[:, 2 * nc:]                            # the attacker's reference, the weight
-        values = {**p, "controlled": np.zeros(2), "held": (), "step_limits": np.zeros(1),
-                  "length": self.step_limits.mean(), "pushed": np.zeros(2), "reference": reference}
+        reference[:, 2:5] = steps[:, 2 * nc :]  # the attacker's reference, the weight
+        values = {
+            **p,
+            "controlled": np.zeros(2),
+            "held": (),
+            "step_limits": np.zeros(1),
+            "length": self.step_limits.mean(),
+            "pushed": np.zeros(2),
+            "reference": reference,
+        }
         self.template = np.append(pack(values, robot), smoothing)
 
     def broadcast(self, plans: np.ndarray) -> Broadcast:
@@ -89,11 +104,11 @@ class Team:
         N, K = self.robot.horizon, self.robot.fixed
         theta = self.template.copy()
         at = self._at
-        theta[at["controlled"][0]:at["controlled"][1]] = self.controlled[i]
+        theta[at["controlled"][0] : at["controlled"][1]] = self.controlled[i]
         theta[at["step_limits"][0]] = self.step_limits[i]
-        pushed = broadcast.push - broadcast.pushes[:, i]                 # the others' push, steps 0..N−1
-        theta[at["pushed"][0]:at["pushed"][1]] = pushed[0]
-        steps = theta[at["reference"][0]:at["reference"][1]].reshape(N, -1)
+        pushed = broadcast.push - broadcast.pushes[:, i]  # the others' push, steps 0..N−1
+        theta[at["pushed"][0] : at["pushed"][1]] = pushed[0]
+        steps = theta[at["reference"][0] : at["reference"][1]].reshape(N, -1)
         steps[:, :2] = self.places[:, i]
         mine = broadcast.plans[:, i]
         offset = reference_size(1)
@@ -102,14 +117,14 @@ class Team:
             distance = np.einsum("kjc,kjc->kj", gap, gap)
             distance[:, i] = np.inf
             nearest = np.argsort(distance, axis=1, kind="stable")[:, :K]
-            slots = steps[:, offset:offset + 2 * K].reshape(N, K, 2)
+            slots = steps[:, offset : offset + 2 * K].reshape(N, K, 2)
             np.add(mine[:, None], np.take_along_axis(broadcast.plans, nearest[:, :, None], axis=1), out=slots)
             slots *= 0.5
             unseen = int(max(0, (distance <= self.reach[i] ** 2).sum(axis=1).max() - K))
         else:
             unseen = 0
-        offset += 2 * K                                                  # step k's team terms, k = 1..N−1
-        steps[:-1, offset:offset + 2] = pushed[1:]
-        steps[:-1, offset + 2:offset + 6] = broadcast.jacobian[1:] - broadcast.jacobians[1:, i]
-        steps[:-1, offset + 6:offset + 8] = broadcast.path[1:]
+        offset += 2 * K  # step k's team terms, k = 1..N−1
+        steps[:-1, offset : offset + 2] = pushed[1:]
+        steps[:-1, offset + 2 : offset + 6] = broadcast.jacobian[1:] - broadcast.jacobians[1:, i]
+        steps[:-1, offset + 6 : offset + 8] = broadcast.path[1:]
         return theta, mine.reshape(-1), unseen

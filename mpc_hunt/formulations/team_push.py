@@ -20,9 +20,9 @@ from functools import lru_cache
 
 import casadi as ca
 
+from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.capture_model import parameter_size, unpack
 from mpc_hunt.formulations.field import obstacle_repulsion, repulsion, saturate
-from mpc_hunt.capture.structure import Structure
 
 
 @lru_cache(maxsize=32)
@@ -34,24 +34,28 @@ def team_push(structure: Structure) -> ca.Function:
     theta = ca.SX.sym("theta", parameter_size(structure) + 1)
     plans = ca.SX.sym("D", N * nc * 2)
     p = unpack(theta, structure)
-    held = [p["held"][2 * j:2 * j + 2] for j in range(nf)]
+    held = [p["held"][2 * j : 2 * j + 2] for j in range(nf)]
     a = p["attacker"]
     path, pushes, jacobians = [], [], []
     for k in range(N):
-        positions = p["controlled"] if k == 0 else plans[(k - 1) * nc * 2:k * nc * 2]
-        team = [positions[2 * i:2 * i + 2] for i in range(nc)] + held
+        positions = p["controlled"] if k == 0 else plans[(k - 1) * nc * 2 : k * nc * 2]
+        team = [positions[2 * i : 2 * i + 2] for i in range(nc)] + held
         w = 0 if k == 0 else theta[-1]
-        here = ca.SX.sym("a", 2)                      # the pushes' Jacobians are taken at ā_k
+        here = ca.SX.sym("a", 2)  # the pushes' Jacobians are taken at ā_k
         step_pushes = [p["k_d"] * repulsion(here - d, p["perception_radius"], p["eta"], w) for d in team]
         force = p["nominal"] + sum(step_pushes, ca.SX.zeros(2))
         for o in range(m):
-            force = force + p["k_o"] * obstacle_repulsion(here, p["centres"][2 * o:2 * o + 2], p["radii"][o],
-                                                          p["protective_distance"], p["eta"], w)
-        at = ca.Function("at", [here, theta, plans], [force] + step_pushes
-                         + [ca.reshape(ca.jacobian(f, here), 4, 1) for f in step_pushes])
+            force = force + p["k_o"] * obstacle_repulsion(
+                here, p["centres"][2 * o : 2 * o + 2], p["radii"][o], p["protective_distance"], p["eta"], w
+            )
+        at = ca.Function(
+            "at",
+            [here, theta, plans],
+            [force] + step_pushes + [ca.reshape(ca.jacobian(f, here), 4, 1) for f in step_pushes],
+        )
         values = at(a, theta, plans)
         path.append(a)
-        pushes += values[1:1 + len(team)]
-        jacobians += values[1 + len(team):]
+        pushes += values[1 : 1 + len(team)]
+        jacobians += values[1 + len(team) :]
         a = a + p["time_step"] * saturate(values[0], p["attacker_max_speed"])
     return ca.Function("team_push", [theta, plans], [ca.horzcat(*path), ca.horzcat(*pushes), ca.horzcat(*jacobians)])

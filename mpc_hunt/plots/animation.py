@@ -8,10 +8,22 @@ import numpy as np
 from matplotlib.animation import PillowWriter
 from matplotlib.patches import Circle
 
+from mpc_hunt.plots.hunt import (
+    ATTACKER_COLOUR,
+    END_MARKER,
+    START_MARKER,
+    draw_markers,
+    draw_obstacles,
+    draw_paths,
+    frame_axes,
+    hunt_title,
+    last_finite_step,
+    marker_legend,
+    new_figure,
+    paths,
+    settle_layout,
+)
 from mpc_hunt.sim.hunt_result import HuntResult
-from mpc_hunt.plots.hunt import (ATTACKER_COLOUR, END_MARKER, START_MARKER, draw_markers, draw_obstacles,
-                               draw_paths, frame_axes, hunt_title, last_finite_step, marker_legend,
-                               new_figure, paths, settle_layout)
 from mpc_hunt.world.scenario import Scenario
 
 ANIMATION_SIZE = (6.4, 4.8)
@@ -23,8 +35,7 @@ def frame_steps(last: int, frames: int) -> np.ndarray:
     return np.unique(np.linspace(0, last, min(frames, last + 1)).round().astype(int))
 
 
-def animate_hunt(result: HuntResult, scenario: Scenario, path: str | Path, frames: int = 120,
-                 fps: int = 15) -> None:
+def animate_hunt(result: HuntResult, scenario: Scenario, path: str | Path, frames: int = 120, fps: int = 15) -> None:
     """Write the hunt as an animated GIF of at most ``frames`` frames shown at ``fps``."""
     if frames < 1:
         raise ValueError(f"frames: must be at least 1, got {frames}")
@@ -35,9 +46,15 @@ def animate_hunt(result: HuntResult, scenario: Scenario, path: str | Path, frame
     trails = draw_paths(ax, result)
     draw_markers(ax, result, 0, START_MARKER, size=5.0)
     current = draw_markers(ax, result, 0, END_MARKER)
-    perception = Circle(result.attacker[0], scenario.attacker.perception_radius, fill=False,
-                        edgecolor=ATTACKER_COLOUR, linestyle="--", linewidth=0.8,
-                        label="perception radius")
+    perception = Circle(
+        result.attacker[0],
+        scenario.attacker.perception_radius,
+        fill=False,
+        edgecolor=ATTACKER_COLOUR,
+        linestyle="--",
+        linewidth=0.8,
+        label="perception radius",
+    )
     ax.add_patch(perception)
     clock = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", fontsize="small")
     marker_legend(ax, {START_MARKER: "start", END_MARKER: "now"})
@@ -48,8 +65,8 @@ def animate_hunt(result: HuntResult, scenario: Scenario, path: str | Path, frame
 
     def show(step: int) -> None:
         for trail, marker, p in zip(trails, current, tracks):
-            trail.set_data(p[:step + 1, 0], p[:step + 1, 1])
-            marker.set_data(p[step:step + 1, 0], p[step:step + 1, 1])
+            trail.set_data(p[: step + 1, 0], p[: step + 1, 1])
+            marker.set_data(p[step : step + 1, 0], p[step : step + 1, 1])
         perception.center = tuple(result.attacker[step])
         done = step == last and result.captured
         clock.set_text(f"t = {result.times[step]:.1f} s" + (" (captured)" if done else ""))

@@ -11,23 +11,32 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Rectangle
 
-from mpc_hunt.plots.hunt import (ATTACKER_COLOUR, END_MARKER, colours, draw_markers, draw_obstacles,
-                                 last_finite_step, paths, set_window, settle_layout)
+from mpc_hunt.plots.hunt import (
+    ATTACKER_COLOUR,
+    END_MARKER,
+    colours,
+    draw_markers,
+    draw_obstacles,
+    last_finite_step,
+    paths,
+    set_window,
+    settle_layout,
+)
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.world.scenario import Scenario
 
-TAIL_S = 60.0       # s of each path drawn bold, up to the hunt's end
-ZOOM_MARGIN = 1.5   # m round the robots' tails
+TAIL_S = 60.0  # s of each path drawn bold, up to the hunt's end
+ZOOM_MARGIN = 1.5  # m round the robots' tails
 PANEL = (5.0, 5.0)  # inches per hunt
 DPI = 110
 
 
 def _window(result: HuntResult, scenario: Scenario, tail: int, end: int) -> tuple[np.ndarray, np.ndarray]:
-    points = np.concatenate([p[tail:end + 1] for p in paths(result)])
+    points = np.concatenate([p[tail : end + 1] for p in paths(result)])
     points = points[np.isfinite(points).all(axis=1)]
     reach = max(scenario.attacker.perception_radius, ZOOM_MARGIN)
     low, high = points.min(axis=0) - reach, points.max(axis=0) + reach
-    half = (high - low).max() / 2           # square, so both panels read at one scale per panel
+    half = (high - low).max() / 2  # square, so both panels read at one scale per panel
     centre = (low + high) / 2
     return centre - half, centre + half
 
@@ -43,18 +52,35 @@ def plot_capture_regions(cases: list[tuple[HuntResult, Scenario, str]], path: st
         draw_obstacles(ax, scenario)
         if scenario.arena is not None:
             x0, y0, x1, y1 = scenario.arena
-            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="black", linewidth=1.5,
-                                   zorder=2))
+            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="black", linewidth=1.5, zorder=2))
         names = ["attacker"] + [f"defender {i + 1}" for i in range(result.defenders.shape[1])]
         for p, c, name in zip(paths(result), colours(result), names):
-            ax.plot(p[:end + 1, 0], p[:end + 1, 1], color=c, linewidth=0.6, alpha=0.3, zorder=3)
-            ax.plot(p[tail:end + 1, 0], p[tail:end + 1, 1], color=c, linewidth=1.6, zorder=3, label=name)
+            ax.plot(p[: end + 1, 0], p[: end + 1, 1], color=c, linewidth=0.6, alpha=0.3, zorder=3)
+            ax.plot(p[tail : end + 1, 0], p[tail : end + 1, 1], color=c, linewidth=1.6, zorder=3, label=name)
         draw_markers(ax, result, end, END_MARKER)
         a = result.attacker[end]
-        ax.add_patch(Circle(a, scenario.attacker.perception_radius, fill=False, edgecolor=ATTACKER_COLOUR,
-                            linestyle=":", zorder=5, label="perception radius R_agg"))
-        ax.add_patch(Circle(a, scenario.hunt.hunt_radius, fill=False, edgecolor="black", linestyle="--",
-                            zorder=5, label="hunting circle R_hunt"))
+        ax.add_patch(
+            Circle(
+                a,
+                scenario.attacker.perception_radius,
+                fill=False,
+                edgecolor=ATTACKER_COLOUR,
+                linestyle=":",
+                zorder=5,
+                label="perception radius R_agg",
+            )
+        )
+        ax.add_patch(
+            Circle(
+                a,
+                scenario.hunt.hunt_radius,
+                fill=False,
+                edgecolor="black",
+                linestyle="--",
+                zorder=5,
+                label="hunting circle R_hunt",
+            )
+        )
         set_window(ax, *_window(result, scenario, tail, end), title, fontsize=9)
         ax.legend(fontsize=7, loc="best")
     settle_layout(fig)

@@ -25,12 +25,24 @@ from mpc_hunt.bench.metrics import performance_profile
 
 FIGURES = ("performance_profile.png", "time_vs_gap.png", "time_vs_horizon.png")
 MARKERS = "osD^v<>pPX*h8Hd1234+x"
-COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:gray",
-           "tab:olive", "tab:cyan", "black", "darkgoldenrod")
+COLOURS = (
+    "tab:blue",
+    "tab:orange",
+    "tab:green",
+    "tab:red",
+    "tab:purple",
+    "tab:brown",
+    "tab:pink",
+    "tab:gray",
+    "tab:olive",
+    "tab:cyan",
+    "black",
+    "darkgoldenrod",
+)
 LINESTYLES = ("-", "--", ":", "-.")
 PANEL = (4.2, 3.4)
 DPI = 110
-GAP_FLOOR = 1e-12       # smaller gaps (0 or negative included) are drawn at this height
+GAP_FLOOR = 1e-12  # smaller gaps (0 or negative included) are drawn at this height
 VIOLATION_FLOOR = 1e-12
 
 
@@ -43,8 +55,11 @@ def _figure(rows: int, cols: int) -> tuple[Figure, np.ndarray]:
 def pair_style(k: int) -> dict:
     """The k-th pair's colour, marker and line style: the first 20 pairs have markers of their own (the scatter
     tells them apart by marker alone), and no two of the first 48 share colour and line style."""
-    return {"color": COLOURS[k % len(COLOURS)], "marker": MARKERS[k % len(MARKERS)],
-            "linestyle": LINESTYLES[k // len(COLOURS) % len(LINESTYLES)]}
+    return {
+        "color": COLOURS[k % len(COLOURS)],
+        "marker": MARKERS[k % len(MARKERS)],
+        "linestyle": LINESTYLES[k // len(COLOURS) % len(LINESTYLES)],
+    }
 
 
 def _label(pair: tuple[str, str]) -> str:
@@ -79,11 +94,22 @@ def plot_profile(run: CompareRun, path: Path) -> None:
                 top = max(2.0, float(taus[-1]) * 1.5)
                 index = {_label(p): k for k, p in enumerate(run.pairs)}
                 for label, rho in profile.items():
-                    ax.step(np.append(taus, top), np.append(rho, rho[-1]), where="post", label=label,
-                            **pair_style(index[label]), markevery=[0], lw=1.3)
+                    ax.step(
+                        np.append(taus, top),
+                        np.append(rho, rho[-1]),
+                        where="post",
+                        label=label,
+                        **pair_style(index[label]),
+                        markevery=[0],
+                        lw=1.3,
+                    )
                 _log_x(ax)
-            ax.set(title=f"{mode}, N = {horizon}", xlabel="τ (time ÷ fastest on the problem)",
-                   ylabel="share of problems solved", ylim=(-0.02, 1.02))
+            ax.set(
+                title=f"{mode}, N = {horizon}",
+                xlabel="τ (time ÷ fastest on the problem)",
+                ylabel="share of problems solved",
+                ylim=(-0.02, 1.02),
+            )
             ax.grid(alpha=0.3)
     axes[0, -1].legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small")
     fig.savefig(path)
@@ -101,15 +127,25 @@ def plot_time_gap(run: CompareRun, rows: list[dict], path: Path) -> None:
                 if r["mode"] != mode or r["horizon"] != horizon or r["optimality_gap_median"] is None:
                     continue
                 k = run.pairs.index((r["formulation"], r["backend"]))
-                scatter = ax.scatter(r["solve_time_median_s"] * 1e3, max(r["optimality_gap_median"], GAP_FLOOR),
-                                     c=[max(r["max_violation"] or 0.0, VIOLATION_FLOOR)], norm=norm, cmap="viridis",
-                                     marker=pair_style(k)["marker"], s=60, edgecolors="k",
-                                     label=_label(run.pairs[k]))
+                scatter = ax.scatter(
+                    r["solve_time_median_s"] * 1e3,
+                    max(r["optimality_gap_median"], GAP_FLOOR),
+                    c=[max(r["max_violation"] or 0.0, VIOLATION_FLOOR)],
+                    norm=norm,
+                    cmap="viridis",
+                    marker=pair_style(k)["marker"],
+                    s=60,
+                    edgecolors="k",
+                    label=_label(run.pairs[k]),
+                )
             _log_x(ax)
             ax.set_yscale("log")
             ax.margins(0.2)
-            ax.set(title=f"{mode}, N = {horizon}", xlabel="median all-in time (ms)",
-                   ylabel=f"median optimality gap (≥ {GAP_FLOOR:g})")
+            ax.set(
+                title=f"{mode}, N = {horizon}",
+                xlabel="median all-in time (ms)",
+                ylabel=f"median optimality gap (≥ {GAP_FLOOR:g})",
+            )
             ax.grid(alpha=0.3)
     if scatter is not None:
         fig.colorbar(scatter, ax=axes[:, -1].tolist(), label="largest true violation (m)")
@@ -123,8 +159,11 @@ def plot_time_horizon(run: CompareRun, rows: list[dict], path: Path) -> None:
     for i, mode in enumerate(run.modes):
         ax = axes[0, i]
         for k, pair in enumerate(run.pairs):
-            points = sorted((r["horizon"], r["solve_time_median_s"] * 1e3) for r in rows
-                            if r["mode"] == mode and (r["formulation"], r["backend"]) == pair)
+            points = sorted(
+                (r["horizon"], r["solve_time_median_s"] * 1e3)
+                for r in rows
+                if r["mode"] == mode and (r["formulation"], r["backend"]) == pair
+            )
             if points:
                 ax.plot(*zip(*points), **pair_style(k), label=_label(pair))
         ax.set_yscale("log")

@@ -14,8 +14,9 @@ def write_report(run: CompareRun, machine: dict, folder: Path, command: str, ext
     """``README.md``, ``results.json`` (every solve included) and the figures, in ``folder``."""
     folder.mkdir(parents=True, exist_ok=True)
     rows = score_rows(run)
-    (folder / "results.json").write_text(dumps(document(run, machine, rows, extra, solves=True)) + "\n",
-                                         encoding="utf-8")
+    (folder / "results.json").write_text(
+        dumps(document(run, machine, rows, extra, solves=True)) + "\n", encoding="utf-8"
+    )
     figures = plot_compare(run, rows, folder)
     (folder / "README.md").write_text(readme(run, machine, rows, command, figures), encoding="utf-8")
     return [folder / "README.md", folder / "results.json", *figures]

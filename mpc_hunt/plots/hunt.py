@@ -15,20 +15,29 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle
 
-from mpc_hunt.world.geometry import norm
 from mpc_hunt.sim.hunt_result import HuntResult
+from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Scenario
 
 ATTACKER_COLOUR = "tab:red"
-DEFENDER_COLOURS = ("tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown",
-                    "tab:cyan", "tab:pink", "tab:olive", "tab:gray")
+DEFENDER_COLOURS = (
+    "tab:blue",
+    "tab:green",
+    "tab:orange",
+    "tab:purple",
+    "tab:brown",
+    "tab:cyan",
+    "tab:pink",
+    "tab:olive",
+    "tab:gray",
+)
 OBSTACLE_COLOUR = "0.6"
 START_MARKER = "o"
 END_MARKER = "s"
-MARGIN = 1.0        # m of free space around everything drawn
+MARGIN = 1.0  # m of free space around everything drawn
 FIGURE_SIZE = (8.0, 6.0)
 FIGURE_DPI = 120
-LAYOUT_PASSES = 5   # constrained layout around an equal-aspect axes settles over a few draws
+LAYOUT_PASSES = 5  # constrained layout around an equal-aspect axes settles over a few draws
 
 
 def new_figure(size: tuple[float, float], dpi: float) -> tuple[Figure, Axes]:
@@ -74,33 +83,64 @@ def draw_obstacles(ax: Axes, scenario: Scenario) -> None:
     reach = scenario.hunt.protective_distance
     for j, o in enumerate(scenario.obstacles):
         first = j == 0
-        ax.add_patch(Circle(o.centre, o.radius, facecolor=OBSTACLE_COLOUR, edgecolor="0.35",
-                            zorder=1, label="obstacle" if first else None))
-        ax.add_patch(Circle(o.centre, o.radius + reach, fill=False, edgecolor=OBSTACLE_COLOUR,
-                            linestyle=":", linewidth=0.8, zorder=1,
-                            label="protective distance" if first else None))
+        ax.add_patch(
+            Circle(
+                o.centre,
+                o.radius,
+                facecolor=OBSTACLE_COLOUR,
+                edgecolor="0.35",
+                zorder=1,
+                label="obstacle" if first else None,
+            )
+        )
+        ax.add_patch(
+            Circle(
+                o.centre,
+                o.radius + reach,
+                fill=False,
+                edgecolor=OBSTACLE_COLOUR,
+                linestyle=":",
+                linewidth=0.8,
+                zorder=1,
+                label="protective distance" if first else None,
+            )
+        )
 
 
 def draw_paths(ax: Axes, result: HuntResult, *, with_lengths: bool = False) -> list[Line2D]:
     """Every whole path, labelled (defenders optionally with their path length); returns the lines."""
-    labels = ["attacker"] + [f"defender {i + 1}" + (f" ({length:.2f} m)" if with_lengths else "")
-                             for i, length in enumerate(result.path_lengths)]
-    return [ax.plot(p[:, 0], p[:, 1], color=c, linewidth=1.4, label=label, zorder=3)[0]
-            for p, c, label in zip(paths(result), colours(result), labels)]
+    labels = ["attacker"] + [
+        f"defender {i + 1}" + (f" ({length:.2f} m)" if with_lengths else "")
+        for i, length in enumerate(result.path_lengths)
+    ]
+    return [
+        ax.plot(p[:, 0], p[:, 1], color=c, linewidth=1.4, label=label, zorder=3)[0]
+        for p, c, label in zip(paths(result), colours(result), labels)
+    ]
 
 
 def draw_markers(ax: Axes, result: HuntResult, step: int, marker: str, size: float = 7.0) -> list[Line2D]:
     """Every robot's position at ``step`` as ``marker``; returns one marker line per path."""
-    return [ax.plot(p[step, 0], p[step, 1], marker=marker, markersize=size, color=c,
-                    markeredgecolor="black", markeredgewidth=0.6, linestyle="none", zorder=4)[0]
-            for p, c in zip(paths(result), colours(result))]
+    return [
+        ax.plot(
+            p[step, 0],
+            p[step, 1],
+            marker=marker,
+            markersize=size,
+            color=c,
+            markeredgecolor="black",
+            markeredgewidth=0.6,
+            linestyle="none",
+            zorder=4,
+        )[0]
+        for p, c in zip(paths(result), colours(result))
+    ]
 
 
 def marker_legend(ax: Axes, labels: dict[str, str]) -> None:
     """Legend-only black markers explaining the marker shapes, e.g. {START_MARKER: "start"}."""
     for marker, label in labels.items():
-        ax.plot([], [], marker=marker, color="white", markeredgecolor="black", linestyle="none",
-                label=label)
+        ax.plot([], [], marker=marker, color="white", markeredgecolor="black", linestyle="none", label=label)
 
 
 def frame_axes(ax: Axes, result: HuntResult, scenario: Scenario, title: str) -> None:
@@ -155,12 +195,29 @@ def plot_hunt(result: HuntResult, scenario: Scenario, path: str | Path, title: s
     predicted = predicted_path(result)
     if predicted is not None:
         # wide enough to show beside the attacker's path, which it follows until the herding starts
-        ax.plot(predicted[:, 0], predicted[:, 1], color=ATTACKER_COLOUR, linestyle=":", linewidth=3.0,
-                alpha=0.6, label="predicted attacker path", zorder=2)
+        ax.plot(
+            predicted[:, 0],
+            predicted[:, 1],
+            color=ATTACKER_COLOUR,
+            linestyle=":",
+            linewidth=3.0,
+            alpha=0.6,
+            label="predicted attacker path",
+            zorder=2,
+        )
     if result.captured:
-        ax.add_patch(Circle(result.attacker[end], result.final_hunting_radius, fill=False,
-                            edgecolor="black", linestyle="--", linewidth=1.0, zorder=5,
-                            label=f"hunting circle ({result.final_hunting_radius:.2f} m)"))
+        ax.add_patch(
+            Circle(
+                result.attacker[end],
+                result.final_hunting_radius,
+                fill=False,
+                edgecolor="black",
+                linestyle="--",
+                linewidth=1.0,
+                zorder=5,
+                label=f"hunting circle ({result.final_hunting_radius:.2f} m)",
+            )
+        )
     marker_legend(ax, {START_MARKER: "start", END_MARKER: "end"})
     frame_axes(ax, result, scenario, hunt_title(result, scenario) if title is None else title)
     settle_layout(fig)

@@ -8,12 +8,13 @@ from matplotlib.patches import Circle, Rectangle
 from mpc_hunt.plots.hunt import ATTACKER_COLOUR, MARGIN, defender_colour, draw_obstacles, new_figure
 from mpc_hunt.world.scenario import Scenario
 
-IMAGE_SIZE = (4.0, 4.0)     # inches
+IMAGE_SIZE = (4.0, 4.0)  # inches
 IMAGE_DPI = 80
 
 
-def state_image(scenario: Scenario, time: float, attacker: np.ndarray, defenders: np.ndarray,
-                trail: list[np.ndarray] | None = None) -> np.ndarray:
+def state_image(
+    scenario: Scenario, time: float, attacker: np.ndarray, defenders: np.ndarray, trail: list[np.ndarray] | None = None
+) -> np.ndarray:
     """The arena, the obstacles, the hunting radius round the attacker and everybody's position (the attacker's
     ``trail`` of past positions, if given) at ``time``: an (H, W, 3) uint8 array."""
     fig, ax = new_figure(IMAGE_SIZE, IMAGE_DPI)
@@ -33,7 +34,9 @@ def state_image(scenario: Scenario, time: float, attacker: np.ndarray, defenders
     every = np.concatenate(points)
     finite = every[np.all(np.isfinite(every), axis=1)]
     low, high = finite.min(axis=0) - MARGIN, finite.max(axis=0) + MARGIN
-    ax.set_xlim(low[0], high[0]); ax.set_ylim(low[1], high[1]); ax.set_aspect("equal")
+    ax.set_xlim(low[0], high[0])
+    ax.set_ylim(low[1], high[1])
+    ax.set_aspect("equal")
     ax.set_title(f"{scenario.name}, t = {time:.1f} s", fontsize=9)
     fig.canvas.draw()
     image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()

@@ -14,8 +14,8 @@ from matplotlib.figure import Figure
 from mpc_hunt.sweep.summary import combination, wilson
 
 BY = (("n_defenders", "defenders"), ("n_obstacles", "obstacles"), ("speed_ratio", "speed ratio v_a / v_d"))
-SPEED_BINS = np.linspace(0.0, 1.0, 5)   # a continuous parameter: four equal bins, drawn at their centres
-DODGE = 0.06                            # of a group's spacing: strategies side by side, their bars apart
+SPEED_BINS = np.linspace(0.0, 1.0, 5)  # a continuous parameter: four equal bins, drawn at their centres
+DODGE = 0.06  # of a group's spacing: strategies side by side, their bars apart
 RATE_LABEL = "captured of reachable hunts (%)"
 
 
@@ -63,7 +63,7 @@ def _figure(panels: int, width: float = 5.5) -> tuple[Figure, np.ndarray]:
 
 
 def _save(fig: Figure, path: Path) -> Path:
-    fig.savefig(path, bbox_inches="tight")     # the whole figure, a legend beside the axes included
+    fig.savefig(path, bbox_inches="tight")  # the whole figure, a legend beside the axes included
     return path
 
 
@@ -76,12 +76,10 @@ def _success_by(attackers: list[str], lines: dict, key: str, label: str, path: P
         for j, (name, rows) in enumerate(mine.items()):
             xs, rates, bounds = rate_by(rows, key)
             shift = (j - (len(mine) - 1) / 2) * DODGE * spacing
-            ax.errorbar(xs + shift, 100 * rates, yerr=100 * np.abs(bounds - rates), marker="o", capsize=3,
-                        label=name)
+            ax.errorbar(xs + shift, 100 * rates, yerr=100 * np.abs(bounds - rates), marker="o", capsize=3, label=name)
         ax.set_xticks(sorted({_group(r, key) for rows in mine.values() for r in _reachable(rows)}))
         ax.set_xlabel(label + (" (bin centres)" if key == "speed_ratio" else ""))
-        ax.set_title(("" if len(attackers) == 1 else f"attacker {attacker}: ") + "95 % Wilson intervals",
-                     fontsize=8)
+        ax.set_title(("" if len(attackers) == 1 else f"attacker {attacker}: ") + "95 % Wilson intervals", fontsize=8)
         ax.set_ylim(-5, 105)
         ax.legend(fontsize=7)
     axes[0].set_ylabel(RATE_LABEL)
@@ -99,14 +97,15 @@ def _success_by_attacker(attackers: list[str], lines: dict, path: Path) -> Path:
         xs = np.array([i for i, _, _ in points]) + (j - (len(lines) - 1) / 2) * DODGE
         rates = np.array([w / n for _, w, n in points])
         bounds = np.array([wilson(w, n) for _, w, n in points]).T
-        ax.errorbar(xs, 100 * rates, yerr=100 * np.abs(bounds - rates), marker="o", capsize=3, linestyle="none",
-                    label=name)
+        ax.errorbar(
+            xs, 100 * rates, yerr=100 * np.abs(bounds - rates), marker="o", capsize=3, linestyle="none", label=name
+        )
     ax.set_xticks(range(len(attackers)), attackers)
     ax.set_xlabel("attacker")
     ax.set_ylabel(RATE_LABEL)
     ax.set_title("95 % Wilson intervals", fontsize=8)
     ax.set_ylim(-5, 105)
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))    # beside the axes, not over the points
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the axes, not over the points
     return _save(fig, path)
 
 
@@ -115,9 +114,13 @@ def _capture_times(attackers: list[str], lines: dict, path: Path) -> Path:
     fig = Figure(figsize=(5, 3.5))
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
-    series = {(name if len(attackers) == 1 else f"{name} vs {a}"): [r["capture_time_s"] for r in rows
-                                                                     if r["outcome"] == "captured"]
-              for name, by in lines.items() for a, rows in by.items()}
+    series = {
+        (name if len(attackers) == 1 else f"{name} vs {a}"): [
+            r["capture_time_s"] for r in rows if r["outcome"] == "captured"
+        ]
+        for name, by in lines.items()
+        for a, rows in by.items()
+    }
     if any(series.values()):
         ax.hist(list(series.values()), bins=20, label=list(series))
         ax.legend(fontsize=7)

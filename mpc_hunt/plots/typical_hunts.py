@@ -16,10 +16,16 @@ FIGURE = "typical_hunts.png"
 
 def _title(hunt: TypicalHunt) -> str:
     row = hunt.row
-    how = (f"captured at {row['capture_time_s']:.0f} s" if hunt.kind == "captured"
-           else f"lost ({row['cause']}), closest approach {row['min_attacker_distance_m']:.2f} m")
-    against = "" if (row["attacker"], row["belief"]) == (DEFAULT_BEHAVIOUR, Belief().label()) else \
-        f" vs {row['attacker']}, belief {row['belief']}"
+    how = (
+        f"captured at {row['capture_time_s']:.0f} s"
+        if hunt.kind == "captured"
+        else f"lost ({row['cause']}), closest approach {row['min_attacker_distance_m']:.2f} m"
+    )
+    against = (
+        ""
+        if (row["attacker"], row["belief"]) == (DEFAULT_BEHAVIOUR, Belief().label())
+        else f" vs {row['attacker']}, belief {row['belief']}"
+    )
     return f"typical {hunt.kind}: {row['strategy']}{against}, {row['name']}\n{how}"
 
 

@@ -17,30 +17,30 @@ class HuntResult:
     """Every trajectory of one hunt, and the figures computed from them."""
 
     scenario: str
-    controller: dict                  # the controller's describe(): name and settings
-    times: np.ndarray                 # (K+1,)
-    attacker: np.ndarray              # (K+1, 2)
-    defenders: np.ndarray             # (K+1, n, 2)
-    capture_stage: np.ndarray         # (K, n) bool
-    intercepts: np.ndarray            # (K, n, 2): approach targets, NaN in the capture stage
-    termination: str                  # "captured", "time_limit", "non_finite_state", "attacker_escaped", "stopped",
-                                      # "abandoned"
+    controller: dict  # the controller's describe(): name and settings
+    times: np.ndarray  # (K+1,)
+    attacker: np.ndarray  # (K+1, 2)
+    defenders: np.ndarray  # (K+1, n, 2)
+    capture_stage: np.ndarray  # (K, n) bool
+    intercepts: np.ndarray  # (K, n, 2): approach targets, NaN in the capture stage
+    termination: str  # "captured", "time_limit", "non_finite_state", "attacker_escaped", "stopped",
+    # "abandoned"
     captured: bool
     capture_time: float | None
-    path_lengths: np.ndarray          # (n,)
+    path_lengths: np.ndarray  # (n,)
     final_hunting_radius: float
     min_obstacle_clearance: float | None
     min_defender_separation: float | None
     min_attacker_distance: float
     attacker_min_obstacle_clearance: float | None
-    approach_min_obstacle_clearance: float | None   # over the positions approaching-stage commands led to
-    capture_min_obstacle_clearance: float | None    # over the positions capture-stage commands led to
-    min_arena_margin: float | None    # least distance of a defender inside the arena's edges, < 0 beyond one
+    approach_min_obstacle_clearance: float | None  # over the positions approaching-stage commands led to
+    capture_min_obstacle_clearance: float | None  # over the positions capture-stage commands led to
+    min_arena_margin: float | None  # least distance of a defender inside the arena's edges, < 0 beyond one
     solve_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solve_iterations: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     failed_solves: int = 0
     fallbacks: int = 0
-    longest_failure_streak: int = 0   # most consecutive failed capture-stage solves
+    longest_failure_streak: int = 0  # most consecutive failed capture-stage solves
     # Per capture-stage solve, in order: the one-off set-up it did (s; 0 but on a new structure: building its
     # functions, compiling a codegen step), the status, the certificate (primal residual, dual residual, duality
     # gap; NaN where none) and the true violations of the plan applied (VIOLATION_NAMES' order, m; NaN where the
@@ -49,15 +49,15 @@ class HuntResult:
     solve_statuses: tuple[str, ...] = ()
     certificates: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     applied_violations: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
-    deadline: float | None = None     # the step's budget given to the hunt (s), beside the time step T
-    violating_plans: int = 0          # usable solves whose plan the loop did not apply: beyond its tolerance
+    deadline: float | None = None  # the step's budget given to the hunt (s), beside the time step T
+    violating_plans: int = 0  # usable solves whose plan the loop did not apply: beyond its tolerance
 
     BUDGET_STATUSES = ("time_limit", "iteration_limit")
 
-    formulation = _described("formulation")     # str | None
-    backend = _described("backend")             # str | None
-    horizon = _described("horizon")             # int | None
-    prediction = _described("prediction")       # bool | None
+    formulation = _described("formulation")  # str | None
+    backend = _described("backend")  # str | None
+    horizon = _described("horizon")  # int | None
+    prediction = _described("prediction")  # bool | None
 
     @property
     def steps(self) -> int:
@@ -81,21 +81,38 @@ class HuntResult:
         """The capture-stage solves' times (s): median, p95 and max of the solve (a set-up apart: how many solves did
         one, and the longest), and the solves past T and past the hunt's deadline: every figure that reads a clock."""
         t = self.solve_times
-        misses = {"time_step_s": self.time_step, "over_time_step": self.deadline_misses(self.time_step),
-                  "deadline_s": self.deadline,
-                  "over_deadline": None if self.deadline is None else self.deadline_misses(self.deadline)}
+        misses = {
+            "time_step_s": self.time_step,
+            "over_time_step": self.deadline_misses(self.time_step),
+            "deadline_s": self.deadline,
+            "over_deadline": None if self.deadline is None else self.deadline_misses(self.deadline),
+        }
         if len(t) == 0:
-            return {"count": 0, "median_s": None, "p95_s": None, "max_s": None, "setups": 0, "setup_max_s": None,
-                    "deadline_misses": misses}
-        return {"count": int(len(t)), "median_s": float(np.median(t)),
-                "p95_s": float(np.percentile(t, 95)), "max_s": float(np.max(t)),
-                "setups": int(np.sum(self.setup_times > 0)), "setup_max_s": float(np.max(self.setup_times)),
-                "deadline_misses": misses}
+            return {
+                "count": 0,
+                "median_s": None,
+                "p95_s": None,
+                "max_s": None,
+                "setups": 0,
+                "setup_max_s": None,
+                "deadline_misses": misses,
+            }
+        return {
+            "count": int(len(t)),
+            "median_s": float(np.median(t)),
+            "p95_s": float(np.percentile(t, 95)),
+            "max_s": float(np.max(t)),
+            "setups": int(np.sum(self.setup_times > 0)),
+            "setup_max_s": float(np.max(self.setup_times)),
+            "deadline_misses": misses,
+        }
 
     def to_dict(self) -> dict:
         """The JSON report (``mpc-hunt simulate --json``)."""
+
         def opt(x):
             return None if x is None else float(x)
+
         return {
             "scenario": self.scenario,
             **self.controller,
@@ -113,8 +130,9 @@ class HuntResult:
             "min_arena_margin_m": opt(self.min_arena_margin),
             "steps": self.steps,
             "solve_time": self.solve_time_stats(),
-            "solve_iterations_median": (float(np.median(self.solve_iterations))
-                                        if len(self.solve_iterations) else None),
+            "solve_iterations_median": (
+                float(np.median(self.solve_iterations)) if len(self.solve_iterations) else None
+            ),
             "failed_solves": self.failed_solves,
             "fallbacks": self.fallbacks,
             "longest_failure_streak": self.longest_failure_streak,
@@ -129,5 +147,7 @@ class HuntResult:
         if not len(rows):
             return None
         top = np.max(rows, axis=0)
-        return {k: (float(v) if np.isfinite(v) else "inf")
-                for k, v in zip(("primal_residual", "dual_residual", "duality_gap"), top)}
+        return {
+            k: (float(v) if np.isfinite(v) else "inf")
+            for k, v in zip(("primal_residual", "dual_residual", "duality_gap"), top)
+        }

@@ -20,27 +20,34 @@ from typing import Callable
 import numpy as np
 
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
-from mpc_hunt.errors import OptionError
-from mpc_hunt.world.behaviours import make_behaviour
-from mpc_hunt.world.behaviours.base import Behaviour
-from mpc_hunt.world.geometry import norm
-from mpc_hunt.sim.hunt_result import HuntResult
-from mpc_hunt.sim.world_step import moved, standing, steps
-from mpc_hunt.world.hunting_circle import success_test
-from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.world.arena import margin
 from mpc_hunt.control.controller import Controller, Observation
 from mpc_hunt.control.recommended import PAPER
 from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.errors import OptionError
+from mpc_hunt.sim.hunt_result import HuntResult
+from mpc_hunt.sim.world_step import moved, standing, steps
+from mpc_hunt.world.arena import margin
+from mpc_hunt.world.behaviours import make_behaviour
+from mpc_hunt.world.behaviours.base import Behaviour
+from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.hunting_circle import success_test
+from mpc_hunt.world.scenario import Scenario
 
 DEFAULT_SEED = 0
 
 
-def simulate(scenario: Scenario, controller: Controller | None = None, *, prediction: bool = True,
-             until: Callable[[Observation], bool] | None = None,
-             progress: Callable[[float], None] | None = None,
-             rng: np.random.Generator | None = None, behaviour: Behaviour | None = None,
-             deadline: float | None = None, abandon_after: float | None = None) -> HuntResult:
+def simulate(
+    scenario: Scenario,
+    controller: Controller | None = None,
+    *,
+    prediction: bool = True,
+    until: Callable[[Observation], bool] | None = None,
+    progress: Callable[[float], None] | None = None,
+    rng: np.random.Generator | None = None,
+    behaviour: Behaviour | None = None,
+    deadline: float | None = None,
+    abandon_after: float | None = None,
+) -> HuntResult:
     """Run one hunt. Without a controller, the paper's strategy as published (its capture stage
     :data:`~mpc_hunt.control.recommended.PAPER`, the one-step NLP on IPOPT) built by its spec on the defenders'
     default belief (:meth:`ControllerSpec.build <mpc_hunt.control.spec.ControllerSpec.build>`), never on the
@@ -57,11 +64,15 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
     ``abandon_after`` (s), if given, stops the run (termination ``"abandoned"``) once the capture stage's solves
     have failed for that long in a row: the hunt is then the fallback's, not the capture stage's.
     """
-    if deadline is not None and not (isinstance(deadline, (int, float)) and not isinstance(deadline, bool)
-                                     and 0 < deadline < float("inf")):
+    if deadline is not None and not (
+        isinstance(deadline, (int, float)) and not isinstance(deadline, bool) and 0 < deadline < float("inf")
+    ):
         raise OptionError(f"deadline: a positive, finite number of seconds or None, got {deadline!r}")
-    if abandon_after is not None and not (isinstance(abandon_after, (int, float)) and not isinstance(abandon_after, bool)
-                                          and 0 < abandon_after < float("inf")):
+    if abandon_after is not None and not (
+        isinstance(abandon_after, (int, float))
+        and not isinstance(abandon_after, bool)
+        and 0 < abandon_after < float("inf")
+    ):
         raise OptionError(f"abandon_after: a positive, finite number of seconds or None, got {abandon_after!r}")
     controller = controller or ControllerSpec("paper", options={"prediction": prediction}, stage=PAPER).build(scenario)
     if behaviour is None:
@@ -77,7 +88,7 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
     previous = None
     termination = "time_limit"
     for step in range(max_steps):
-        stopped = scenario.failed(step * T)        # robots that failed stand still for good
+        stopped = scenario.failed(step * T)  # robots that failed stand still for good
         observation = Observation(step * T, p_a.copy(), previous, p_d.copy(), stopped if stopped.any() else None)
         if until is not None and until(observation):
             termination = "stopped"
@@ -94,8 +105,10 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
         velocity = behaviour.velocity(p_a, p_d)
         previous = p_a.copy()
         p_a, p_d = moved(scenario, p_a, p_d, cmd.velocities, velocity, stopped)
-        attacker_path.append(p_a.copy()); defender_paths.append(p_d.copy())
-        stages.append(cmd.capture_stage); intercepts.append(cmd.intercepts)
+        attacker_path.append(p_a.copy())
+        defender_paths.append(p_d.copy())
+        stages.append(cmd.capture_stage)
+        intercepts.append(cmd.intercepts)
         ended, held = standing(scenario, p_a, p_d, held, hold_steps)
         if progress is not None:
             progress((step + 1) * T)
@@ -105,9 +118,21 @@ def simulate(scenario: Scenario, controller: Controller | None = None, *, predic
         if abandon_after is not None and streak * T >= abandon_after - 1e-9:
             termination = "abandoned"
             break
-    result = _result(scenario, controller, np.array(attacker_path), np.array(defender_paths), np.array(stages),
-                     np.array(intercepts), termination, held, solve_times, iterations, failed, fallbacks,
-                     longest_streak)
+    result = _result(
+        scenario,
+        controller,
+        np.array(attacker_path),
+        np.array(defender_paths),
+        np.array(stages),
+        np.array(intercepts),
+        termination,
+        held,
+        solve_times,
+        iterations,
+        failed,
+        fallbacks,
+        longest_streak,
+    )
     return record.into(result, deadline)
 
 
@@ -119,24 +144,43 @@ class _SolveRecord:
         self.violating = 0
 
     def add(self, solution, fallback: bool) -> None:
-        self.violating += solution.success and fallback     # usable, yet not applied: beyond the tolerance
+        self.violating += solution.success and fallback  # usable, yet not applied: beyond the tolerance
         self.setups.append(solution.setup_time)
         self.statuses.append(solution.status.value)
         c = solution.certificate
         self.certificates.append((np.nan,) * 3 if c is None else (c.primal_residual, c.dual_residual, c.duality_gap))
         v = solution.violation
-        self.violations.append((np.nan,) * len(VIOLATION_NAMES) if v is None or fallback
-                               else tuple(v[name] for name in VIOLATION_NAMES))
+        self.violations.append(
+            (np.nan,) * len(VIOLATION_NAMES) if v is None or fallback else tuple(v[name] for name in VIOLATION_NAMES)
+        )
 
     def into(self, result: HuntResult, deadline: float | None) -> HuntResult:
-        return replace(result, setup_times=np.array(self.setups), solve_statuses=tuple(self.statuses),
-                       certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
-                       applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),
-                       deadline=deadline, violating_plans=self.violating)
+        return replace(
+            result,
+            setup_times=np.array(self.setups),
+            solve_statuses=tuple(self.statuses),
+            certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
+            applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),
+            deadline=deadline,
+            violating_plans=self.violating,
+        )
 
 
-def _result(scenario, controller, attacker, defenders, stages, intercepts, termination, held,
-            solve_times, iterations, failed, fallbacks, longest_streak) -> HuntResult:
+def _result(
+    scenario,
+    controller,
+    attacker,
+    defenders,
+    stages,
+    intercepts,
+    termination,
+    held,
+    solve_times,
+    iterations,
+    failed,
+    fallbacks,
+    longest_streak,
+) -> HuntResult:
     hunt = scenario.hunt
     T = hunt.time_step
     K = len(attacker) - 1
@@ -148,11 +192,11 @@ def _result(scenario, controller, attacker, defenders, stages, intercepts, termi
     path_lengths = norm(steps).sum(axis=0) if len(d) > 1 else np.zeros(n)
     final = success_test(a[-1], d[-1], centres, radii, hunt.hunt_radius, hunt.centre_tolerance)
     clearance = attacker_clearance = None
-    by_stage = {True: None, False: None}    # capture stage or not: the least clearance its commands led to
+    by_stage = {True: None, False: None}  # capture stage or not: the least clearance its commands led to
     if len(radii):
         clearance = float(np.min(norm(d[:, :, None, :] - centres[None, None]) - radii))
         attacker_clearance = float(np.min(norm(a[:, None, :] - centres[None]) - radii))
-        moved = finite[1:]                  # position k + 1 is where the command of step k led
+        moved = finite[1:]  # position k + 1 is where the command of step k led
         reached = np.min(norm(defenders[1:][moved][:, :, None, :] - centres[None, None]) - radii, axis=2)
         stage = stages.reshape(K, n)[moved]
         for capture in by_stage:
@@ -165,16 +209,28 @@ def _result(scenario, controller, attacker, defenders, stages, intercepts, termi
         separation = float(gaps.min())
     captured = termination == "captured"
     return HuntResult(
-        scenario=scenario.name, controller=controller.describe(),
-        times=np.arange(K + 1) * T, attacker=attacker, defenders=defenders,
-        capture_stage=stages.reshape(K, n), intercepts=intercepts.reshape(K, n, 2),
-        termination=termination, captured=captured,
+        scenario=scenario.name,
+        controller=controller.describe(),
+        times=np.arange(K + 1) * T,
+        attacker=attacker,
+        defenders=defenders,
+        capture_stage=stages.reshape(K, n),
+        intercepts=intercepts.reshape(K, n, 2),
+        termination=termination,
+        captured=captured,
         capture_time=(K - held + 1) * T if captured else None,
-        path_lengths=path_lengths, final_hunting_radius=final.radius,
-        min_obstacle_clearance=clearance, min_defender_separation=separation,
+        path_lengths=path_lengths,
+        final_hunting_radius=final.radius,
+        min_obstacle_clearance=clearance,
+        min_defender_separation=separation,
         min_attacker_distance=float(np.min(norm(a[:, None, :] - d))),
         attacker_min_obstacle_clearance=attacker_clearance,
-        approach_min_obstacle_clearance=by_stage[False], capture_min_obstacle_clearance=by_stage[True],
+        approach_min_obstacle_clearance=by_stage[False],
+        capture_min_obstacle_clearance=by_stage[True],
         min_arena_margin=None if scenario.arena is None else float(np.min(margin(scenario.arena, d))),
-        solve_times=np.array(solve_times), solve_iterations=np.array(iterations, dtype=int),
-        failed_solves=failed, fallbacks=fallbacks, longest_failure_streak=longest_streak)
+        solve_times=np.array(solve_times),
+        solve_iterations=np.array(iterations, dtype=int),
+        failed_solves=failed,
+        fallbacks=fallbacks,
+        longest_failure_streak=longest_streak,
+    )

@@ -14,19 +14,23 @@ from __future__ import annotations
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.backends.base import ACCURACIES
 
-VIOLATION_TOLERANCE = {"default": 1e-4, "high": 1e-8, "low": 1e-3, "solver": 1e-4}   # m
+VIOLATION_TOLERANCE = {"default": 1e-4, "high": 1e-8, "low": 1e-3, "solver": 1e-4}  # m
 
 
 def _settings(options: dict) -> str:
-    return ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in options.items()) \
+    return (
+        ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in options.items())
         or "the solver's defaults"
+    )
 
 
 def accuracy_table() -> str:
     """One Markdown table: per level, the violation tolerance and what each registered backend is handed."""
     backends = list(registry.BACKENDS)
-    lines = ["| accuracy | violation tolerance (m) | " + " | ".join(backends) + " |",
-             "| --- | ---: | " + " | ".join("---" for _ in backends) + " |"]
+    lines = [
+        "| accuracy | violation tolerance (m) | " + " | ".join(backends) + " |",
+        "| --- | ---: | " + " | ".join("---" for _ in backends) + " |",
+    ]
     for level in ACCURACIES:
         cells = [_settings(registry.backend_class(b).ACCURACY.get(level, {})) for b in backends]
         lines.append(f"| {level} | {VIOLATION_TOLERANCE[level]:g} | " + " | ".join(cells) + " |")

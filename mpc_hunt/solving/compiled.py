@@ -32,8 +32,8 @@ from functools import cache
 from pathlib import Path
 from typing import Callable
 
-FLAGS = ("-Og", "-fPIC", "-shared")    # see below
-BUILD_TIMEOUT = 1800.0      # s: a build taking longer is abandoned (the interpreted step runs)
+FLAGS = ("-Og", "-fPIC", "-shared")  # see below
+BUILD_TIMEOUT = 1800.0  # s: a build taking longer is abandoned (the interpreted step runs)
 
 
 class CompilationWarning(UserWarning):
@@ -61,6 +61,7 @@ def _compiler_identity(path: str) -> str:
 def casadi_paths() -> tuple[str, str]:
     """CasADi's headers and libraries (HPIPM's and BLASFEO's among them)."""
     import casadi as ca
+
     root = os.path.dirname(ca.__file__)
     return os.path.join(root, "include"), root
 
@@ -70,8 +71,9 @@ def library_path(source: str, flags: tuple[str, ...], cc: str, extra: tuple[str,
     return cache_directory() / f"step-{key}.so"
 
 
-def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: str,
-          extra: tuple[str, ...] = ()) -> Path:
+def build(
+    source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: str, extra: tuple[str, ...] = ()
+) -> Path:
     """The shared library of ``source``: from the cache, or compiled into it (with the compiler's ``extra``
     arguments: more sources, include folders). Raises on a failed build."""
     target = library_path(source, flags, cc, extra)
@@ -79,15 +81,26 @@ def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: s
         return target
     target.parent.mkdir(parents=True, exist_ok=True)
     with open(target.with_suffix(".lock"), "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)            # another process building the same library: wait for it
+        fcntl.flock(lock, fcntl.LOCK_EX)  # another process building the same library: wait for it
         if target.exists():
             return target
         include, lib = casadi_paths()
         with tempfile.TemporaryDirectory(dir=target.parent) as work:
             c_file, so_file = Path(work) / "step.c", Path(work) / "step.so"
             c_file.write_text(source, encoding="utf-8")
-            command = [cc, *flags, str(c_file), *extra, "-o", str(so_file), f"-I{include}", f"-L{lib}",
-                       *[f"-l{name}" for name in libraries], f"-Wl,-rpath,{lib}", "-lm"]
+            command = [
+                cc,
+                *flags,
+                str(c_file),
+                *extra,
+                "-o",
+                str(so_file),
+                f"-I{include}",
+                f"-L{lib}",
+                *[f"-l{name}" for name in libraries],
+                f"-Wl,-rpath,{lib}",
+                "-lm",
+            ]
             run = subprocess.run(command, capture_output=True, text=True, timeout=BUILD_TIMEOUT)
             if run.returncode != 0:
                 raise RuntimeError(f"{cc} exited with {run.returncode}: {run.stderr.strip()[:300]}")
@@ -95,15 +108,22 @@ def build(source: str, flags: tuple[str, ...], libraries: tuple[str, ...], cc: s
     return target
 
 
-def compiled(function, patch: Callable[[str], str] = lambda source: source, flags: tuple[str, ...] = FLAGS,
-             libraries: tuple[str, ...] = ()):
+def compiled(
+    function,
+    patch: Callable[[str], str] = lambda source: source,
+    flags: tuple[str, ...] = FLAGS,
+    libraries: tuple[str, ...] = (),
+):
     """``function`` compiled (a CasADi Function loaded from the cached library) and its path, or None."""
     import casadi as ca
 
     cc = compiler()
     if cc is None:
-        warnings.warn(f"no C compiler ({os.environ.get('CC', 'gcc')}) found: the capture step runs interpreted",
-                      CompilationWarning, stacklevel=3)
+        warnings.warn(
+            f"no C compiler ({os.environ.get('CC', 'gcc')}) found: the capture step runs interpreted",
+            CompilationWarning,
+            stacklevel=3,
+        )
         return None
     generator = ca.CodeGenerator(f"{function.name()}.c", {"with_header": False})
     generator.add(function)
@@ -112,6 +132,9 @@ def compiled(function, patch: Callable[[str], str] = lambda source: source, flag
         path = build(source, flags, libraries, cc)
         return ca.external(function.name(), str(path)), path
     except (OSError, RuntimeError, subprocess.SubprocessError) as exc:
-        warnings.warn(f"the compiled capture step could not be built ({str(exc).splitlines()[0]}): it runs "
-                      "interpreted", CompilationWarning, stacklevel=3)
+        warnings.warn(
+            f"the compiled capture step could not be built ({str(exc).splitlines()[0]}): it runs interpreted",
+            CompilationWarning,
+            stacklevel=3,
+        )
         return None

@@ -1,4 +1,5 @@
-"""A stage-form capture step (``rti``, ``stage-sqp``, a ``distributed`` robot's) as C sources for a robot's board (``mpc-hunt export``).
+"""A stage-form capture step (``rti``, ``stage-sqp``, a ``distributed`` robot's) as C sources for a robot's board
+(``mpc-hunt export``).
 
 For one problem's structure (controlled and held defenders, obstacles, horizon,
 objective) the folder holds:
@@ -58,10 +59,16 @@ NAME = "capture_step"
 # The export's targets: the compiler the folder's Makefile builds with (None: make's own) and how to run it.
 TARGETS = {
     "host": {"cc": None, "run": "./capture_step < input.txt", "install": ""},
-    "aarch64-linux": {"cc": "aarch64-linux-gnu-gcc", "run": "qemu-aarch64 -L /usr/aarch64-linux-gnu ./capture_step "
-                      "< input.txt", "install": "apt-get install gcc-aarch64-linux-gnu"},
-    "cortex-m7": {"cc": "arm-none-eabi-gcc", "run": "make run (qemu-system-arm -M mps2-an500)",
-                  "install": "apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi"},
+    "aarch64-linux": {
+        "cc": "aarch64-linux-gnu-gcc",
+        "run": "qemu-aarch64 -L /usr/aarch64-linux-gnu ./capture_step < input.txt",
+        "install": "apt-get install gcc-aarch64-linux-gnu",
+    },
+    "cortex-m7": {
+        "cc": "arm-none-eabi-gcc",
+        "run": "make run (qemu-system-arm -M mps2-an500)",
+        "install": "apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi",
+    },
 }
 
 
@@ -71,8 +78,11 @@ def check_export(target: str, exports: str | None, iteration: QPIteration) -> No
     ``target`` or ``backend``)."""
     check_target(target, exports)
     if exports == "condensed" and iteration.max_qps != 1:
-        raise SettingError("backend", "its export writes one QP a step (rti, distributed), not up to "
-                                      f"{iteration.max_qps}; export this formulation with hpipm")
+        raise SettingError(
+            "backend",
+            "its export writes one QP a step (rti, distributed), not up to "
+            f"{iteration.max_qps}; export this formulation with hpipm",
+        )
 
 
 def check_target(target: str, exports: str | None) -> None:
@@ -87,8 +97,11 @@ def check_target(target: str, exports: str | None) -> None:
     if cc is None:
         return
     if exports != "condensed":
-        raise SettingError("target", "HPIPM and BLASFEO come built for this machine only (CasADi's wheel); export "
-                                     "with backend daqp-condensed, whose solver's sources go with the step")
+        raise SettingError(
+            "target",
+            "HPIPM and BLASFEO come built for this machine only (CasADi's wheel); export "
+            "with backend daqp-condensed, whose solver's sources go with the step",
+        )
     if shutil.which(cc) is None:
         raise SettingError("target", f"the cross compiler {cc} is not installed ({TARGETS[target]['install']})")
 
@@ -98,8 +111,15 @@ def numbers(values: np.ndarray) -> str:
     return "\n".join(f"{v:.17g}" for v in values) + "\n"
 
 
-def write_condensed(folder: Path, step, structure: Structure, theta: np.ndarray, reference: np.ndarray,
-                    plan: np.ndarray, target: str = "host") -> list[Path]:
+def write_condensed(
+    folder: Path,
+    step,
+    structure: Structure,
+    theta: np.ndarray,
+    reference: np.ndarray,
+    plan: np.ndarray,
+    target: str = "host",
+) -> list[Path]:
     """The folder of the module docstring for the ``daqp-condensed`` backend's step: CasADi's condensing
     (``capture_condense.c``), the step around DAQP (``mpc_hunt_step.c``, the C the backend's library is built
     from), DAQP's sources (``daqp/``), ``main.c``, a Makefile that needs nothing else, the input and Python's plan."""
@@ -121,28 +141,49 @@ def write_condensed(folder: Path, step, structure: Structure, theta: np.ndarray,
     shutil.copyfile(DAQP_SOURCES / "LICENSE", daqp / "LICENSE")
     cc = TARGETS[target]["cc"]
     files = {
-        "mpc_hunt_step.h": render("condensed/mpc_hunt_step.h", structure=structure, n_theta=len(theta),
-                                  n_reference=len(reference), n_plan=len(plan), non_finite_input=NON_FINITE_INPUT,
-                                  non_finite_plan=NON_FINITE_PLAN),
+        "mpc_hunt_step.h": render(
+            "condensed/mpc_hunt_step.h",
+            structure=structure,
+            n_theta=len(theta),
+            n_reference=len(reference),
+            n_plan=len(plan),
+            non_finite_input=NON_FINITE_INPUT,
+            non_finite_plan=NON_FINITE_PLAN,
+        ),
         "mpc_hunt_step.c": render("condensed/mpc_hunt_step.c", step=step_source(step.function, step.sizes)),
         "main.c": render("main.c"),
-        "Makefile": render("condensed/Makefile", structure=structure, version=DAQP_VERSION,
-                           set_cc=f"CC = {cc}\n" if cc else ""),
+        "Makefile": render(
+            "condensed/Makefile", structure=structure, version=DAQP_VERSION, set_cc=f"CC = {cc}\n" if cc else ""
+        ),
         "input.txt": numbers(np.concatenate([theta, reference])),
         "expected.txt": numbers(plan),
     }
     if target == "cortex-m7":
         del files["main.c"]
-        files.update({"board.c": render("cortex-m7/board.c"), "startup.c": render("cortex-m7/startup.c"),
-                      "board.ld": render("cortex-m7/board.ld"),
-                      "Makefile": render("cortex-m7/Makefile", structure=structure, version=DAQP_VERSION)})
+        files.update(
+            {
+                "board.c": render("cortex-m7/board.c"),
+                "startup.c": render("cortex-m7/startup.c"),
+                "board.ld": render("cortex-m7/board.ld"),
+                "Makefile": render("cortex-m7/Makefile", structure=structure, version=DAQP_VERSION),
+            }
+        )
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return [folder / "capture_condense.c", folder / "capture_condense.h", *(folder / name for name in files), daqp]
 
 
-def write_step(folder: Path, step, exports: str | None, iteration: QPIteration, structure: Structure,
-               theta: np.ndarray, reference: np.ndarray, plan: np.ndarray, target: str = "host") -> list[Path]:
+def write_step(
+    folder: Path,
+    step,
+    exports: str | None,
+    iteration: QPIteration,
+    structure: Structure,
+    theta: np.ndarray,
+    reference: np.ndarray,
+    plan: np.ndarray,
+    target: str = "host",
+) -> list[Path]:
     """Write the folder of the module docstring for the backend's ``step`` (the CasADi Function of a backend that
     ``exports`` the ``hpipm`` step, the condensed step of one that ``exports`` the ``condensed`` one) of
     ``structure``, repeated by ``iteration``'s rule, with the inputs ``theta``, ``reference`` and their plan, its
@@ -165,8 +206,14 @@ def write_step(folder: Path, step, exports: str | None, iteration: QPIteration, 
     iterations = dict(qps=iteration.max_qps, tolerance=repr(float(iteration.tolerance)))
     sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
     files = {
-        "mpc_hunt_step.h": render("hpipm/mpc_hunt_step.h", structure=structure, n_theta=len(theta),
-                                  n_reference=len(reference), n_plan=len(plan), **iterations),
+        "mpc_hunt_step.h": render(
+            "hpipm/mpc_hunt_step.h",
+            structure=structure,
+            n_theta=len(theta),
+            n_reference=len(reference),
+            n_plan=len(plan),
+            **iterations,
+        ),
         "mpc_hunt_step.c": render("hpipm/mpc_hunt_step.c", **sizes, **iterations),
         "main.c": render("main.c"),
         "Makefile": render("hpipm/Makefile", structure=structure, deps=casadi_paths()[1]),

@@ -48,28 +48,28 @@ class CaptureLoop:
     def __init__(self, problem: CaptureProblem, formulation, backend):
         self.formulation, self.backend = formulation, backend
         self.structure = problem.structure
-        self.step_function = self.backend.prepared(self.formulation.stage_data(self.structure))[0]   # its step
+        self.step_function = self.backend.prepared(self.formulation.stage_data(self.structure))[0]  # its step
         function = self.backend.loop_function(self.step_function)
         theta, reference = self.formulation.step_inputs(problem)
         nc, horizon = int(problem.controlled.sum()), problem.horizon
         self.theta = np.array(theta, dtype=float)
-        self.parts = self.formulation.parameter_parts(self.theta, self.structure)   # views: writes go into θ
+        self.parts = self.formulation.parameter_parts(self.theta, self.structure)  # views: writes go into θ
         self.reference = np.array(reference, dtype=float).reshape(horizon, nc, 2)
-        self._reference = self.reference.reshape(-1)        # the same numbers, flat (a view)
-        self.plan = self.reference.copy()        # until a step: the reference (every defender held)
-        self.objective = np.zeros(1)             # the model's objective at the plan
-        self.iterations = 0                      # the solver's iterations in the last step (every QP's)
-        self.qps = 0                             # QPs in the last step
-        self.message = ""                        # why the last step failed ("" when it did not)
-        self._previous = np.empty_like(self.plan)   # the last usable plan of the step under way
-        self._move = np.empty_like(self.plan)       # |plan − reference|, so a step allocates nothing
+        self._reference = self.reference.reshape(-1)  # the same numbers, flat (a view)
+        self.plan = self.reference.copy()  # until a step: the reference (every defender held)
+        self.objective = np.zeros(1)  # the model's objective at the plan
+        self.iterations = 0  # the solver's iterations in the last step (every QP's)
+        self.qps = 0  # QPs in the last step
+        self.message = ""  # why the last step failed ("" when it did not)
+        self._previous = np.empty_like(self.plan)  # the last usable plan of the step under way
+        self._move = np.empty_like(self.plan)  # |plan − reference|, so a step allocates nothing
         self._buffer, self._evaluate = function.buffer()
         self._buffer.set_arg(0, memoryview(self.theta))
         self._buffer.set_arg(1, memoryview(self._reference))
         self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
         self._buffer.set_res(1, memoryview(self.objective))
-        self._stepped = False                    # whether a step has run (the first, slower, is not paced)
-        self.certificate = np.full(3, np.nan)   # the last QP's primal and dual residuals and duality gap
+        self._stepped = False  # whether a step has run (the first, slower, is not paced)
+        self.certificate = np.full(3, np.nan)  # the last QP's primal and dual residuals and duality gap
         if self.backend.LOOP_CERTIFICATE:
             self._buffer.set_res(5, memoryview(self.certificate))
 
@@ -81,8 +81,10 @@ class CaptureLoop:
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """Write ``problem``'s inputs into the arrays (the reference from ``warm_plan``, else every defender held)."""
         if problem.structure != self.structure:
-            raise MpcHuntError(f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
-                               "build one loop per structure")
+            raise MpcHuntError(
+                f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
+                "build one loop per structure"
+            )
         self.formulation.write_inputs(problem, warm_plan, self.theta, self._reference)
 
     def step(self) -> Status:
@@ -115,14 +117,14 @@ class CaptureLoop:
             self.qps = count + 1
             try:
                 self._evaluate()
-            except RuntimeError as exc:                  # CasADi refuses the QP (a NaN in it, say)
+            except RuntimeError as exc:  # CasADi refuses the QP (a NaN in it, say)
                 self.message = str(exc).splitlines()[0]
                 np.copyto(self.plan, self._previous)
                 return Status.ERROR
             status, iterations = self.backend.loop_status(self.step_function, self._buffer)
             self.iterations += iterations
             np.abs(np.subtract(self.plan, self.reference, out=self._move), out=self._move)
-            move = self._move.max()                  # NaN when the plan has one
+            move = self._move.max()  # NaN when the plan has one
             if not status.usable or not math.isfinite(move):
                 status = status if not status.usable else Status.ERROR
                 detail = self.backend.loop_message(self.step_function, self._buffer)

@@ -44,8 +44,8 @@ from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.solving.solver import CaptureSolver
 
-FEASIBLE_TOLERANCE = 1e-6     # a failed solve's last iterate is applied when no violation exceeds it
-FALLBACKS = ("last iterate", "shifted plan", "held")     # the fallbacks, in the order they are tried
+FEASIBLE_TOLERANCE = 1e-6  # a failed solve's last iterate is applied when no violation exceeds it
+FALLBACKS = ("last iterate", "shifted plan", "held")  # the fallbacks, in the order they are tried
 
 
 @dataclass(frozen=True)
@@ -76,12 +76,11 @@ class CaptureMPC:
     true violation of a plan applied (default: the accuracy's, :data:`VIOLATION_TOLERANCE`).
     """
 
-    def __init__(self, formulation: str, backend: str | None = None, *, tolerance: float | None = None,
-                 **options):
+    def __init__(self, formulation: str, backend: str | None = None, *, tolerance: float | None = None, **options):
         self.solver = CaptureSolver(formulation, backend, **options)
         self.tolerance = VIOLATION_TOLERANCE[options.get("accuracy", "default")] if tolerance is None else tolerance
-        self.fallbacks: Counter[str] = Counter()      # the fallbacks applied, by kind (:data:`FALLBACKS`)
-        self.violating = 0                            # usable plans not applied: beyond the tolerance
+        self.fallbacks: Counter[str] = Counter()  # the fallbacks applied, by kind (:data:`FALLBACKS`)
+        self.violating = 0  # usable plans not applied: beyond the tolerance
         self._memory: _Memory | None = None
 
     @property
@@ -103,14 +102,16 @@ class CaptureMPC:
         start, memory = self._start(problem), self._memory
         duals = memory.duals if start is not None else None
         solution = self.solver.solve(problem, start, duals)
-        if solution.success and solution.violation is not None \
-                and hard_violation(solution.violation) > self.tolerance:
+        if solution.success and solution.violation is not None and hard_violation(solution.violation) > self.tolerance:
             self.violating += 1
             plan, fallback = self._fallback(problem, start)
         elif solution.success:
             plan, fallback = solution.plan, None
-        elif solution.plan is not None and solution.violation is not None \
-                and solution.max_violation <= FEASIBLE_TOLERANCE:
+        elif (
+            solution.plan is not None
+            and solution.violation is not None
+            and solution.max_violation <= FEASIBLE_TOLERANCE
+        ):
             plan, fallback = solution.plan, FALLBACKS[0]
         else:
             plan, fallback = self._fallback(problem, start)

@@ -89,15 +89,22 @@ def stage_formulations() -> list[str]:
 
 def stage_form_message(formulation: str) -> str:
     """Why ``formulation`` has no control loop's step or C export."""
-    return (f"formulation: only the stage-form steps ({', '.join(stage_formulations())}) run as one Function "
-            f"(a control loop, the C export), not {formulation!r}")
+    return (
+        f"formulation: only the stage-form steps ({', '.join(stage_formulations())}) run as one Function "
+        f"(a control loop, the C export), not {formulation!r}"
+    )
 
 
 def pairs(installed_only: bool = True, objective: str | None = None) -> list[tuple[str, str]]:
     """Every (formulation, backend) that works together (by default, only installed backends), or only those
     that pose ``objective`` (:func:`objective_refusal`)."""
-    return [(f, b) for f in FORMULATIONS for b in compatible_backends(f) if not installed_only or installed(b)
-            if objective is None or objective_refusal(f, b, objective) is None]
+    return [
+        (f, b)
+        for f in FORMULATIONS
+        for b in compatible_backends(f)
+        if not installed_only or installed(b)
+        if objective is None or objective_refusal(f, b, objective) is None
+    ]
 
 
 def objective_refusal(formulation: str, backend: str | None, objective: str) -> SettingError | None:
@@ -106,12 +113,17 @@ def objective_refusal(formulation: str, backend: str | None, objective: str) -> 
     None: the formulation's alone). The refusal names the field at fault, ``formulation`` or ``backend``."""
     posed = formulation_class(formulation).objectives
     if objective not in posed:
-        return SettingError("formulation", f"formulation {formulation} poses the {' or '.join(posed)} objective, "
-                                           f"not the {objective} objective")
+        return SettingError(
+            "formulation",
+            f"formulation {formulation} poses the {' or '.join(posed)} objective, not the {objective} objective",
+        )
     taken = None if backend is None else backend_class(backend).objectives
     if taken is not None and objective not in taken:
-        return SettingError("backend", f"backend {backend} solves only the {' or '.join(taken)} objective's QPs, "
-                                       f"not those of the {objective} objective")
+        return SettingError(
+            "backend",
+            f"backend {backend} solves only the {' or '.join(taken)} objective's QPs, "
+            f"not those of the {objective} objective",
+        )
     return None
 
 
@@ -140,8 +152,10 @@ def resolve(formulation: str, backend: str | None = None) -> Pair:
     backend = backend or cls.default_backend
     solver = backend_class(backend)
     if cls.kind not in solver.accepts:
-        raise UnknownNameError(f"backend {backend!r} does not solve formulation {formulation!r} "
-                               f"(use one of: {', '.join(compatible_backends(formulation))})")
+        raise UnknownNameError(
+            f"backend {backend!r} does not solve formulation {formulation!r} "
+            f"(use one of: {', '.join(compatible_backends(formulation))})"
+        )
     if not installed(backend):
         raise SolverNotFoundError(install_hint(backend))
     return Pair(cls, solver, backend)

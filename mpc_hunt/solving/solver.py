@@ -53,10 +53,19 @@ class CaptureSolver:
     control loops; ``loop=False`` runs the formulation's own path.
     """
 
-    def __init__(self, formulation: str, backend: str | None = None, *,
-                 time_limit: float | None = None, accuracy: str = "default", raise_on_failure: bool = False,
-                 score: bool = True, loop: bool | None = None, formulation_options: dict | None = None,
-                 **backend_options):
+    def __init__(
+        self,
+        formulation: str,
+        backend: str | None = None,
+        *,
+        time_limit: float | None = None,
+        accuracy: str = "default",
+        raise_on_failure: bool = False,
+        score: bool = True,
+        loop: bool | None = None,
+        formulation_options: dict | None = None,
+        **backend_options,
+    ):
         pair = registry.resolve(formulation, backend)
         try:
             self.formulation = pair.formulation(**(formulation_options or {}))
@@ -69,9 +78,10 @@ class CaptureSolver:
         self.on_loops = self.stage_form if loop is None else loop
         self.raise_on_failure = raise_on_failure
         self.score = score
-        self._refusals = {objective: registry.objective_refusal(formulation, pair.backend_name, objective)
-                          for objective in OBJECTIVES}                # why an objective cannot be solved (None: it can)
-        self._prepared: set[Structure] = set()                 # structures whose model this solver has built
+        self._refusals = {
+            objective: registry.objective_refusal(formulation, pair.backend_name, objective) for objective in OBJECTIVES
+        }  # why an objective cannot be solved (None: it can)
+        self._prepared: set[Structure] = set()  # structures whose model this solver has built
         self._loops: dict[Structure, CaptureLoop] = {}
 
     def loop(self, problem: CaptureProblem) -> CaptureLoop | TeamLoop:
@@ -88,38 +98,49 @@ class CaptureSolver:
             loop = self._loops[problem.structure] = kind(problem, self.formulation, self.backend)
         return loop
 
-    def solve(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None,
-              duals: WarmStart | None = None) -> Solution:
+    def solve(
+        self, problem: CaptureProblem, warm_plan: np.ndarray | None = None, duals: WarmStart | None = None
+    ) -> Solution:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held, and from
         ``duals`` (an earlier solution's of a problem with the same signature) if given; a stage-form pair on its
         loop reads no duals."""
         refused = self._refusal(problem)
         if refused:
-            return self._finish(Solution(status=Status.ERROR, formulation=self.formulation.name,
-                                         backend=self.backend.name, message=refused))
+            return self._finish(
+                Solution(
+                    status=Status.ERROR, formulation=self.formulation.name, backend=self.backend.name, message=refused
+                )
+            )
         if self.on_loops:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
         names = dict(formulation=self.formulation.name, backend=self.backend.name)
         try:
             build_time = 0.0
-            if problem.structure not in self._prepared:     # set-up time is counted once per structure
+            if problem.structure not in self._prepared:  # set-up time is counted once per structure
                 self.formulation.prepare(problem.structure)
                 self._prepared.add(problem.structure)
                 build_time = time.perf_counter() - t0
             result = self.formulation.solve(problem, self.backend, warm_plan, duals)
         except (RuntimeError, ValueError, ArithmeticError) as exc:
             message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            solution = Solution(status=Status.ERROR, message=message, overhead_time=time.perf_counter() - t0,
-                                **names)
+            solution = Solution(status=Status.ERROR, message=message, overhead_time=time.perf_counter() - t0, **names)
             return self._finish(solution)
         if result.plan is not None and not np.all(np.isfinite(result.plan)):
             result = replace(result, status=Status.ERROR, plan=None, message=f"{result.message} (non-finite plan)")
         scores = solve_scores(problem, result.plan, result.status, self.score)
         setup_time = result.setup_time + build_time
         overhead = time.perf_counter() - t0 - result.solver_time - setup_time - scores.get("score_time", 0.0)
-        return self._finish(replace(result, **names, **scores, setup_time=setup_time,
-                                    overhead_time=max(overhead, 0.0), warm_started=warm_plan is not None))
+        return self._finish(
+            replace(
+                result,
+                **names,
+                **scores,
+                setup_time=setup_time,
+                overhead_time=max(overhead, 0.0),
+                warm_started=warm_plan is not None,
+            )
+        )
 
     def _step(self, problem: CaptureProblem, warm_plan: np.ndarray | None) -> Solution:
         """One step on the structure's loop: the problem written into its arrays, the plan read back. A failed
@@ -135,13 +156,25 @@ class CaptureSolver:
         plan = problem.plan_with(loop.plan)
         scores = solve_scores(problem, plan, status, self.score)
         overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
-        return Solution(status=status, message=loop.message, formulation=self.formulation.name,
-                        backend=self.backend.name, x=loop.plan.reshape(-1).copy(), plan=plan,
-                        formulation_objective=float(loop.objective[0]) if status.usable and
-                        np.isfinite(loop.objective[0]) else None,
-                        solver_time=solver_time, overhead_time=max(overhead, 0.0), setup_time=setup_time,
-                        iterations=loop.iterations, warm_started=warm_plan is not None,
-                        extras=loop.extras, certificate=loop_certificate(loop), **scores)
+        return Solution(
+            status=status,
+            message=loop.message,
+            formulation=self.formulation.name,
+            backend=self.backend.name,
+            x=loop.plan.reshape(-1).copy(),
+            plan=plan,
+            formulation_objective=float(loop.objective[0])
+            if status.usable and np.isfinite(loop.objective[0])
+            else None,
+            solver_time=solver_time,
+            overhead_time=max(overhead, 0.0),
+            setup_time=setup_time,
+            iterations=loop.iterations,
+            warm_started=warm_plan is not None,
+            extras=loop.extras,
+            certificate=loop_certificate(loop),
+            **scores,
+        )
 
     def export(self, folder: Path, problem: CaptureProblem, robot: int = 0, target: str = "host") -> list[Path]:
         """The step of ``problem``'s structure, as this solver set it up, written as C sources for a robot's board
@@ -156,15 +189,28 @@ class CaptureSolver:
         loop.load(problem)
         if isinstance(loop, TeamLoop):
             if not 0 <= robot < problem.structure.planned:
-                raise MpcHuntError(f"robot: {problem.structure.planned} defenders are planned (index 0 to "
-                                   f"{problem.structure.planned - 1}), not {robot}")
+                raise MpcHuntError(
+                    f"robot: {problem.structure.planned} defenders are planned (index 0 to "
+                    f"{problem.structure.planned - 1}), not {robot}"
+                )
             loop = loop.robot_loop(robot)
-        theta, reference = loop.theta.copy(), loop.reference.reshape(-1).copy()   # the step moves its reference
+        theta, reference = loop.theta.copy(), loop.reference.reshape(-1).copy()  # the step moves its reference
         if not loop.step().usable:
-            raise MpcHuntError(f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
-                               "nothing to compare the C step with")
-        return write_step(Path(folder), self.backend.generated_step(loop.step_function), self.backend.exports,
-                          loop.formulation.iteration, loop.structure, theta, reference, loop.plan.reshape(-1), target)
+            raise MpcHuntError(
+                f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
+                "nothing to compare the C step with"
+            )
+        return write_step(
+            Path(folder),
+            self.backend.generated_step(loop.step_function),
+            self.backend.exports,
+            loop.formulation.iteration,
+            loop.structure,
+            theta,
+            reference,
+            loop.plan.reshape(-1),
+            target,
+        )
 
     def _refusal(self, problem: CaptureProblem) -> str | None:
         """Why this pair cannot solve ``problem``'s objective (:func:`~mpc_hunt.solving.registry.objective_refusal`),
@@ -182,7 +228,6 @@ def loop_certificate(loop: CaptureLoop | TeamLoop) -> Certificate | None:
     return None if np.any(np.isnan(values)) else Certificate(*(float(v) for v in values))
 
 
-def solve(problem: CaptureProblem, formulation: str, backend: str | None = None,
-          **options) -> Solution:
+def solve(problem: CaptureProblem, formulation: str, backend: str | None = None, **options) -> Solution:
     """Solve one capture problem cold with a fresh solver (see :class:`CaptureSolver`)."""
     return CaptureSolver(formulation, backend, **options).solve(problem)

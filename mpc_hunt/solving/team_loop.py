@@ -42,14 +42,15 @@ class TeamLoop:
         self.robots = []
         for i in range(self.structure.planned):
             theta, reference, _ = self.team.robot_inputs(i, broadcast)
-            self.robots.append(CaptureLoop(formulation.robot_problem(self.team, theta, reference),
-                                           formulation.robot_step, backend))
+            self.robots.append(
+                CaptureLoop(formulation.robot_problem(self.team, theta, reference), formulation.robot_step, backend)
+            )
         self.step_function = self.robots[0].step_function
-        self.objective = np.full(1, np.nan)        # no one objective: each robot minimises its own
+        self.objective = np.full(1, np.nan)  # no one objective: each robot minimises its own
         self.iterations = self.qps = 0
         self.message = ""
         self.robot_times: list[float] = []
-        self.broadcast_time = 0.0                  # the last step's time outside the robots' QPs (s)
+        self.broadcast_time = 0.0  # the last step's time outside the robots' QPs (s)
         self.unseen_neighbours = 0
         self.extras: dict = {}
 
@@ -61,8 +62,10 @@ class TeamLoop:
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """The team's numbers at ``problem``, and the plans to start from (``warm_plan``, else every one held)."""
         if problem.structure != self.structure:
-            raise MpcHuntError(f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
-                               "build one loop per structure")
+            raise MpcHuntError(
+                f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
+                "build one loop per structure"
+            )
         self.team.load(problem, self.formulation.smoothing)
         start = problem.held_plan() if warm_plan is None else warm_plan
         self.plan = problem.x_from_plan(start).reshape(problem.horizon, -1, 2)

@@ -6,5 +6,4 @@ from mpc_hunt.sweep.runner import Hunt, run_hunt, run_local
 from mpc_hunt.sweep.store import SweepStore
 from mpc_hunt.sweep.summary import summarise
 
-__all__ = ["Hunt", "ScenarioRanges", "SweepStore", "run_hunt", "run_local", "summarise",
-           "sweep_scenario"]
+__all__ = ["Hunt", "ScenarioRanges", "SweepStore", "run_hunt", "run_local", "summarise", "sweep_scenario"]

@@ -20,9 +20,17 @@ from __future__ import annotations
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.world.scenario import Scenario
 
-CAUSES = ("non_finite_state", "obstacle_collision", "defender_contact", "outside_arena", "attacker_escaped",
-          "solver_failure_streak", "time_limit", "error")
-CONTACT_TOLERANCE = 1e-6    # m
+CAUSES = (
+    "non_finite_state",
+    "obstacle_collision",
+    "defender_contact",
+    "outside_arena",
+    "attacker_escaped",
+    "solver_failure_streak",
+    "time_limit",
+    "error",
+)
+CONTACT_TOLERANCE = 1e-6  # m
 FAILURE_STREAK = 50
 
 
@@ -32,8 +40,10 @@ def failure_cause(result: HuntResult, scenario: Scenario) -> str | None:
         return "non_finite_state"
     if result.min_obstacle_clearance is not None and result.min_obstacle_clearance < 0:
         return "obstacle_collision"
-    if result.min_defender_separation is not None \
-            and result.min_defender_separation < scenario.hunt.min_separation - CONTACT_TOLERANCE:
+    if (
+        result.min_defender_separation is not None
+        and result.min_defender_separation < scenario.hunt.min_separation - CONTACT_TOLERANCE
+    ):
         return "defender_contact"
     if result.min_arena_margin is not None and result.min_arena_margin < -CONTACT_TOLERANCE:
         return "outside_arena"
@@ -50,5 +60,7 @@ def safety_breaches(result: HuntResult, scenario: Scenario) -> tuple[bool, bool]
     """Did a defender come inside an obstacle's safety distance R_safe (Eq. 15), less ``CONTACT_TOLERANCE``,
     at a position an approaching-stage command led it to, and at one a capture-stage command led it to?"""
     limit = scenario.hunt.safety_distance - CONTACT_TOLERANCE
-    return tuple(clearance is not None and clearance < limit
-                 for clearance in (result.approach_min_obstacle_clearance, result.capture_min_obstacle_clearance))
+    return tuple(
+        clearance is not None and clearance < limit
+        for clearance in (result.approach_min_obstacle_clearance, result.capture_min_obstacle_clearance)
+    )

@@ -25,12 +25,25 @@ import numpy as np
 import tomli_w
 
 from mpc_hunt.errors import ScenarioError
-from mpc_hunt.world.scenario import (MAX_DEFENDERS, MAX_MAGNITUDE, MAX_OBSTACLES, MAX_SPEED, Attacker, Defender,
-                               HuntParameters, Obstacle, Scenario, Vector, checked_arena, checked_number, key_shown,
-                               shown)
+from mpc_hunt.world.scenario import (
+    MAX_DEFENDERS,
+    MAX_MAGNITUDE,
+    MAX_OBSTACLES,
+    MAX_SPEED,
+    Attacker,
+    Defender,
+    HuntParameters,
+    Obstacle,
+    Scenario,
+    Vector,
+    checked_arena,
+    checked_number,
+    key_shown,
+    shown,
+)
 from mpc_hunt.world.scenario_io import parse_toml, read_input_file
 
-MAX_SPEED_RATIO = 0.99   # strictly below 1, with room for rounding: the attacker is slower than every defender
+MAX_SPEED_RATIO = 0.99  # strictly below 1, with room for rounding: the attacker is slower than every defender
 MAX_TRIES = 1_000_000
 
 
@@ -39,19 +52,19 @@ class ScenarioRanges:
     """What a random scenario is drawn from (docs/robustness.md). A pair (lo, hi) is a closed range; lo == hi
     fixes the value, and so does a single number in a file or an override."""
 
-    arena: tuple[float, float, float, float] = (0.0, 0.0, 20.0, 20.0)   # (x_min, y_min, x_max, y_max), m
+    arena: tuple[float, float, float, float] = (0.0, 0.0, 20.0, 20.0)  # (x_min, y_min, x_max, y_max), m
     n_defenders: tuple[int, int] = (2, 5)
     n_obstacles: tuple[int, int] = (0, 5)
-    obstacle_radius: tuple[float, float] = (0.3, 1.2)      # m
-    defender_speed: tuple[float, float] = (0.08, 0.08)     # m/s, each defender's max_speed (the paper's)
-    speed_ratio: tuple[float, float] = (0.25, 0.75)        # v_a / the slowest defender's speed (paper: 0.375)
-    perception_radius: tuple[float, float] = (0.5, 1.5)    # R_agg, m (paper: 1)
-    min_spacing: float = 1.0     # m, between any two robots' starts, the attacker's included
-    margin: float = 0.2          # m, between obstacles; and beyond R_safe around obstacles for a start
-    time_limit: float = 300.0    # s
-    max_tries: int = 1000        # draws per obstacle or robot before giving up
-    defender_failure: float = 0.0                          # chance that one random defender fails mid-hunt
-    failure_time: tuple[float, float] = (30.0, 150.0)      # s, when it fails (Defender.fails_at)
+    obstacle_radius: tuple[float, float] = (0.3, 1.2)  # m
+    defender_speed: tuple[float, float] = (0.08, 0.08)  # m/s, each defender's max_speed (the paper's)
+    speed_ratio: tuple[float, float] = (0.25, 0.75)  # v_a / the slowest defender's speed (paper: 0.375)
+    perception_radius: tuple[float, float] = (0.5, 1.5)  # R_agg, m (paper: 1)
+    min_spacing: float = 1.0  # m, between any two robots' starts, the attacker's included
+    margin: float = 0.2  # m, between obstacles; and beyond R_safe around obstacles for a start
+    time_limit: float = 300.0  # s
+    max_tries: int = 1000  # draws per obstacle or robot before giving up
+    defender_failure: float = 0.0  # chance that one random defender fails mid-hunt
+    failure_time: tuple[float, float] = (30.0, 150.0)  # s, when it fails (Defender.fails_at)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -59,16 +72,22 @@ class ScenarioRanges:
         set_(self, "n_defenders", _count_range(self.n_defenders, "ranges.n_defenders", 1, MAX_DEFENDERS))
         set_(self, "n_obstacles", _count_range(self.n_obstacles, "ranges.n_obstacles", 0, MAX_OBSTACLES))
         set_(self, "obstacle_radius", _real_range(self.obstacle_radius, "ranges.obstacle_radius", unit=" m"))
-        set_(self, "defender_speed", _real_range(self.defender_speed, "ranges.defender_speed",
-                                                 limit=MAX_SPEED, unit=" m/s"))
+        set_(
+            self,
+            "defender_speed",
+            _real_range(self.defender_speed, "ranges.defender_speed", limit=MAX_SPEED, unit=" m/s"),
+        )
         set_(self, "speed_ratio", _real_range(self.speed_ratio, "ranges.speed_ratio", limit=MAX_SPEED_RATIO))
         set_(self, "perception_radius", _real_range(self.perception_radius, "ranges.perception_radius", unit=" m"))
         set_(self, "min_spacing", checked_number(self.min_spacing, "ranges.min_spacing", positive=True, unit=" m"))
         set_(self, "margin", checked_number(self.margin, "ranges.margin", non_negative=True, unit=" m"))
         set_(self, "time_limit", checked_number(self.time_limit, "ranges.time_limit", positive=True, unit=" s"))
         set_(self, "max_tries", _whole(self.max_tries, "ranges.max_tries", 1, MAX_TRIES))
-        set_(self, "defender_failure", checked_number(self.defender_failure, "ranges.defender_failure",
-                                                      non_negative=True, limit=1.0))
+        set_(
+            self,
+            "defender_failure",
+            checked_number(self.defender_failure, "ranges.defender_failure", non_negative=True, limit=1.0),
+        )
         set_(self, "failure_time", _real_range(self.failure_time, "ranges.failure_time", unit=" s"))
         self._check_fit()
 
@@ -79,16 +98,21 @@ class ScenarioRanges:
     def _check_fit(self) -> None:
         hunt = self.hunt()
         if self.time_limit < hunt.time_step:
-            raise ScenarioError(f"ranges.time_limit: must be at least the time step {hunt.time_step} s, "
-                                f"got {self.time_limit}")
+            raise ScenarioError(
+                f"ranges.time_limit: must be at least the time step {hunt.time_step} s, got {self.time_limit}"
+            )
         closest = max(hunt.min_separation, hunt.min_attacker_distance)
         if self.min_spacing < closest:
-            raise ScenarioError(f"ranges.min_spacing: must be at least {closest} m, the hunt's smallest "
-                                f"allowed robot distance, got {self.min_spacing}")
+            raise ScenarioError(
+                f"ranges.min_spacing: must be at least {closest} m, the hunt's smallest "
+                f"allowed robot distance, got {self.min_spacing}"
+            )
         x_min, y_min, x_max, y_max = self.arena
         if 2 * self.obstacle_radius[1] > min(x_max - x_min, y_max - y_min):
-            raise ScenarioError(f"ranges.obstacle_radius: an obstacle of radius {self.obstacle_radius[1]} m does "
-                                f"not fit in the arena ({x_max - x_min} m × {y_max - y_min} m)")
+            raise ScenarioError(
+                f"ranges.obstacle_radius: an obstacle of radius {self.obstacle_radius[1]} m does "
+                f"not fit in the arena ({x_max - x_min} m × {y_max - y_min} m)"
+            )
 
 
 def _pair(value: object, where: str) -> tuple[object, object]:
@@ -125,6 +149,7 @@ def _whole(value: object, where: str, low: int = 0, high: int | None = None) -> 
 
 
 # --- ranges as data: TOML files and overrides ---------------------------------------------------
+
 
 def ranges_to_dict(ranges: ScenarioRanges) -> dict:
     """Plain data, as under ``[ranges]`` in a TOML file: every field, pairs as lists."""
@@ -172,8 +197,13 @@ def dumps_ranges(ranges: ScenarioRanges) -> str:
 
 # --- drawing a scenario -------------------------------------------------------------------------
 
-def random_scenario(rng: np.random.Generator, ranges: ScenarioRanges = ScenarioRanges(), name: str = "random",
-                    description: str = "random scenario (mpc_hunt.sweep.random_scenario)") -> Scenario:
+
+def random_scenario(
+    rng: np.random.Generator,
+    ranges: ScenarioRanges = ScenarioRanges(),
+    name: str = "random",
+    description: str = "random scenario (mpc_hunt.sweep.random_scenario)",
+) -> Scenario:
     """A valid scenario drawn from ``ranges`` with ``rng``; the same generator state gives the same scenario.
 
     Obstacles lie inside the arena, their surfaces at least ``margin`` apart.
@@ -192,31 +222,51 @@ def random_scenario(rng: np.random.Generator, ranges: ScenarioRanges = ScenarioR
         return all(math.dist(p, o.centre) > o.radius + clearance for o in obstacles)
 
     advice = "lower n_obstacles or obstacle_radius, or enlarge the arena"
-    p_a = _draw(rng, ranges.arena, clear, ranges.max_tries,
-                f"ranges.n_obstacles: no start for the attacker clear of {n_obstacles} obstacles in "
-                f"{ranges.max_tries} draws; {advice}")
+    p_a = _draw(
+        rng,
+        ranges.arena,
+        clear,
+        ranges.max_tries,
+        f"ranges.n_obstacles: no start for the attacker clear of {n_obstacles} obstacles in "
+        f"{ranges.max_tries} draws; {advice}",
+    )
     heading = float(rng.uniform(0.0, 2.0 * math.pi))
     ratio = float(rng.uniform(*ranges.speed_ratio))
     perception_radius = float(rng.uniform(*ranges.perception_radius))
     speeds = [float(rng.uniform(*ranges.defender_speed)) for _ in range(n_defenders)]
     starts: list[Vector] = []
     for k in range(n_defenders):
-        starts.append(_draw(
-            rng, ranges.arena,
-            lambda p: clear(p) and all(math.dist(p, q) >= ranges.min_spacing for q in [p_a, *starts]),
-            ranges.max_tries,
-            f"ranges.n_defenders: no start for defender {k + 1} of {n_defenders} at least min_spacing "
-            f"{ranges.min_spacing} m from the other robots and clear of {n_obstacles} obstacles in "
-            f"{ranges.max_tries} draws; lower n_defenders, min_spacing or n_obstacles, or enlarge the arena"))
+        starts.append(
+            _draw(
+                rng,
+                ranges.arena,
+                lambda p: clear(p) and all(math.dist(p, q) >= ranges.min_spacing for q in [p_a, *starts]),
+                ranges.max_tries,
+                f"ranges.n_defenders: no start for defender {k + 1} of {n_defenders} at least min_spacing "
+                f"{ranges.min_spacing} m from the other robots and clear of {n_obstacles} obstacles in "
+                f"{ranges.max_tries} draws; lower n_defenders, min_spacing or n_obstacles, or enlarge the arena",
+            )
+        )
     v_a = ratio * min(speeds)
     attacker = Attacker(p_a, (v_a * math.cos(heading), v_a * math.sin(heading)), v_a, perception_radius)
     # Drawn last and always, so that the failure settings never change the rest of the scenario.
-    fails, failing, fails_at = rng.random() < ranges.defender_failure, rng.integers(n_defenders), \
-        float(rng.uniform(*ranges.failure_time))
-    defenders = tuple(Defender(p, v, fails_at if fails and k == failing else None)
-                      for k, (p, v) in enumerate(zip(starts, speeds)))
-    return Scenario(name=name, description=description, attacker=attacker, defenders=defenders,
-                    obstacles=obstacles, hunt=hunt, arena=ranges.arena)
+    fails, failing, fails_at = (
+        rng.random() < ranges.defender_failure,
+        rng.integers(n_defenders),
+        float(rng.uniform(*ranges.failure_time)),
+    )
+    defenders = tuple(
+        Defender(p, v, fails_at if fails and k == failing else None) for k, (p, v) in enumerate(zip(starts, speeds))
+    )
+    return Scenario(
+        name=name,
+        description=description,
+        attacker=attacker,
+        defenders=defenders,
+        obstacles=obstacles,
+        hunt=hunt,
+        arena=ranges.arena,
+    )
 
 
 def _place_obstacles(rng: np.random.Generator, ranges: ScenarioRanges, n: int) -> tuple[Obstacle, ...]:
@@ -224,18 +274,26 @@ def _place_obstacles(rng: np.random.Generator, ranges: ScenarioRanges, n: int) -
     placed: list[Obstacle] = []
     for k in range(n):
         r = float(rng.uniform(*ranges.obstacle_radius))
-        centre = _draw(rng, (x_min + r, y_min + r, x_max - r, y_max - r),
-                       lambda c: all(math.dist(c, o.centre) >= r + o.radius + ranges.margin for o in placed),
-                       ranges.max_tries,
-                       f"ranges.n_obstacles: no place for obstacle {k + 1} of {n} (radius {r:.3g} m) at least "
-                       f"margin {ranges.margin} m from the others in {ranges.max_tries} draws; lower n_obstacles "
-                       f"or obstacle_radius, or enlarge the arena")
+        centre = _draw(
+            rng,
+            (x_min + r, y_min + r, x_max - r, y_max - r),
+            lambda c: all(math.dist(c, o.centre) >= r + o.radius + ranges.margin for o in placed),
+            ranges.max_tries,
+            f"ranges.n_obstacles: no place for obstacle {k + 1} of {n} (radius {r:.3g} m) at least "
+            f"margin {ranges.margin} m from the others in {ranges.max_tries} draws; lower n_obstacles "
+            f"or obstacle_radius, or enlarge the arena",
+        )
         placed.append(Obstacle(centre, r))
     return tuple(placed)
 
 
-def _draw(rng: np.random.Generator, box: tuple[float, float, float, float], accept: Callable[[Vector], bool],
-          tries: int, failure: str) -> Vector:
+def _draw(
+    rng: np.random.Generator,
+    box: tuple[float, float, float, float],
+    accept: Callable[[Vector], bool],
+    tries: int,
+    failure: str,
+) -> Vector:
     """A point uniform in ``box`` that ``accept``s, by rejection; ``failure`` after ``tries`` draws."""
     x_min, y_min, x_max, y_max = box
     for _ in range(tries):
@@ -247,6 +305,7 @@ def _draw(rng: np.random.Generator, box: tuple[float, float, float, float], acce
 
 # --- sweeps ---------------------------------------------------------------------------------------
 
+
 def sweep_rng(seed: int, index: int) -> np.random.Generator:
     """The generator of scenario ``index`` of the sweep ``seed``: child ``index`` of ``SeedSequence(seed)``."""
     sequence = np.random.SeedSequence(_whole(seed, "seed"), spawn_key=(_whole(index, "index"),))
@@ -255,6 +314,9 @@ def sweep_rng(seed: int, index: int) -> np.random.Generator:
 
 def sweep_scenario(seed: int, index: int, ranges: ScenarioRanges = ScenarioRanges()) -> Scenario:
     """Scenario ``index`` of the sweep ``seed``, named ``random-<seed>-<index>``."""
-    return random_scenario(sweep_rng(seed, index), ranges, name=f"random-{seed}-{index}",
-                           description=f"random scenario {index} of the sweep with seed {seed} "
-                                       f"(mpc_hunt.sweep.random_scenario)")
+    return random_scenario(
+        sweep_rng(seed, index),
+        ranges,
+        name=f"random-{seed}-{index}",
+        description=f"random scenario {index} of the sweep with seed {seed} (mpc_hunt.sweep.random_scenario)",
+    )

@@ -54,8 +54,8 @@ def undisturbed_path(scenario: Scenario) -> Iterator[np.ndarray]:
             return
 
 
-SPARE_TIME = 20.0     # s: what a comfortable hunt leaves the defenders to close the circle
-ENCLOSING = 3         # the fewest defenders that can enclose an attacker without an obstacle
+SPARE_TIME = 20.0  # s: what a comfortable hunt leaves the defenders to close the circle
+ENCLOSING = 3  # the fewest defenders that can enclose an attacker without an obstacle
 
 
 def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, list[np.ndarray]]:
@@ -84,7 +84,9 @@ def obstacle_in_reach(scenario: Scenario, first: np.ndarray, path: list[np.ndarr
     k0 = int(np.min(first[first >= 0]))
     hunt = scenario.hunt
     gaps = norm(path[k0] - scenario.obstacle_centres) - scenario.obstacle_radii
-    return bool(np.min(gaps) - hunt.hunt_radius <= scenario.attacker.max_speed * (hunt.time_limit - k0 * hunt.time_step))
+    return bool(
+        np.min(gaps) - hunt.hunt_radius <= scenario.attacker.max_speed * (hunt.time_limit - k0 * hunt.time_step)
+    )
 
 
 def race_labels(scenario: Scenario) -> tuple[bool, bool]:
@@ -109,7 +111,7 @@ def reachable(scenario: Scenario) -> bool:
     return race_labels(scenario)[0]
 
 
-EDGE_SPACING = 0.05   # m: the arena's edges are checked at points this far apart
+EDGE_SPACING = 0.05  # m: the arena's edges are checked at points this far apart
 
 
 def edge_race_lost(scenario: Scenario) -> bool:
@@ -127,10 +129,15 @@ def edge_race_lost(scenario: Scenario) -> bool:
     x_min, y_min, x_max, y_max = scenario.arena
     xs = np.linspace(x_min, x_max, max(2, int(math.ceil((x_max - x_min) / EDGE_SPACING)) + 1))
     ys = np.linspace(y_min, y_max, max(2, int(math.ceil((y_max - y_min) / EDGE_SPACING)) + 1))
-    edge = np.vstack([np.column_stack([xs, np.full_like(xs, y_min)]), np.column_stack([xs, np.full_like(xs, y_max)]),
-                      np.column_stack([np.full_like(ys, x_min), ys]), np.column_stack([np.full_like(ys, x_max), ys])])
+    edge = np.vstack(
+        [
+            np.column_stack([xs, np.full_like(xs, y_min)]),
+            np.column_stack([xs, np.full_like(xs, y_max)]),
+            np.column_stack([np.full_like(ys, x_min), ys]),
+            np.column_stack([np.full_like(ys, x_max), ys]),
+        ]
+    )
     attacker_time = norm(edge - np.array(scenario.attacker.start)) / scenario.attacker.max_speed
     gaps = np.maximum(norm(edge[:, None, :] - scenario.defender_starts[None]) - scenario.hunt.hunt_radius, 0.0)
     defender_time = np.min(gaps / scenario.defender_max_speeds, axis=1)
     return bool(np.any(attacker_time < defender_time))
-

@@ -32,23 +32,23 @@ from typing import Any, Callable, Iterable, Iterator, Sequence
 import numpy as np
 
 from mpc_hunt.control.spec import ControllerSpec
-from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.errors import MpcHuntError, SettingError, SweepStopped, WorkersDied
-from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
-from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
+from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
+from mpc_hunt.workers import run_local as workers_run_local
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, with_behaviour
 from mpc_hunt.world.belief import WORLD, Belief, belief_rng, parse_belief
-from mpc_hunt.workers import run_local as workers_run_local
+from mpc_hunt.world.ensemble import perturbed
 
 # The one-step NLP with the optimiser's field smoothed (docs/model.md, E11), the fastest QP strategy (one
 # Gauss-Newton QP per step on HPIPM), and the no-optimisation baseline. The paper's own one-step NLP
 # (paper:nlp:ipopt:1) stalls at IPOPT's iteration limit on the field's kink in many random hunts, at up
 # to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
 DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
-MAX_TASKS = 10_000_000   # hunts in one sweep, every strategy, attacker and belief (a row each in its SQLite file)
-DASK_IN_FLIGHT = 1_000   # hunts handed to a Dask cluster at once (more are handed as they finish)
+MAX_TASKS = 10_000_000  # hunts in one sweep, every strategy, attacker and belief (a row each in its SQLite file)
+DASK_IN_FLIGHT = 1_000  # hunts handed to a Dask cluster at once (more are handed as they finish)
 EXACT = Belief().label()
 
 
@@ -100,16 +100,24 @@ def run_hunt(task: Hunt) -> dict:
     breach_approach, breach_capture = safety_breaches(result, scenario)
     times = result.solve_times
     T = scenario.hunt.time_step
-    outcome = "captured" if cause is None else ("uncapturable" if not capturable_by_definition(scenario)
-                                                else "failed")
+    outcome = "captured" if cause is None else ("uncapturable" if not capturable_by_definition(scenario) else "failed")
     return row | {
-        "outcome": outcome, "cause": cause, "message": None, "termination": result.termination,
-        "capture_time_s": result.capture_time, "path_length_m": float(np.sum(result.path_lengths)),
+        "outcome": outcome,
+        "cause": cause,
+        "message": None,
+        "termination": result.termination,
+        "capture_time_s": result.capture_time,
+        "path_length_m": float(np.sum(result.path_lengths)),
         "min_obstacle_clearance_m": result.min_obstacle_clearance,
         "min_defender_separation_m": result.min_defender_separation,
-        "min_attacker_distance_m": result.min_attacker_distance, "min_arena_margin_m": result.min_arena_margin,
-        "safety_breach_approach": breach_approach, "safety_breach_capture": breach_capture, "steps": result.steps,
-        "solves": int(len(times)), "failed_solves": result.failed_solves, "fallbacks": result.fallbacks,
+        "min_attacker_distance_m": result.min_attacker_distance,
+        "min_arena_margin_m": result.min_arena_margin,
+        "safety_breach_approach": breach_approach,
+        "safety_breach_capture": breach_capture,
+        "steps": result.steps,
+        "solves": int(len(times)),
+        "failed_solves": result.failed_solves,
+        "fallbacks": result.fallbacks,
         "longest_failure_streak": result.longest_failure_streak,
         "solve_time_p50_s": float(np.median(times)) if len(times) else None,
         "solve_time_p95_s": float(np.percentile(times, 95)) if len(times) else None,
@@ -125,8 +133,12 @@ def _drawn(task: Hunt) -> tuple:
     scenario = with_behaviour(sweep_scenario(task.seed, task.index, ranges_from_dict(task.ranges)), task.attacker)
     if task.member:
         scenario = perturbed(scenario, np.random.default_rng([task.seed, task.index, task.member]))
-    return scenario, {"strategy": task.strategy, "attacker": task.attacker, "belief": task.belief,
-                      **scenario_row(scenario, seed=task.seed, index=task.index)}
+    return scenario, {
+        "strategy": task.strategy,
+        "attacker": task.attacker,
+        "belief": task.belief,
+        **scenario_row(scenario, seed=task.seed, index=task.index),
+    }
 
 
 def _error(exc: BaseException, wall_time: float | None) -> dict:
@@ -161,8 +173,15 @@ class Tasks:
                             yield Hunt(s, self.seed, i, self.ranges, attacker=a, belief=b)
 
     def __len__(self) -> int:
-        finished = sum(1 for s, a, b, seed, i in self.done if seed == self.seed and 0 <= i < self.hunts and
-                       s in self.strategies and a in self.attackers and b in self.beliefs)
+        finished = sum(
+            1
+            for s, a, b, seed, i in self.done
+            if seed == self.seed
+            and 0 <= i < self.hunts
+            and s in self.strategies
+            and a in self.attackers
+            and b in self.beliefs
+        )
         return total_tasks(self.strategies, self.hunts, self.attackers, self.beliefs) - finished
 
 
@@ -171,24 +190,34 @@ def total_tasks(strategies: Sequence[str], hunts: int, attackers: Sequence[str],
     refused (:class:`SettingError` naming ``hunts``)."""
     total = len(strategies) * len(attackers) * len(beliefs) * hunts
     if total > MAX_TASKS:
-        raise SettingError("hunts", f"{len(strategies)} strategies x {len(attackers)} attackers x {len(beliefs)} "
-                                    f"beliefs x {hunts} hunts = {total} hunts: at most {MAX_TASKS} in one sweep "
-                                    "(docs/robustness.md, Limits); give fewer hunts, or split the sweep")
+        raise SettingError(
+            "hunts",
+            f"{len(strategies)} strategies x {len(attackers)} attackers x {len(beliefs)} "
+            f"beliefs x {hunts} hunts = {total} hunts: at most {MAX_TASKS} in one sweep "
+            "(docs/robustness.md, Limits); give fewer hunts, or split the sweep",
+        )
     return total
 
 
-def tasks(strategies: list[str], hunts: int, seed: int, ranges: ScenarioRanges, done: set,
-          attackers: Sequence[str] = (DEFAULT_BEHAVIOUR,), beliefs: Sequence[str] = (EXACT,)) -> Tasks:
+def tasks(
+    strategies: list[str],
+    hunts: int,
+    seed: int,
+    ranges: ScenarioRanges,
+    done: set,
+    attackers: Sequence[str] = (DEFAULT_BEHAVIOUR,),
+    beliefs: Sequence[str] = (EXACT,),
+) -> Tasks:
     """Every (strategy, attacker, belief, hunt) not yet in ``done`` (keys (strategy, attacker, belief, seed,
     index)), hunt-major order, made as iterated; ``beliefs`` are labels (:meth:`Belief.label`). A sweep of more
     than MAX_TASKS hunts in all is refused before any."""
     total_tasks(strategies, hunts, attackers, beliefs)
-    return Tasks(tuple(strategies), hunts, seed, ranges_to_dict(ranges), frozenset(done), tuple(attackers),
-                 tuple(beliefs))
+    return Tasks(
+        tuple(strategies), hunts, seed, ranges_to_dict(ranges), frozenset(done), tuple(attackers), tuple(beliefs)
+    )
 
 
-def run_local(todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None
-              ) -> Iterator[dict]:
+def run_local(todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None) -> Iterator[dict]:
     """Rows as hunts finish, on local worker processes (:func:`mpc_hunt.workers.run_local`); stops cleanly when the
     caller stops iterating. ``work`` (default :func:`run_hunt`; a module-level function, so that it pickles) turns
     a task into its row."""
@@ -208,8 +237,10 @@ def connect_dask(scheduler: str):
     try:
         return Client(scheduler, timeout="10s")
     except Exception as exc:  # noqa: BLE001 - a malformed address raises ValueError or TypeError, not OSError
-        raise SettingError("scheduler", f"cannot connect to {scheduler} ({one_line(exc)}); give the scheduler's "
-                                        "address, e.g. tcp://127.0.0.1:8786") from None
+        raise SettingError(
+            "scheduler",
+            f"cannot connect to {scheduler} ({one_line(exc)}); give the scheduler's address, e.g. tcp://127.0.0.1:8786",
+        ) from None
 
 
 def run_dask(todo: Iterable[Hunt], client) -> Iterator[dict]:
@@ -234,9 +265,9 @@ def run_dask(todo: Iterable[Hunt], client) -> Iterator[dict]:
             for future in finishing:
                 try:
                     row = future.result()
-                except KilledWorker as exc:     # the workers running it died too often: suspect the hunt
+                except KilledWorker as exc:  # the workers running it died too often: suspect the hunt
                     row = _drawn(task_of[future.key][1])[1] | _error(exc, None)
-                except MpcHuntError:    # the scenario could not be drawn: the ranges are at fault
+                except MpcHuntError:  # the scenario could not be drawn: the ranges are at fault
                     raise
                 except Exception as exc:  # noqa: BLE001 - anything else is the cluster failing, not a hunt
                     raise SweepStopped(f"the Dask scheduler at {address}: {one_line(exc)}") from None

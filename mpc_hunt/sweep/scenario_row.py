@@ -9,8 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict
 
-from mpc_hunt.world.hunting_circle import MIN_MEMBERS
 from mpc_hunt.sweep.reachability import edge_race_lost, race_labels
+from mpc_hunt.world.hunting_circle import MIN_MEMBERS
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.scenario_io import dumps_scenario
 
@@ -55,18 +55,31 @@ def scenario_row(scenario: Scenario, *, seed: int | None = None, index: int | No
     failed_defender, fails_at = min(failing, key=lambda f: f[1], default=(None, None))
     reachable, comfortable = race_labels(scenario)
     row: dict[str, object] = {
-        "name": scenario.name, "seed": seed, "index": index,
-        "n_defenders": len(scenario.defenders), "n_obstacles": len(scenario.obstacles),
-        "capturable_by_definition": capturable_by_definition(scenario), "reachable": reachable,
-        "comfortable": comfortable, "edge_race_lost": edge_race_lost(scenario),
-        "defender_speed_min": min(speeds), "defender_speed_max": max(speeds),
-        "attacker_speed": a.max_speed, "speed_ratio": a.max_speed / min(speeds),
+        "name": scenario.name,
+        "seed": seed,
+        "index": index,
+        "n_defenders": len(scenario.defenders),
+        "n_obstacles": len(scenario.obstacles),
+        "capturable_by_definition": capturable_by_definition(scenario),
+        "reachable": reachable,
+        "comfortable": comfortable,
+        "edge_race_lost": edge_race_lost(scenario),
+        "defender_speed_min": min(speeds),
+        "defender_speed_max": max(speeds),
+        "attacker_speed": a.max_speed,
+        "speed_ratio": a.max_speed / min(speeds),
         "perception_radius": a.perception_radius,
         "attacker_heading": math.atan2(vy, vx) if (vx, vy) != (0.0, 0.0) else None,
-        "attacker_start_x": a.start[0], "attacker_start_y": a.start[1],
-        "obstacle_radius_min": min(radii, default=None), "obstacle_radius_max": max(radii, default=None),
-        "arena_x_min": arena[0], "arena_y_min": arena[1], "arena_x_max": arena[2], "arena_y_max": arena[3],
-        "failed_defender": failed_defender, "fails_at": fails_at,
+        "attacker_start_x": a.start[0],
+        "attacker_start_y": a.start[1],
+        "obstacle_radius_min": min(radii, default=None),
+        "obstacle_radius_max": max(radii, default=None),
+        "arena_x_min": arena[0],
+        "arena_y_min": arena[1],
+        "arena_x_max": arena[2],
+        "arena_y_max": arena[3],
+        "failed_defender": failed_defender,
+        "fails_at": fails_at,
     }
     row.update({f"hunt_{k}": v for k, v in asdict(scenario.hunt).items()})
     row["scenario_toml"] = dumps_scenario(scenario)

@@ -29,41 +29,78 @@ from mpc_hunt.world.belief import Belief
 from mpc_hunt.world.scenario import HuntParameters
 
 KEY = ("strategy", "attacker", "belief", "seed", "index")
-LEGACY = {"attacker": DEFAULT_BEHAVIOUR, "belief": Belief().label()}   # what a previous version's rows ran
+LEGACY = {"attacker": DEFAULT_BEHAVIOUR, "belief": Belief().label()}  # what a previous version's rows ran
 ARGUMENTS = {"strategies": list, "attackers": list, "beliefs": list, "hunts": int, "seed": int, "ranges": dict}
 
-SCENARIO_COLUMNS = {   # mpc_hunt.sweep.scenario_row.scenario_row
-    "name": "text", "seed": "integer", "index": "integer", "n_defenders": "integer", "n_obstacles": "integer",
-    "capturable_by_definition": "integer", "reachable": "integer", "comfortable": "integer", "edge_race_lost": "integer",
-    "defender_speed_min": "real", "defender_speed_max": "real", "attacker_speed": "real", "speed_ratio": "real",
-    "perception_radius": "real", "attacker_heading": "real", "attacker_start_x": "real", "attacker_start_y": "real",
-    "obstacle_radius_min": "real", "obstacle_radius_max": "real", "arena_x_min": "real", "arena_y_min": "real",
-    "arena_x_max": "real", "arena_y_max": "real", "failed_defender": "integer", "fails_at": "real",
+SCENARIO_COLUMNS = {  # mpc_hunt.sweep.scenario_row.scenario_row
+    "name": "text",
+    "seed": "integer",
+    "index": "integer",
+    "n_defenders": "integer",
+    "n_obstacles": "integer",
+    "capturable_by_definition": "integer",
+    "reachable": "integer",
+    "comfortable": "integer",
+    "edge_race_lost": "integer",
+    "defender_speed_min": "real",
+    "defender_speed_max": "real",
+    "attacker_speed": "real",
+    "speed_ratio": "real",
+    "perception_radius": "real",
+    "attacker_heading": "real",
+    "attacker_start_x": "real",
+    "attacker_start_y": "real",
+    "obstacle_radius_min": "real",
+    "obstacle_radius_max": "real",
+    "arena_x_min": "real",
+    "arena_y_min": "real",
+    "arena_x_max": "real",
+    "arena_y_max": "real",
+    "failed_defender": "integer",
+    "fails_at": "real",
     **{f"hunt_{f.name}": "real" for f in fields(HuntParameters)},
     "scenario_toml": "text",
 }
-RESULT_COLUMNS = {     # mpc_hunt.sweep.runner.run_hunt; an error row leaves all but the first three and the last null
-    "outcome": "text", "cause": "text", "message": "text", "termination": "text", "capture_time_s": "real",
-    "path_length_m": "real", "min_obstacle_clearance_m": "real", "min_defender_separation_m": "real",
-    "min_attacker_distance_m": "real", "min_arena_margin_m": "real", "safety_breach_approach": "integer",
-    "safety_breach_capture": "integer", "steps": "integer", "solves": "integer", "failed_solves": "integer",
-    "fallbacks": "integer", "longest_failure_streak": "integer", "solve_time_p50_s": "real",
-    "solve_time_p95_s": "real", "solve_time_max_s": "real", "solves_over_time_step": "integer",
+RESULT_COLUMNS = {  # mpc_hunt.sweep.runner.run_hunt; an error row leaves all but the first three and the last null
+    "outcome": "text",
+    "cause": "text",
+    "message": "text",
+    "termination": "text",
+    "capture_time_s": "real",
+    "path_length_m": "real",
+    "min_obstacle_clearance_m": "real",
+    "min_defender_separation_m": "real",
+    "min_attacker_distance_m": "real",
+    "min_arena_margin_m": "real",
+    "safety_breach_approach": "integer",
+    "safety_breach_capture": "integer",
+    "steps": "integer",
+    "solves": "integer",
+    "failed_solves": "integer",
+    "fallbacks": "integer",
+    "longest_failure_streak": "integer",
+    "solve_time_p50_s": "real",
+    "solve_time_p95_s": "real",
+    "solve_time_max_s": "real",
+    "solves_over_time_step": "integer",
     "wall_time_s": "real",
 }
 COLUMNS = {"strategy": "text", "attacker": "text", "belief": "text", **SCENARIO_COLUMNS, **RESULT_COLUMNS}
-ADDED = ("edge_race_lost",)       # columns a previous version did not write: read as None
-LEGACY_COLUMNS = [c for c in COLUMNS if c not in LEGACY and c not in ADDED]      # a file of the previous version
+ADDED = ("edge_race_lost",)  # columns a previous version did not write: read as None
+LEGACY_COLUMNS = [c for c in COLUMNS if c not in LEGACY and c not in ADDED]  # a file of the previous version
 
 
-EXTENSIBLE = ("strategies", "attackers", "beliefs")     # a resumed sweep may add to these (its rows stay valid)
+EXTENSIBLE = ("strategies", "attackers", "beliefs")  # a resumed sweep may add to these (its rows stay valid)
 
 
 def extends(new: dict, old: dict) -> bool:
     """Whether the sweep ``new`` is ``old`` with more strategies, attackers or beliefs and nothing else changed:
     every hunt of ``old`` is one of ``new`` (the same scenario, seed and generators), so its rows stay."""
-    return new.keys() == old.keys() and all(new[k] == old[k] for k in new if k not in EXTENSIBLE) and \
-        all(set(old[k]) <= set(new[k]) for k in EXTENSIBLE)
+    return (
+        new.keys() == old.keys()
+        and all(new[k] == old[k] for k in new if k not in EXTENSIBLE)
+        and all(set(old[k]) <= set(new[k]) for k in EXTENSIBLE)
+    )
 
 
 def current_arguments(arguments: dict) -> dict:
@@ -83,8 +120,10 @@ class SweepStore:
         self.path = Path(path)
         exists = self.path.exists()
         if exists and arguments is not None and not resume:
-            raise SettingError("path", f"{self.path} exists (use {field_name('resume')} to continue it, or another "
-                                       f"{field_name('path')})")
+            raise SettingError(
+                "path",
+                f"{self.path} exists (use {field_name('resume')} to continue it, or another {field_name('path')})",
+            )
         if not exists and arguments is None:
             raise MpcHuntError(f"{self.path}: no such results file")
         arguments = None if arguments is None else current_arguments(arguments)
@@ -97,10 +136,11 @@ class SweepStore:
         except sqlite3.DatabaseError as exc:
             raise MpcHuntError(f"{self.path}: not a sweep results file ({exc})") from None
         if stored is None or self.columns not in (list(COLUMNS), LEGACY_COLUMNS):
-            raise MpcHuntError(f"{self.path}: not a results file of this version of mpc-hunt's sweep "
-                               f"(docs/robustness.md)")
+            raise MpcHuntError(
+                f"{self.path}: not a results file of this version of mpc-hunt's sweep (docs/robustness.md)"
+            )
         self.legacy = self.columns == LEGACY_COLUMNS
-        self.arguments = self._stored_arguments(stored) if exists else arguments     # a file read: checked
+        self.arguments = self._stored_arguments(stored) if exists else arguments  # a file read: checked
         if arguments is not None:
             self._check_resumable(arguments, stored)
             self.db.execute("pragma journal_mode=wal")
@@ -108,17 +148,25 @@ class SweepStore:
     def _check_resumable(self, arguments: dict, stored: tuple) -> None:
         """Refuse to continue the file with other arguments, or another numpy, than its own."""
         if self.legacy and any(arguments[f"{k}s"] != [v] for k, v in LEGACY.items()):
-            raise SettingError(("attackers", "beliefs"), f"{self.path} was written by an earlier mpc-hunt, whose "
-                                                         f"sweeps ran only the attacker {LEGACY['attacker']} with the "
-                                                         f"belief {LEGACY['belief']}: continue it with those alone, "
-                                                         f"or give another {field_name('path')}")
+            raise SettingError(
+                ("attackers", "beliefs"),
+                f"{self.path} was written by an earlier mpc-hunt, whose "
+                f"sweeps ran only the attacker {LEGACY['attacker']} with the "
+                f"belief {LEGACY['belief']}: continue it with those alone, "
+                f"or give another {field_name('path')}",
+            )
         if self.arguments != arguments and (self.legacy or not extends(arguments, self.arguments)):
-            raise SettingError("resume", f"other arguments than the sweep in {self.path} ({stored[0]}); only more "
-                                         f"{', '.join(map(field_name, EXTENSIBLE))} may be added")
+            raise SettingError(
+                "resume",
+                f"other arguments than the sweep in {self.path} ({stored[0]}); only more "
+                f"{', '.join(map(field_name, EXTENSIBLE))} may be added",
+            )
         if stored[1] != np.__version__:
-            raise MpcHuntError(f"{self.path}: its scenarios were drawn with numpy {stored[1]}; this is numpy "
-                               f"{np.__version__}, which may draw others from the same seeds")
-        if self.arguments != arguments:     # extended: the file now holds the larger sweep
+            raise MpcHuntError(
+                f"{self.path}: its scenarios were drawn with numpy {stored[1]}; this is numpy "
+                f"{np.__version__}, which may draw others from the same seeds"
+            )
+        if self.arguments != arguments:  # extended: the file now holds the larger sweep
             with self.db:
                 self.db.execute("update sweep set arguments = ?", (json.dumps(arguments, sort_keys=True),))
             self.arguments = arguments
@@ -131,11 +179,17 @@ class SweepStore:
         except (TypeError, ValueError):
             value = None
         shape = {k: kind for k, kind in ARGUMENTS.items() if not (self.legacy and k[:-1] in LEGACY)}
-        if not isinstance(value, dict) or set(value) != set(shape) or not isinstance(stored[1], str) or \
-                any(not isinstance(value[k], kind) or isinstance(value[k], bool) for k, kind in shape.items()) or \
-                not all(isinstance(s, str) for k, kind in shape.items() if kind is list for s in value[k]):
-            raise MpcHuntError(f"{self.path}: its stored arguments are not what mpc-hunt's sweep writes "
-                               f"({str(stored[0])[:80]!r}); it was changed by hand or by another program")
+        if (
+            not isinstance(value, dict)
+            or set(value) != set(shape)
+            or not isinstance(stored[1], str)
+            or any(not isinstance(value[k], kind) or isinstance(value[k], bool) for k, kind in shape.items())
+            or not all(isinstance(s, str) for k, kind in shape.items() if kind is list for s in value[k])
+        ):
+            raise MpcHuntError(
+                f"{self.path}: its stored arguments are not what mpc-hunt's sweep writes "
+                f"({str(stored[0])[:80]!r}); it was changed by hand or by another program"
+            )
         return current_arguments(value)
 
     def _create(self, arguments: dict) -> None:
@@ -146,8 +200,7 @@ class SweepStore:
             self.db.execute("begin")
             self.db.execute("create table sweep (arguments text not null, numpy text not null)")
             self.db.execute(f"create table hunts ({columns}, primary key ({key}))")
-            self.db.execute("insert into sweep values (?, ?)", (json.dumps(arguments, sort_keys=True),
-                                                                np.__version__))
+            self.db.execute("insert into sweep values (?, ?)", (json.dumps(arguments, sort_keys=True), np.__version__))
 
     def add(self, row: dict) -> None:
         """Store one finished hunt, committed at once; a key already present is left as it is."""
@@ -155,9 +208,11 @@ class SweepStore:
         if unknown:
             raise MpcHuntError(f"a sweep row has columns the results file does not: {', '.join(sorted(unknown))}")
         if self.legacy and any(row.get(k, v) != v for k, v in LEGACY.items()):
-            raise MpcHuntError(f"{self.path}: a file of an earlier mpc-hunt holds only attacker "
-                               f"{LEGACY['attacker']} with belief {LEGACY['belief']}, not {row.get('attacker')} "
-                               f"with {row.get('belief')}")
+            raise MpcHuntError(
+                f"{self.path}: a file of an earlier mpc-hunt holds only attacker "
+                f"{LEGACY['attacker']} with belief {LEGACY['belief']}, not {row.get('attacker')} "
+                f"with {row.get('belief')}"
+            )
         placeholders = ", ".join("?" for _ in self.columns)
         with self.db:
             self.db.execute(f"insert or ignore into hunts values ({placeholders})", [row.get(c) for c in self.columns])
@@ -165,8 +220,9 @@ class SweepStore:
     def forget(self, strategy: str) -> int:
         """Delete one strategy's hunts (its controller changed): a resumed sweep runs them again. How many."""
         if strategy not in self.arguments["strategies"]:
-            raise MpcHuntError(f"strategy: {strategy!r} is not one of this sweep's "
-                               f"({', '.join(self.arguments['strategies'])})")
+            raise MpcHuntError(
+                f"strategy: {strategy!r} is not one of this sweep's ({', '.join(self.arguments['strategies'])})"
+            )
         with self.db:
             return self.db.execute('delete from hunts where "strategy" = ?', (strategy,)).rowcount
 

@@ -10,8 +10,13 @@ from mpc_hunt.sweep.runner import Hunt, run_dask, run_local
 from mpc_hunt.sweep.store import SweepStore
 
 
-def run_into(store: SweepStore, todo: Iterable[Hunt], workers: int | None = None, client=None,
-             update: Callable[[int], None] | None = None) -> str | None:
+def run_into(
+    store: SweepStore,
+    todo: Iterable[Hunt],
+    workers: int | None = None,
+    client=None,
+    update: Callable[[int], None] | None = None,
+) -> str | None:
     """Run ``todo`` on ``workers`` local processes, or on the Dask cluster of ``client``, into ``store``;
     ``update(finished)`` after each hunt. None when every hunt finished, else why it stopped (``interrupted``,
     ``error: …``): the finished hunts are in ``store``, and a resumed sweep runs the rest."""
@@ -24,6 +29,6 @@ def run_into(store: SweepStore, todo: Iterable[Hunt], workers: int | None = None
     except KeyboardInterrupt:
         rows.close()
         return "interrupted"
-    except MpcHuntError as exc:     # workers or the cluster lost, a scenario that cannot be drawn
+    except MpcHuntError as exc:  # workers or the cluster lost, a scenario that cannot be drawn
         return f"error: {exc}"
     return None

@@ -58,8 +58,12 @@ def _by_defenders(reachable: list[dict]) -> dict[str, dict]:
     for n in sorted({r["n_defenders"] for r in reachable}):
         group = [r for r in reachable if r["n_defenders"] == n]
         won = sum(r["outcome"] == "captured" for r in group)
-        out[str(n)] = {"hunts": len(group), "captured": won, "success_rate": won / len(group),
-                       "success_rate_ci95": list(wilson(won, len(group)))}
+        out[str(n)] = {
+            "hunts": len(group),
+            "captured": won,
+            "success_rate": won / len(group),
+            "success_rate_ci95": list(wilson(won, len(group))),
+        }
     return out
 
 
@@ -98,42 +102,54 @@ def summarise(rows: list[dict]) -> list[dict]:
         solves = sum(r.get("solves") or 0 for r in mine)
         p50 = [r["solve_time_p50_s"] for r in mine if r.get("solve_time_p50_s") is not None]
         p95 = [r["solve_time_p95_s"] for r in mine if r.get("solve_time_p95_s") is not None]
-        out.append({
-            "strategy": strategy, "attacker": attacker, "belief": belief, "hunts": len(mine),
-            "uncapturable_by_definition": len(mine) - len(counted),
-            "captured": len(won), "success_rate": len(won) / len(counted) if counted else None,
-            "success_rate_ci95": list(wilson(len(won), len(counted))),
-            "unreachable": len(counted) - len(reachable),
-            "success_rate_reachable": len(won_reachable) / len(reachable) if reachable else None,
-            "success_rate_reachable_ci95": list(wilson(len(won_reachable), len(reachable))),
-            "reachable_by_defenders": _by_defenders(reachable),
-            "comfortable": len(comfortable),
-            "success_rate_comfortable": len(won_comfortable) / len(comfortable) if comfortable else None,
-            "success_rate_comfortable_ci95": list(wilson(len(won_comfortable), len(comfortable))),
-            "comfortable_without_edge_race": len(held),
-            "success_rate_comfortable_without_edge_race": len(won_held) / len(held) if held else None,
-            "success_rate_comfortable_without_edge_race_ci95": list(wilson(len(won_held), len(held))),
-            "failures": {c: causes.get(c, 0) for c in CAUSES},
-            "collisions": causes.get("obstacle_collision", 0) + causes.get("defender_contact", 0),
-            "capture_time_median_s": capture_median, "capture_time_iqr_s": capture_iqr,
-            "path_length_median_m": path_median, "path_length_iqr_m": path_iqr,
-            "min_obstacle_clearance_m": _least(mine, "min_obstacle_clearance_m"),
-            "min_defender_separation_m": _least(mine, "min_defender_separation_m"),
-            "min_arena_margin_m": _least(mine, "min_arena_margin_m"),
-            "safety_breaches_approach": sum(bool(r.get("safety_breach_approach")) for r in mine),
-            "safety_breaches_capture": sum(bool(r.get("safety_breach_capture")) for r in mine),
-            "solve_time_p50_median_s": float(np.median(p50)) if p50 else None,
-            "solve_time_p95_median_s": float(np.median(p95)) if p95 else None,
-            "solve_time_max_s": max((r["solve_time_max_s"] for r in mine if r.get("solve_time_max_s")), default=None),
-            "failed_solve_share": (sum(r.get("failed_solves") or 0 for r in mine) / solves) if solves else None,
-            "over_time_step_share": (sum(r.get("solves_over_time_step") or 0 for r in mine) / solves)
-            if solves else None,
-        })
+        out.append(
+            {
+                "strategy": strategy,
+                "attacker": attacker,
+                "belief": belief,
+                "hunts": len(mine),
+                "uncapturable_by_definition": len(mine) - len(counted),
+                "captured": len(won),
+                "success_rate": len(won) / len(counted) if counted else None,
+                "success_rate_ci95": list(wilson(len(won), len(counted))),
+                "unreachable": len(counted) - len(reachable),
+                "success_rate_reachable": len(won_reachable) / len(reachable) if reachable else None,
+                "success_rate_reachable_ci95": list(wilson(len(won_reachable), len(reachable))),
+                "reachable_by_defenders": _by_defenders(reachable),
+                "comfortable": len(comfortable),
+                "success_rate_comfortable": len(won_comfortable) / len(comfortable) if comfortable else None,
+                "success_rate_comfortable_ci95": list(wilson(len(won_comfortable), len(comfortable))),
+                "comfortable_without_edge_race": len(held),
+                "success_rate_comfortable_without_edge_race": len(won_held) / len(held) if held else None,
+                "success_rate_comfortable_without_edge_race_ci95": list(wilson(len(won_held), len(held))),
+                "failures": {c: causes.get(c, 0) for c in CAUSES},
+                "collisions": causes.get("obstacle_collision", 0) + causes.get("defender_contact", 0),
+                "capture_time_median_s": capture_median,
+                "capture_time_iqr_s": capture_iqr,
+                "path_length_median_m": path_median,
+                "path_length_iqr_m": path_iqr,
+                "min_obstacle_clearance_m": _least(mine, "min_obstacle_clearance_m"),
+                "min_defender_separation_m": _least(mine, "min_defender_separation_m"),
+                "min_arena_margin_m": _least(mine, "min_arena_margin_m"),
+                "safety_breaches_approach": sum(bool(r.get("safety_breach_approach")) for r in mine),
+                "safety_breaches_capture": sum(bool(r.get("safety_breach_capture")) for r in mine),
+                "solve_time_p50_median_s": float(np.median(p50)) if p50 else None,
+                "solve_time_p95_median_s": float(np.median(p95)) if p95 else None,
+                "solve_time_max_s": max(
+                    (r["solve_time_max_s"] for r in mine if r.get("solve_time_max_s")), default=None
+                ),
+                "failed_solve_share": (sum(r.get("failed_solves") or 0 for r in mine) / solves) if solves else None,
+                "over_time_step_share": (sum(r.get("solves_over_time_step") or 0 for r in mine) / solves)
+                if solves
+                else None,
+            }
+        )
     return out
 
 
 def table(summaries: list[dict]) -> str:
     """The summary as a Markdown table."""
+
     def pct(x):
         return "–" if x is None else f"{100 * x:.1f} %"
 
@@ -144,11 +160,13 @@ def table(summaries: list[dict]) -> str:
         lo, hi = s[f"{key}_ci95"]
         return f"{pct(s[key])} ({pct(lo)}–{pct(hi)})"
 
-    lines = ["| strategy | attacker | belief | hunts | success (95 % CI) | of reachable hunts | of comfortable hunts | "
-             "of comfortable hunts without an edge race | "
-             "failures by cause | capture time median (IQR) | min clearance / separation | "
-             "inside R_safe approaching / capturing | solve p50 / p95 | failed solves | solves over T |",
-             "| --- | --- | --- | ---: | --- | --- | --- | --- | --- | --- | --- | ---: | --- | ---: | ---: |"]
+    lines = [
+        "| strategy | attacker | belief | hunts | success (95 % CI) | of reachable hunts | of comfortable hunts | "
+        "of comfortable hunts without an edge race | "
+        "failures by cause | capture time median (IQR) | min clearance / separation | "
+        "inside R_safe approaching / capturing | solve p50 / p95 | failed solves | solves over T |",
+        "| --- | --- | --- | ---: | --- | --- | --- | --- | --- | --- | --- | ---: | --- | ---: | ---: |",
+    ]
     for s in summaries:
         causes = ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none"
         lines.append(
@@ -161,11 +179,16 @@ def table(summaries: list[dict]) -> str:
             f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')} | "
             f"{s['safety_breaches_approach']} / {s['safety_breaches_capture']} hunts | "
             f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')} | "
-            f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |")
+            f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |"
+        )
     groups = sorted({n for s in summaries for n in s["reachable_by_defenders"]}, key=int)
-    lines += ["", "Of the reachable hunts, by number of defenders (captured / hunts, success, 95 % CI):", "",
-              "| strategy | attacker | belief | " + " | ".join(f"{n} defenders" for n in groups) + " |",
-              "| --- | --- | --- |" + " --- |" * len(groups)]
+    lines += [
+        "",
+        "Of the reachable hunts, by number of defenders (captured / hunts, success, 95 % CI):",
+        "",
+        "| strategy | attacker | belief | " + " | ".join(f"{n} defenders" for n in groups) + " |",
+        "| --- | --- | --- |" + " --- |" * len(groups),
+    ]
     for s in summaries:
         cells = []
         for n in groups:

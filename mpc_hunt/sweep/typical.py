@@ -34,8 +34,14 @@ def typical_rows(rows: list[dict], strategy: str) -> dict[str, dict]:
     """``{"captured": row, "lost": row}`` for ``strategy``, each only if it has such a hunt."""
     mine = sorted((r for r in rows if r["strategy"] == strategy), key=lambda r: r["index"])
     captured = [r for r in mine if r["outcome"] == "captured"]
-    lost = [r for r in mine if r["outcome"] == "failed" and r["reachable"] and r["cause"] != "error"
-            and r["min_attacker_distance_m"] is not None]
+    lost = [
+        r
+        for r in mine
+        if r["outcome"] == "failed"
+        and r["reachable"]
+        and r["cause"] != "error"
+        and r["min_attacker_distance_m"] is not None
+    ]
     typical = {}
     if captured:
         typical["captured"] = _nearest_median(captured, "capture_time_s")
@@ -50,8 +56,9 @@ def rerun(row: dict) -> tuple[Scenario, HuntResult]:
     random generators the sweep gave it (:func:`mpc_hunt.sweep.runner.hunt_rngs`)."""
     scenario = with_behaviour(loads_scenario(row["scenario_toml"], row["name"]), row["attacker"])
     world, belief_rng = hunt_rngs(row["seed"], row["index"])
-    controller = ControllerSpec.parse(row["strategy"]).build(scenario, belief=parse_belief(row["belief"]),
-                                                             rng=belief_rng)
+    controller = ControllerSpec.parse(row["strategy"]).build(
+        scenario, belief=parse_belief(row["belief"]), rng=belief_rng
+    )
     return scenario, simulate(scenario, controller, rng=world)
 
 

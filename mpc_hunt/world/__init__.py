@@ -6,5 +6,16 @@ from mpc_hunt.world.ensemble import perturbed
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.world.scenario_io import builtin_names, builtin_scenario, load_scenario, resolve_scenario, save_scenario
 
-__all__ = ["Attacker", "Defender", "HuntParameters", "Obstacle", "Scenario", "builtin_names", "builtin_scenario",
-           "load_scenario", "perturbed", "resolve_scenario", "save_scenario"]
+__all__ = [
+    "Attacker",
+    "Defender",
+    "HuntParameters",
+    "Obstacle",
+    "Scenario",
+    "builtin_names",
+    "builtin_scenario",
+    "load_scenario",
+    "perturbed",
+    "resolve_scenario",
+    "save_scenario",
+]

@@ -31,8 +31,8 @@ import numpy as np
 
 from mpc_hunt.world.geometry import norm, unit
 
-LENGTH = 5.0              # m: the unit of a view's lengths
-REACH = 4.0               # a view's lengths are clipped to ±REACH · LENGTH (20 m, the sweep's arena)
+LENGTH = 5.0  # m: the unit of a view's lengths
+REACH = 4.0  # a view's lengths are clipped to ±REACH · LENGTH (20 m, the sweep's arena)
 DEFENDER_SLOTS = 5
 MATE_SLOTS = 4
 OBSTACLE_SLOTS = 3
@@ -70,15 +70,23 @@ def attacker_view(scenario, p_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray, r
     defenders = [np.concatenate([_length(rel[i]), v_d[i] / top]) for i in order]
     centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
     surface = norm(centres - p_a) - radii if len(radii) else np.empty(0)
-    obstacles = [np.concatenate([_length(centres[j] - p_a), _length([surface[j], radii[j]])])
-                 for j in np.argsort(surface, kind="stable")]
+    obstacles = [
+        np.concatenate([_length(centres[j] - p_a), _length([surface[j], radii[j]])])
+        for j in np.argsort(surface, kind="stable")
+    ]
     intent = unit(np.asarray(a.nominal_velocity, dtype=float))
-    return np.concatenate([margins(scenario.arena, p_a), intent, [a.max_speed / top],
-                           _slots(defenders, DEFENDER_SLOTS, 4), _slots(obstacles, OBSTACLE_SLOTS, 4)])
+    return np.concatenate(
+        [
+            margins(scenario.arena, p_a),
+            intent,
+            [a.max_speed / top],
+            _slots(defenders, DEFENDER_SLOTS, 4),
+            _slots(obstacles, OBSTACLE_SLOTS, 4),
+        ]
+    )
 
 
-def defender_view(scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray,
-                  v_d: np.ndarray) -> np.ndarray:
+def defender_view(scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray) -> np.ndarray:
     """Defender ``i``'s view (the module's docstring); ``v_a`` and ``v_d`` the velocities over the last step."""
     a, top = scenario.attacker, float(scenario.defender_max_speeds.max())
     me = p_d[i]
@@ -87,10 +95,22 @@ def defender_view(scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.nd
     mates = [np.concatenate([_length(p_d[j] - me), _length(p_d[j] - p_a)]) for j in others]
     centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
     surface = norm(centres - p_a) - radii if len(radii) else np.empty(0)
-    obstacles = [np.concatenate([_length(centres[j] - p_a), _length(centres[j] - me), _length([radii[j]])])
-                 for j in np.argsort(surface, kind="stable")]
+    obstacles = [
+        np.concatenate([_length(centres[j] - p_a), _length(centres[j] - me), _length([radii[j]])])
+        for j in np.argsort(surface, kind="stable")
+    ]
     intent = unit(np.asarray(a.nominal_velocity, dtype=float))
-    return np.concatenate([_length(p_a - me), np.asarray(v_a, dtype=float) / top, intent, [a.max_speed / top],
-                           v_d[i] / top, margins(scenario.arena, p_a), margins(scenario.arena, me),
-                           [len(p_d) / DEFENDER_SLOTS], _slots(mates, MATE_SLOTS, 4),
-                           _slots(obstacles, OBSTACLE_SLOTS, 5)])
+    return np.concatenate(
+        [
+            _length(p_a - me),
+            np.asarray(v_a, dtype=float) / top,
+            intent,
+            [a.max_speed / top],
+            v_d[i] / top,
+            margins(scenario.arena, p_a),
+            margins(scenario.arena, me),
+            [len(p_d) / DEFENDER_SLOTS],
+            _slots(mates, MATE_SLOTS, 4),
+            _slots(obstacles, OBSTACLE_SLOTS, 5),
+        ]
+    )

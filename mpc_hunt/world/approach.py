@@ -20,8 +20,7 @@ from mpc_hunt.world.prediction import intercept_point
 from mpc_hunt.world.scenario import Scenario
 
 
-def approach_target(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: float,
-                    prediction: bool) -> np.ndarray:
+def approach_target(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: float, prediction: bool) -> np.ndarray:
     """p'_di: the predicted intercept, or the attacker's position without prediction."""
     if prediction:
         point = intercept_point(p_a, v_a, p_d, speed)
@@ -30,13 +29,16 @@ def approach_target(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: fl
     return np.asarray(p_a, dtype=float)
 
 
-def approach_velocity(scenario: Scenario, p_d: np.ndarray, target: np.ndarray, speed: float,
-                      others: np.ndarray) -> np.ndarray:
+def approach_velocity(
+    scenario: Scenario, p_d: np.ndarray, target: np.ndarray, speed: float, others: np.ndarray
+) -> np.ndarray:
     """Eq. 6 with the sign of docs/model.md, E3, capped at ``speed``; ``others`` are the other defenders."""
     hunt = scenario.hunt
-    avoid = obstacle_repulsion(p_d, scenario.obstacle_centres, scenario.obstacle_radii,
-                               hunt.protective_distance, hunt.eta)
-    avoid = avoid + repulsion(p_d - np.asarray(others, dtype=float).reshape(-1, 2),
-                              2.0 * hunt.min_separation, hunt.eta).sum(axis=0)
+    avoid = obstacle_repulsion(
+        p_d, scenario.obstacle_centres, scenario.obstacle_radii, hunt.protective_distance, hunt.eta
+    )
+    avoid = avoid + repulsion(
+        p_d - np.asarray(others, dtype=float).reshape(-1, 2), 2.0 * hunt.min_separation, hunt.eta
+    ).sum(axis=0)
     u = hunt.omega * (np.asarray(target, dtype=float) - p_d) + (1.0 - hunt.omega) * avoid
     return saturate(u, speed)

@@ -75,13 +75,18 @@ def safe_velocity(scenario: Scenario, p_d: np.ndarray, v: np.ndarray) -> np.ndar
     return v
 
 
-def arena_rows(p_d: np.ndarray, arena: tuple[float, float, float, float] | None,
-               time_step: float) -> list[tuple[np.ndarray, float]]:
+def arena_rows(
+    p_d: np.ndarray, arena: tuple[float, float, float, float] | None, time_step: float
+) -> list[tuple[np.ndarray, float]]:
     """Half-planes a · v ≥ b that keep a defender at ``p_d``'s step in the arena, or no farther out than it is
     (b ≤ 0: holding position keeps them); none without an arena."""
     if arena is None:
         return []
     x_min, y_min, x_max, y_max = arena
     x, y = float(p_d[0]), float(p_d[1])
-    return [(np.array([time_step, 0.0]), min(0.0, x_min - x)), (np.array([-time_step, 0.0]), min(0.0, x - x_max)),
-            (np.array([0.0, time_step]), min(0.0, y_min - y)), (np.array([0.0, -time_step]), min(0.0, y - y_max))]
+    return [
+        (np.array([time_step, 0.0]), min(0.0, x_min - x)),
+        (np.array([-time_step, 0.0]), min(0.0, x - x_max)),
+        (np.array([0.0, time_step]), min(0.0, y_min - y)),
+        (np.array([0.0, -time_step]), min(0.0, y - y_max)),
+    ]

@@ -9,9 +9,9 @@ parameter and in the behaviour itself.
 
 from __future__ import annotations
 
-import numpy as np
-
 from typing import TYPE_CHECKING
+
+import numpy as np
 
 from mpc_hunt.world.field import attacker_resultant, nominal_intent
 from mpc_hunt.world.geometry import norm, saturate
@@ -34,10 +34,18 @@ def nominal_velocity(scenario: Scenario) -> np.ndarray:
 def resultant(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
     """The resultant on the attacker (Eq. 9 plus its nominal intent) for defenders at ``p_d``."""
     a, hunt = scenario.attacker, scenario.hunt
-    return attacker_resultant(p_a, p_d, scenario.obstacle_centres, scenario.obstacle_radii,
-                              nominal=nominal_velocity(scenario), perception_radius=a.perception_radius,
-                              protective_distance=hunt.protective_distance, eta=hunt.eta,
-                              k_d=hunt.k_d, k_o=hunt.k_o)
+    return attacker_resultant(
+        p_a,
+        p_d,
+        scenario.obstacle_centres,
+        scenario.obstacle_radii,
+        nominal=nominal_velocity(scenario),
+        perception_radius=a.perception_radius,
+        protective_distance=hunt.protective_distance,
+        eta=hunt.eta,
+        k_d=hunt.k_d,
+        k_o=hunt.k_o,
+    )
 
 
 def velocity(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:

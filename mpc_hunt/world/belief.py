@@ -35,25 +35,24 @@ from mpc_hunt.errors import ScenarioError
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
 from mpc_hunt.world.scenario import Scenario, Vector, checked_number
 
-MAX_RATIO = 100.0         # a belief error's ratio, either way
+MAX_RATIO = 100.0  # a belief error's ratio, either way
 MAX_HEADING_ERROR = 180.0  # degrees
-WORLD, BELIEF = 0, 1       # a sweep hunt's streams (children of its SeedSequence node): the world's, the belief's
+WORLD, BELIEF = 0, 1  # a sweep hunt's streams (children of its SeedSequence node): the world's, the belief's
 
 
 @dataclass(frozen=True)
 class Belief:
     """The defenders' model of the attacker as errors against the world (the module's docstring)."""
 
-    perception_radius: float = 1.0   # world's R_agg / believed R_agg
-    eta: float = 1.0                 # world's η / believed η
-    intent_heading: float = 0.0      # degrees: the believed intent's heading is off by up to ± this
+    perception_radius: float = 1.0  # world's R_agg / believed R_agg
+    eta: float = 1.0  # world's η / believed η
+    intent_heading: float = 0.0  # degrees: the believed intent's heading is off by up to ± this
 
     def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
             if f.name == "intent_heading":
-                checked_number(value, "belief.intent_heading", non_negative=True, limit=MAX_HEADING_ERROR,
-                               unit="°")
+                checked_number(value, "belief.intent_heading", non_negative=True, limit=MAX_HEADING_ERROR, unit="°")
             else:
                 ratio = checked_number(value, f"belief.{f.name}", positive=True, limit=MAX_RATIO)
                 if ratio < 1 / MAX_RATIO:
@@ -61,8 +60,11 @@ class Belief:
 
     def label(self) -> str:
         """``exact``, or the errors as written on the command line (``perception_radius=1.3x,eta=3x``)."""
-        parts = [f"{f.name}={getattr(self, f.name):g}" + ("" if f.name == "intent_heading" else "x")
-                 for f in fields(self) if getattr(self, f.name) != f.default]
+        parts = [
+            f"{f.name}={getattr(self, f.name):g}" + ("" if f.name == "intent_heading" else "x")
+            for f in fields(self)
+            if getattr(self, f.name) != f.default
+        ]
         return ",".join(parts) or "exact"
 
 
@@ -77,8 +79,10 @@ def parse_belief(text: str) -> Belief:
         name, sep, value = item.partition("=")
         name = name.strip()
         if not sep or name not in known:
-            raise ScenarioError(f"belief {text!r}: expected NAME=VALUE with NAME one of {', '.join(sorted(known))} "
-                                "(e.g. perception_radius=1.3x, eta=3x, intent_heading=60)")
+            raise ScenarioError(
+                f"belief {text!r}: expected NAME=VALUE with NAME one of {', '.join(sorted(known))} "
+                "(e.g. perception_radius=1.3x, eta=3x, intent_heading=60)"
+            )
         if name in values:
             raise ScenarioError(f"belief {text!r}: {name} is given twice (give each name once)")
         value = value.strip()
@@ -99,13 +103,13 @@ class AttackerModel:
     online estimator (:meth:`fitted`); :meth:`scenario` is the one place a believed scenario is made.
     """
 
-    LAW: ClassVar[str] = DEFAULT_BEHAVIOUR   # the paper's APF attacker: the only law the defenders model
+    LAW: ClassVar[str] = DEFAULT_BEHAVIOUR  # the paper's APF attacker: the only law the defenders model
 
-    intent: Vector            # v_nom, m/s
+    intent: Vector  # v_nom, m/s
     perception_radius: float  # R_agg, m
-    eta: float                # η (Eq. 2; it scales the obstacles' field too, Eq. 3)
-    k_d: float                # weight of the defenders' field (Eq. 9)
-    max_speed: float          # v_a, m/s: known to the defenders
+    eta: float  # η (Eq. 2; it scales the obstacles' field too, Eq. 3)
+    k_d: float  # weight of the defenders' field (Eq. 9)
+    max_speed: float  # v_a, m/s: known to the defenders
 
     @property
     def gain(self) -> float:
@@ -119,8 +123,9 @@ class AttackerModel:
         return cls(a.nominal_velocity, a.perception_radius, hunt.eta, hunt.k_d, a.max_speed)
 
     @classmethod
-    def believed(cls, world: Scenario, belief: Belief = Belief(),
-                 rng: np.random.Generator | None = None) -> "AttackerModel":
+    def believed(
+        cls, world: Scenario, belief: Belief = Belief(), rng: np.random.Generator | None = None
+    ) -> "AttackerModel":
         """The defenders' model of ``world``'s attacker with ``belief``'s errors (the module's docstring).
 
         ``rng`` draws the intent's heading error; it is needed only when ``belief.intent_heading`` > 0.
@@ -133,22 +138,37 @@ class AttackerModel:
             turn = math.radians(rng.uniform(-belief.intent_heading, belief.intent_heading))
         c, s = math.cos(turn), math.sin(turn)
         vx, vy = a.nominal_velocity
-        return cls((c * vx - s * vy, s * vx + c * vy), a.perception_radius / belief.perception_radius,
-                   world.hunt.eta / belief.eta, world.hunt.k_d, a.max_speed)
+        return cls(
+            (c * vx - s * vy, s * vx + c * vy),
+            a.perception_radius / belief.perception_radius,
+            world.hunt.eta / belief.eta,
+            world.hunt.k_d,
+            a.max_speed,
+        )
 
     def fitted(self, intent: np.ndarray, gain: float, perception_radius: float) -> "AttackerModel":
         """This model with estimated v_nom, g and R_agg put in: k_d = g / η, keeping η (which also scales the
         obstacles' field, Eq. 3, known to the defenders)."""
-        return dataclasses.replace(self, intent=tuple(map(float, intent)), perception_radius=float(perception_radius),
-                                   k_d=float(gain) / self.eta)
+        return dataclasses.replace(
+            self,
+            intent=tuple(map(float, intent)),
+            perception_radius=float(perception_radius),
+            k_d=float(gain) / self.eta,
+        )
 
     def scenario(self, world: Scenario) -> Scenario:
         """``world`` with its attacker replaced by this model, for posing the capture problem (Eqs. 12–15): the
         arena, defenders, obstacles and the other hunt parameters are the world's; the attacker names no
         behaviour, sensing radius or disturbance of the world's."""
-        attacker = dataclasses.replace(world.attacker, nominal_velocity=self.intent, max_speed=self.max_speed,
-                                       perception_radius=self.perception_radius, behaviour=self.LAW,
-                                       sensing_radius=None, disturbance=None)
+        attacker = dataclasses.replace(
+            world.attacker,
+            nominal_velocity=self.intent,
+            max_speed=self.max_speed,
+            perception_radius=self.perception_radius,
+            behaviour=self.LAW,
+            sensing_radius=None,
+            disturbance=None,
+        )
         hunt = dataclasses.replace(world.hunt, eta=self.eta, k_d=self.k_d)
         return dataclasses.replace(world, attacker=attacker, hunt=hunt)
 

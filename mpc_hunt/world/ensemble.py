@@ -19,11 +19,12 @@ import numpy as np
 
 from mpc_hunt.world.scenario import Scenario
 
-SCALE = 1e-9       # m: the largest move of a start along each axis
+SCALE = 1e-9  # m: the largest move of a start along each axis
 
 
 def perturbed(scenario: Scenario, rng: np.random.Generator, scale: float = SCALE) -> Scenario:
     """``scenario`` with each robot's start moved by a uniform offset in [-scale, scale]² (``rng`` draws it)."""
+
     def moved(start) -> tuple[float, float]:
         dx, dy = rng.uniform(-scale, scale, size=2)
         return float(start[0] + dx), float(start[1] + dy)

@@ -55,8 +55,7 @@ def surface_offset(p: np.ndarray, centres: np.ndarray, radii: np.ndarray) -> np.
     return direction * clearance[:, None]
 
 
-def obstacle_repulsion(p: np.ndarray, centres: np.ndarray, radii: np.ndarray,
-                       radius: float, eta: float) -> np.ndarray:
+def obstacle_repulsion(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, radius: float, eta: float) -> np.ndarray:
     """Σ_o H(r_o) of Eq. 3 (docs/model.md, E2: distances from the surface)."""
     if len(radii) == 0:
         return np.zeros(2)
@@ -73,15 +72,24 @@ def nominal_intent(nominal_velocity: np.ndarray, max_speed: float) -> np.ndarray
     return saturate(np.asarray(nominal_velocity, dtype=float), max_speed)
 
 
-def attacker_resultant(p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray,
-                       radii: np.ndarray, *, nominal: np.ndarray, perception_radius: float,
-                       protective_distance: float, eta: float, k_d: float, k_o: float) -> np.ndarray:
+def attacker_resultant(
+    p_a: np.ndarray,
+    defenders: np.ndarray,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    *,
+    nominal: np.ndarray,
+    perception_radius: float,
+    protective_distance: float,
+    eta: float,
+    k_d: float,
+    k_o: float,
+) -> np.ndarray:
     """The resultant on the attacker (Eq. 9 plus its nominal intent, Eq. 2).
 
     u = v_nom + k_d Σ_i H(p_a − p_di) + k_o Σ_o H(r_ao).
     """
     p_a = np.asarray(p_a, dtype=float)
-    push_d = repulsion(p_a - np.asarray(defenders, dtype=float).reshape(-1, 2),
-                       perception_radius, eta).sum(axis=0)
+    push_d = repulsion(p_a - np.asarray(defenders, dtype=float).reshape(-1, 2), perception_radius, eta).sum(axis=0)
     push_o = obstacle_repulsion(p_a, centres, radii, protective_distance, eta)
     return nominal + k_d * push_d + k_o * push_o

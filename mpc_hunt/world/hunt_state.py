@@ -82,8 +82,7 @@ def state_from_dict(data: object, scenario: Scenario, other_keys: frozenset[str]
     raw = data["defenders"]
     if not isinstance(raw, list) or len(raw) != n:
         got = f"{len(raw)}" if isinstance(raw, list) else shown(raw)
-        raise ScenarioError(f"defenders: expected {n} positions [x, y] for scenario {shown(scenario.name)}, "
-                            f"got {got}")
+        raise ScenarioError(f"defenders: expected {n} positions [x, y] for scenario {shown(scenario.name)}, got {got}")
     p_d = [checked_vector(p, f"defenders[{i}]") for i, p in enumerate(raw)]
     check_positions(scenario, ("attacker", p_a), [(f"defenders[{i}]", p) for i, p in enumerate(p_d)])
     return HuntState(time, np.array(p_a), np.array(p_d, dtype=float).reshape(n, 2))

@@ -24,8 +24,8 @@ MIN_MEMBERS = 3
 class Members:
     """Who forms the hunting circle, and where each member stands."""
 
-    anchors: np.ndarray          # (k, 2): robots first, then obstacle surface points
-    distances: np.ndarray        # (k,): distance from the attacker to each anchor
+    anchors: np.ndarray  # (k, 2): robots first, then obstacle surface points
+    distances: np.ndarray  # (k,): distance from the attacker to each anchor
     obstacle_indices: tuple[int, ...]
 
     @property
@@ -34,8 +34,9 @@ class Members:
         return self.anchors.mean(axis=0)
 
 
-def members(p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray,
-            obstacle_range: float) -> Members:
+def members(
+    p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray, obstacle_range: float
+) -> Members:
     """Robots plus obstacles within ``obstacle_range`` of the attacker (recruiting up to three)."""
     p_a = np.asarray(p_a, dtype=float)
     defenders = np.asarray(defenders, dtype=float).reshape(-1, 2)
@@ -72,14 +73,20 @@ class CircleStatus:
     """One evaluation of the success test (Eqs. 4–5)."""
 
     holds: bool
-    radius: float            # largest member distance: the hunting radius
-    centre_offset: float     # |p_a − mean of anchors|
+    radius: float  # largest member distance: the hunting radius
+    centre_offset: float  # |p_a − mean of anchors|
     enclosed: bool
     member_count: int
 
 
-def success_test(p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray,
-                 hunt_radius: float, centre_tolerance: float) -> CircleStatus:
+def success_test(
+    p_a: np.ndarray,
+    defenders: np.ndarray,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    hunt_radius: float,
+    centre_tolerance: float,
+) -> CircleStatus:
     """Eqs. 4–5: at least three members, every one within R_hunt, the attacker enclosed and at their centre.
 
     Members here are all robots plus the obstacles whose surface lies within
@@ -91,6 +98,5 @@ def success_test(p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, ra
     offset = float(norm(np.asarray(p_a, dtype=float) - m.centre))
     enclosed = encloses(np.asarray(p_a, dtype=float), m.anchors)
     radius = float(m.distances.max())
-    holds = (len(m.anchors) >= MIN_MEMBERS and radius <= hunt_radius
-             and enclosed and offset <= centre_tolerance)
+    holds = len(m.anchors) >= MIN_MEMBERS and radius <= hunt_radius and enclosed and offset <= centre_tolerance
     return CircleStatus(holds, radius, offset, enclosed, len(m.anchors))

@@ -37,8 +37,8 @@ class Mlp:
 
     side: str
     decision_steps: int
-    mean: np.ndarray            # (inputs,): the observation's running mean
-    scale: np.ndarray           # (inputs,): 1 / sqrt(variance + ε)
+    mean: np.ndarray  # (inputs,): the observation's running mean
+    scale: np.ndarray  # (inputs,): 1 / sqrt(variance + ε)
     clip: float
     weights: tuple[np.ndarray, ...]
     biases: tuple[np.ndarray, ...]
@@ -53,7 +53,7 @@ class Mlp:
         last = len(self.weights) - 1
         for k, (w, b) in enumerate(zip(self.weights, self.biases)):
             y = b.copy()
-            for j in range(len(x)):                   # one input at a time: the same bits on every CPU
+            for j in range(len(x)):  # one input at a time: the same bits on every CPU
                 y += w[:, j] * x[j]
             x = y if k == last else np.maximum(y, 0.0)
         return np.clip(x, -1.0, 1.0)
@@ -71,15 +71,15 @@ def load_mlp(path, side: str, inputs: int) -> Mlp:
     fix = "write it again with python studies/train_ppo.py, or reinstall mpc-hunt"
     try:
         with open(path, "rb") as f:
-            arrays = _archive(f) if zipfile.is_zipfile(f) else None     # NumPy would take it as an array or a pickle
+            arrays = _archive(f) if zipfile.is_zipfile(f) else None  # NumPy would take it as an array or a pickle
     except FileNotFoundError:
         raise DataFileError(f"{path}: no such policy file; {fix}") from None
     except OSError as exc:
         raise DataFileError(f"{path}: cannot read ({exc.strerror or exc}); {fix}") from None
-    except (ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:     # a damaged archive
+    except (ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:  # a damaged archive
         why = " ".join(str(exc).split()) or type(exc).__name__
         raise DataFileError(f"{path}: not a policy file ({why}); {fix}") from None
-    if arrays is None or not all(isinstance(a, np.ndarray) for a in arrays.values()):   # members NumPy did not write
+    if arrays is None or not all(isinstance(a, np.ndarray) for a in arrays.values()):  # members NumPy did not write
         raise DataFileError(f"{path}: not a policy file (expected a NumPy .npz archive of a network's arrays); {fix}")
     try:
         return _checked(arrays, side, inputs)
@@ -119,8 +119,10 @@ def _checked(arrays: dict, side: str, inputs: int) -> Mlp:
         if b is not None and b.ndim == 1 and not 1 <= len(b) <= MAX_WIDTH:
             raise DataFileError(f"layer {k}: {len(b)} outputs, not 1 to {MAX_WIDTH} (the limit of a layer's width)")
         if w is None or b is None or w.ndim != 2 or b.ndim != 1 or w.shape[1] != width or w.shape[0] != len(b):
-            raise DataFileError(f"layer {k}: weights of shape (outputs, {width}) and biases of (outputs,) expected, "
-                                f"got {None if w is None else w.shape} and {None if b is None else b.shape}")
+            raise DataFileError(
+                f"layer {k}: weights of shape (outputs, {width}) and biases of (outputs,) expected, "
+                f"got {None if w is None else w.shape} and {None if b is None else b.shape}"
+            )
         weights.append(np.asarray(w, dtype=float))
         biases.append(np.asarray(b, dtype=float))
         width = len(b)

@@ -22,5 +22,6 @@ def shipped_name(name_or_file, shipped: list[str], what: str, suffix: str, liste
         return text
     if text.endswith(suffix) or Path(text).exists():
         return None
-    raise UnknownNameError(f"unknown {what} {text!r}: neither {listed} ({', '.join(shipped)}) "
-                           f"nor an existing {suffix} file")
+    raise UnknownNameError(
+        f"unknown {what} {text!r}: neither {listed} ({', '.join(shipped)}) nor an existing {suffix} file"
+    )

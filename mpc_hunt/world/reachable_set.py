@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-RAYS = 72     # directions round the attacker (5° apart)
+RAYS = 72  # directions round the attacker (5° apart)
 
 
 def ray_directions(count: int = RAYS) -> np.ndarray:
@@ -37,13 +37,14 @@ def ray_directions(count: int = RAYS) -> np.ndarray:
     return np.column_stack([np.cos(angles), np.sin(angles)])
 
 
-def defender_reach(p_a: np.ndarray, rays: np.ndarray, defenders: np.ndarray, ratios: np.ndarray,
-                   reach: float) -> np.ndarray:
+def defender_reach(
+    p_a: np.ndarray, rays: np.ndarray, defenders: np.ndarray, ratios: np.ndarray, reach: float
+) -> np.ndarray:
     """s_i(u) of the module's docstring, shape (rays, defenders): how far along each ray the attacker gets
     before defender i can be within ``reach`` of it; ``ratios`` are κ_i = v_a / v_i, each in (0, 1)."""
-    d = p_a - defenders                                   # (n, 2)
-    du = rays @ d.T                                       # (m, n): d·u
-    c = 1.0 / ratios**2 - 1.0                             # (n,)
+    d = p_a - defenders  # (n, 2)
+    du = rays @ d.T  # (m, n): d·u
+    c = 1.0 / ratios**2 - 1.0  # (n,)
     b = reach / ratios - du
     disc = b**2 - c * (reach**2 - np.sum(d**2, axis=1))
     return np.maximum((np.sqrt(np.maximum(disc, 0.0)) - b) / c, 0.0)
@@ -53,8 +54,8 @@ def obstacle_block(p_a: np.ndarray, rays: np.ndarray, centres: np.ndarray, radii
     """How far along each ray the attacker goes before it meets an obstacle's surface (inf where none), (m,)."""
     if not len(radii):
         return np.full(len(rays), np.inf)
-    f = p_a - centres                                     # (q, 2)
-    fu = rays @ f.T                                       # (m, q)
+    f = p_a - centres  # (q, 2)
+    fu = rays @ f.T  # (m, q)
     disc = fu**2 - (np.sum(f**2, axis=1) - radii**2)
     entry = -fu - np.sqrt(np.maximum(disc, 0.0))
     hit = (disc >= 0) & (entry >= 0)
@@ -67,10 +68,16 @@ def edge_distance(p_a: np.ndarray, rays: np.ndarray, arena: tuple[float, float, 
         return np.full(len(rays), np.inf)
     x_min, y_min, x_max, y_max = arena
     with np.errstate(divide="ignore", invalid="ignore"):
-        tx = np.where(rays[:, 0] > 0, (x_max - p_a[0]) / rays[:, 0],
-                      np.where(rays[:, 0] < 0, (x_min - p_a[0]) / rays[:, 0], np.inf))
-        ty = np.where(rays[:, 1] > 0, (y_max - p_a[1]) / rays[:, 1],
-                      np.where(rays[:, 1] < 0, (y_min - p_a[1]) / rays[:, 1], np.inf))
+        tx = np.where(
+            rays[:, 0] > 0,
+            (x_max - p_a[0]) / rays[:, 0],
+            np.where(rays[:, 0] < 0, (x_min - p_a[0]) / rays[:, 0], np.inf),
+        )
+        ty = np.where(
+            rays[:, 1] > 0,
+            (y_max - p_a[1]) / rays[:, 1],
+            np.where(rays[:, 1] < 0, (y_min - p_a[1]) / rays[:, 1], np.inf),
+        )
     return np.maximum(np.minimum(tx, ty), 0.0)
 
 
@@ -99,17 +106,31 @@ class Dominance:
         return float(0.5 * np.sum(self.extent**2) * 2 * np.pi / len(self.rays))
 
 
-def dominance(p_a: np.ndarray, defenders: np.ndarray, defender_speeds: np.ndarray, attacker_speed: float,
-              centres: np.ndarray, radii: np.ndarray, arena, *, reach: float = 0.0,
-              rays: np.ndarray | None = None) -> Dominance:
+def dominance(
+    p_a: np.ndarray,
+    defenders: np.ndarray,
+    defender_speeds: np.ndarray,
+    attacker_speed: float,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    arena,
+    *,
+    reach: float = 0.0,
+    rays: np.ndarray | None = None,
+) -> Dominance:
     """The attacker's :class:`Dominance` (the module's docstring) against ``defenders``."""
     p_a = np.asarray(p_a, dtype=float)
     rays = ray_directions() if rays is None else rays
     defenders = np.asarray(defenders, dtype=float).reshape(-1, 2)
     if len(defenders):
-        defended = np.min(defender_reach(p_a, rays, defenders, attacker_speed / np.asarray(defender_speeds),
-                                         reach), axis=1)
+        defended = np.min(
+            defender_reach(p_a, rays, defenders, attacker_speed / np.asarray(defender_speeds), reach), axis=1
+        )
     else:
         defended = np.full(len(rays), np.inf)
-    return Dominance(rays, defended, obstacle_block(p_a, rays, np.asarray(centres, dtype=float).reshape(-1, 2),
-                                                    np.asarray(radii, dtype=float)), edge_distance(p_a, rays, arena))
+    return Dominance(
+        rays,
+        defended,
+        obstacle_block(p_a, rays, np.asarray(centres, dtype=float).reshape(-1, 2), np.asarray(radii, dtype=float)),
+        edge_distance(p_a, rays, arena),
+    )

@@ -26,25 +26,34 @@ import numpy as np
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.separation import onto_half_planes
 
-AIM = 1e-12     # m: how far inside a broken row's half-plane a projection aims
+AIM = 1e-12  # m: how far inside a broken row's half-plane a projection aims
 
 
-def _floors(p: np.ndarray, centres: np.ndarray, radii: np.ndarray,
-            safety_distance: float) -> tuple[np.ndarray, np.ndarray]:
+def _floors(
+    p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float
+) -> tuple[np.ndarray, np.ndarray]:
     """(the distance from ``p`` to each centre, the least distance allowed to it: "never worse than now")."""
     distances = norm(p - centres)
     return distances, radii + np.minimum(safety_distance, distances - radii)
 
 
-def safety_rows(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float,
-                time_step: float) -> list[tuple[np.ndarray, float]]:
+def safety_rows(
+    p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float, time_step: float
+) -> list[tuple[np.ndarray, float]]:
     """The module's half-planes a · v ≥ b for a defender at ``p``, one per obstacle."""
     distances, floor = _floors(p, centres, radii, safety_distance)
     return [(time_step * (p - c) / d, f - d) for c, d, f in zip(centres, distances, floor)]
 
 
-def keep_safety_distance(p: np.ndarray, v: np.ndarray, centres: np.ndarray, radii: np.ndarray,
-                         safety_distance: float, time_step: float, speed: float) -> np.ndarray:
+def keep_safety_distance(
+    p: np.ndarray,
+    v: np.ndarray,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    safety_distance: float,
+    time_step: float,
+    speed: float,
+) -> np.ndarray:
     """``v`` for a defender at ``p``, filtered as the module's docstring says (unchanged unless it must be)."""
     if np.all(norm(p + time_step * v - centres) >= _floors(p, centres, radii, safety_distance)[1]):
         return v

@@ -16,25 +16,25 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
+from mpc_hunt.errors import ScenarioError
 from mpc_hunt.world.arena import Arena, beyond_edge
 from mpc_hunt.world.behaviours import BEHAVIOURS
-from mpc_hunt.errors import ScenarioError
 
 Vector = tuple[float, float]
 
 LIMITS_DOC = "docs/robustness.md"
-MAX_MAGNITUDE = 1e6        # any number: coordinates and lengths (m), times (s), gains, velocities (m/s)
-MAX_SPEED = 1e3            # m/s, a robot's max_speed
-MAX_STEPS = 10_000_000     # time_limit / time_step: simulator steps in one hunt
+MAX_MAGNITUDE = 1e6  # any number: coordinates and lengths (m), times (s), gains, velocities (m/s)
+MAX_SPEED = 1e3  # m/s, a robot's max_speed
+MAX_STEPS = 10_000_000  # time_limit / time_step: simulator steps in one hunt
 MAX_DEFENDERS = 20
 MAX_OBSTACLES = 100
-MAX_DISTURBANCE = 10.0   # of the attacker's max_speed: the noisy attacker's largest disturbance
+MAX_DISTURBANCE = 10.0  # of the attacker's max_speed: the noisy attacker's largest disturbance
 
 
 def shown(value: object, width: int = 60) -> str:
     """``repr(value)`` cut to ``width`` characters, so an error message stays one short line."""
     text = repr(value)
-    return text if len(text) <= width else text[:width - 3] + "..."
+    return text if len(text) <= width else text[: width - 3] + "..."
 
 
 def key_shown(key: object) -> str:
@@ -64,8 +64,15 @@ def _finite(value: object, where: str, limit: float, unit: str) -> float:
     return x
 
 
-def checked_number(value: object, where: str, *, positive: bool = False, non_negative: bool = False,
-                   limit: float = MAX_MAGNITUDE, unit: str = "") -> float:
+def checked_number(
+    value: object,
+    where: str,
+    *,
+    positive: bool = False,
+    non_negative: bool = False,
+    limit: float = MAX_MAGNITUDE,
+    unit: str = "",
+) -> float:
     """``value`` as a finite float within ±``limit``, optionally positive or non-negative."""
     if not _is_number(value):
         raise ScenarioError(f"{where}: expected a number, got {shown(value)}")
@@ -102,11 +109,13 @@ def checked_vector(value: object, where: str, *, limit: float = MAX_MAGNITUDE, u
 
 def checked_arena(value: object, where: str = "arena") -> Arena:
     """``value`` as an arena [x_min, y_min, x_max, y_max] with x_min < x_max and y_min < y_max."""
-    x_min, y_min, x_max, y_max = _numbers(value, 4, where, "four numbers [x_min, y_min, x_max, y_max]",
-                                          MAX_MAGNITUDE, " m")
+    x_min, y_min, x_max, y_max = _numbers(
+        value, 4, where, "four numbers [x_min, y_min, x_max, y_max]", MAX_MAGNITUDE, " m"
+    )
     if not (x_min < x_max and y_min < y_max):
-        raise ScenarioError(f"{where}: expected x_min < x_max and y_min < y_max, "
-                            f"got [{x_min}, {y_min}, {x_max}, {y_max}]")
+        raise ScenarioError(
+            f"{where}: expected x_min < x_max and y_min < y_max, got [{x_min}, {y_min}, {x_max}, {y_max}]"
+        )
     return (x_min, y_min, x_max, y_max)
 
 
@@ -124,11 +133,16 @@ class Defender:
     fails_at: float | None = None
 
     def validated(self, where: str) -> "Defender":
-        fails_at = None if self.fails_at is None else checked_number(self.fails_at, f"{where}.fails_at",
-                                                                      non_negative=True, unit=" s")
-        return Defender(checked_vector(self.start, f"{where}.start"),
-                        checked_number(self.max_speed, f"{where}.max_speed", positive=True,
-                                       limit=MAX_SPEED, unit=" m/s"), fails_at)
+        fails_at = (
+            None
+            if self.fails_at is None
+            else checked_number(self.fails_at, f"{where}.fails_at", non_negative=True, unit=" s")
+        )
+        return Defender(
+            checked_vector(self.start, f"{where}.start"),
+            checked_number(self.max_speed, f"{where}.max_speed", positive=True, limit=MAX_SPEED, unit=" m/s"),
+            fails_at,
+        )
 
 
 @dataclass(frozen=True)
@@ -148,26 +162,32 @@ class Attacker:
 
     def validated(self, where: str) -> "Attacker":
         if not isinstance(self.behaviour, str) or self.behaviour not in BEHAVIOURS:
-            raise ScenarioError(f"{where}.behaviour: unknown {shown(self.behaviour)} "
-                                f"(available: {', '.join(BEHAVIOURS)})")
+            raise ScenarioError(
+                f"{where}.behaviour: unknown {shown(self.behaviour)} (available: {', '.join(BEHAVIOURS)})"
+            )
         sensing = disturbance = None
         if self.sensing_radius is not None:
             if self.behaviour == "apf" or self.behaviour == "noisy":
-                raise ScenarioError(f"{where}.sensing_radius: the {self.behaviour} attacker senses at its "
-                                    "perception_radius; set that instead")
+                raise ScenarioError(
+                    f"{where}.sensing_radius: the {self.behaviour} attacker senses at its "
+                    "perception_radius; set that instead"
+                )
             sensing = checked_number(self.sensing_radius, f"{where}.sensing_radius", positive=True, unit=" m")
         if self.disturbance is not None:
             if self.behaviour != "noisy":
                 raise ScenarioError(f"{where}.disturbance: only the noisy attacker takes one, not {self.behaviour}")
-            disturbance = checked_number(self.disturbance, f"{where}.disturbance", non_negative=True,
-                                         limit=MAX_DISTURBANCE)
-        return Attacker(checked_vector(self.start, f"{where}.start"),
-                        checked_vector(self.nominal_velocity, f"{where}.nominal_velocity", unit=" m/s"),
-                        checked_number(self.max_speed, f"{where}.max_speed", positive=True,
-                                       limit=MAX_SPEED, unit=" m/s"),
-                        checked_number(self.perception_radius, f"{where}.perception_radius", positive=True,
-                                       unit=" m"),
-                        self.behaviour, sensing, disturbance)
+            disturbance = checked_number(
+                self.disturbance, f"{where}.disturbance", non_negative=True, limit=MAX_DISTURBANCE
+            )
+        return Attacker(
+            checked_vector(self.start, f"{where}.start"),
+            checked_vector(self.nominal_velocity, f"{where}.nominal_velocity", unit=" m/s"),
+            checked_number(self.max_speed, f"{where}.max_speed", positive=True, limit=MAX_SPEED, unit=" m/s"),
+            checked_number(self.perception_radius, f"{where}.perception_radius", positive=True, unit=" m"),
+            self.behaviour,
+            sensing,
+            disturbance,
+        )
 
 
 @dataclass(frozen=True)
@@ -178,8 +198,10 @@ class Obstacle:
     radius: float
 
     def validated(self, where: str) -> "Obstacle":
-        return Obstacle(checked_vector(self.centre, f"{where}.centre"),
-                        checked_number(self.radius, f"{where}.radius", positive=True, unit=" m"))
+        return Obstacle(
+            checked_vector(self.centre, f"{where}.centre"),
+            checked_number(self.radius, f"{where}.radius", positive=True, unit=" m"),
+        )
 
 
 _SECONDS = ("time_step", "time_limit", "hold_time")
@@ -190,19 +212,19 @@ _GAINS = ("eta", "k_d", "k_o", "omega")
 class HuntParameters:
     """The hunt's parameters (names follow the paper; see docs/model.md for each choice)."""
 
-    hunt_radius: float = 0.5            # R_hunt, Eq. 5
-    centre_tolerance: float = 0.25      # how far from the members' centroid still counts as Eq. 4
-    eta: float = 1.0                    # η, the field's gain (Eq. 2)
-    k_d: float = 1.0                    # weight of the defenders' field in the resultant (Eq. 9)
-    k_o: float = 1.0                    # weight of the obstacles' field in the resultant (Eq. 9)
-    omega: float = 0.5                  # ω, intercept vs obstacle-avoidance blend (Eq. 6)
-    protective_distance: float = 1.0    # range of an obstacle's field, from its surface
-    safety_distance: float = 0.1        # R_safe, Eq. 15, from an obstacle's surface
-    min_separation: float = 0.2         # smallest defender–defender distance in the capture stage
+    hunt_radius: float = 0.5  # R_hunt, Eq. 5
+    centre_tolerance: float = 0.25  # how far from the members' centroid still counts as Eq. 4
+    eta: float = 1.0  # η, the field's gain (Eq. 2)
+    k_d: float = 1.0  # weight of the defenders' field in the resultant (Eq. 9)
+    k_o: float = 1.0  # weight of the obstacles' field in the resultant (Eq. 9)
+    omega: float = 0.5  # ω, intercept vs obstacle-avoidance blend (Eq. 6)
+    protective_distance: float = 1.0  # range of an obstacle's field, from its surface
+    safety_distance: float = 0.1  # R_safe, Eq. 15, from an obstacle's surface
+    min_separation: float = 0.2  # smallest defender–defender distance in the capture stage
     min_attacker_distance: float = 0.1  # smallest defender–attacker distance (H is singular at 0)
-    time_step: float = 0.1              # T, the sampling time of Eq. 13 and of the simulator
-    time_limit: float = 600.0           # a hunt not captured by then has failed
-    hold_time: float = 2.0              # how long Eqs. 4–5 must hold to count as a capture
+    time_step: float = 0.1  # T, the sampling time of Eq. 13 and of the simulator
+    time_limit: float = 600.0  # a hunt not captured by then has failed
+    hold_time: float = 2.0  # how long Eqs. 4–5 must hold to count as a capture
 
     def validated(self, where: str) -> "HuntParameters":
         values = {}
@@ -210,16 +232,19 @@ class HuntParameters:
             name = f.name
             non_negative = name in ("safety_distance", "min_separation", "hold_time")
             unit = " s" if name in _SECONDS else "" if name in _GAINS else " m"
-            values[name] = checked_number(getattr(self, name), f"{where}.{name}", positive=not non_negative,
-                                          non_negative=non_negative, unit=unit)
+            values[name] = checked_number(
+                getattr(self, name), f"{where}.{name}", positive=not non_negative, non_negative=non_negative, unit=unit
+            )
         if values["omega"] > 1:
             raise ScenarioError(f"{where}.omega: must lie in (0, 1], got {values['omega']}")
         if values["time_step"] > values["time_limit"]:
             raise ScenarioError(f"{where}.time_step: must not exceed time_limit ({values['time_limit']})")
         steps = values["time_limit"] / values["time_step"]
         if steps > MAX_STEPS:
-            raise ScenarioError(f"{where}.time_step: time_limit / time_step = {steps:.4g} steps is beyond the "
-                                f"limit of {MAX_STEPS:g} steps ({LIMITS_DOC})")
+            raise ScenarioError(
+                f"{where}.time_step: time_limit / time_step = {steps:.4g} steps is beyond the "
+                f"limit of {MAX_STEPS:g} steps ({LIMITS_DOC})"
+            )
         return HuntParameters(**values)
 
 
@@ -233,7 +258,7 @@ class Scenario:
     obstacles: tuple[Obstacle, ...] = ()
     hunt: HuntParameters = field(default_factory=HuntParameters)
     description: str = ""
-    arena: Arena | None = None          # (x_min, y_min, x_max, y_max); mpc_hunt/world/arena.py
+    arena: Arena | None = None  # (x_min, y_min, x_max, y_max); mpc_hunt/world/arena.py
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
@@ -243,19 +268,31 @@ class Scenario:
         if not isinstance(self.defenders, (tuple, list)) or len(self.defenders) == 0:
             raise ScenarioError("defenders: at least one defender is needed")
         if len(self.defenders) > MAX_DEFENDERS:
-            raise ScenarioError(f"defenders: {len(self.defenders)} defenders is beyond the limit of "
-                                f"{MAX_DEFENDERS} ({LIMITS_DOC})")
+            raise ScenarioError(
+                f"defenders: {len(self.defenders)} defenders is beyond the limit of {MAX_DEFENDERS} ({LIMITS_DOC})"
+            )
         if not isinstance(self.obstacles, (tuple, list)):
             raise ScenarioError(f"obstacles: expected a list of obstacles, got {type(self.obstacles).__name__}")
         if len(self.obstacles) > MAX_OBSTACLES:
-            raise ScenarioError(f"obstacles: {len(self.obstacles)} obstacles is beyond the limit of "
-                                f"{MAX_OBSTACLES} ({LIMITS_DOC})")
+            raise ScenarioError(
+                f"obstacles: {len(self.obstacles)} obstacles is beyond the limit of {MAX_OBSTACLES} ({LIMITS_DOC})"
+            )
         set_ = object.__setattr__  # frozen dataclass: normalise in place once
-        set_(self, "defenders", tuple(_as(Defender, d, f"defenders[{i}]").validated(f"defenders[{i}]")
-                                      for i, d in enumerate(self.defenders)))
+        set_(
+            self,
+            "defenders",
+            tuple(
+                _as(Defender, d, f"defenders[{i}]").validated(f"defenders[{i}]") for i, d in enumerate(self.defenders)
+            ),
+        )
         set_(self, "attacker", _as(Attacker, self.attacker, "attacker").validated("attacker"))
-        set_(self, "obstacles", tuple(_as(Obstacle, o, f"obstacles[{i}]").validated(f"obstacles[{i}]")
-                                      for i, o in enumerate(self.obstacles)))
+        set_(
+            self,
+            "obstacles",
+            tuple(
+                _as(Obstacle, o, f"obstacles[{i}]").validated(f"obstacles[{i}]") for i, o in enumerate(self.obstacles)
+            ),
+        )
         set_(self, "hunt", _as(HuntParameters, self.hunt, "hunt").validated("hunt"))
         if self.arena is not None:
             set_(self, "arena", checked_arena(self.arena))
@@ -266,9 +303,13 @@ class Scenario:
             if d.max_speed <= self.attacker.max_speed:
                 raise ScenarioError(
                     f"defenders[{i}].max_speed: {d.max_speed} m/s is not faster than the attacker's "
-                    f"max_speed {self.attacker.max_speed} m/s (the strategy assumes max|v_a| < max|v_d|)")
-        check_positions(self, ("attacker.start", self.attacker.start),
-                        [(f"defenders[{i}].start", d.start) for i, d in enumerate(self.defenders)])
+                    f"max_speed {self.attacker.max_speed} m/s (the strategy assumes max|v_a| < max|v_d|)"
+                )
+        check_positions(
+            self,
+            ("attacker.start", self.attacker.start),
+            [(f"defenders[{i}].start", d.start) for i, d in enumerate(self.defenders)],
+        )
 
     # Array views used by the model and the simulator.
     @property
@@ -292,8 +333,7 @@ class Scenario:
         return np.array([o.radius for o in self.obstacles], dtype=float)
 
 
-def check_positions(scenario: Scenario, attacker: tuple[str, Vector],
-                    defenders: list[tuple[str, Vector]]) -> None:
+def check_positions(scenario: Scenario, attacker: tuple[str, Vector], defenders: list[tuple[str, Vector]]) -> None:
     """Where the robots of ``scenario`` may stand, as (field, [x, y]) pairs: at a start or in a state file.
 
     The attacker inside the arena (if there is one); no robot inside an
@@ -306,8 +346,9 @@ def check_positions(scenario: Scenario, attacker: tuple[str, Vector],
     for where, p in robots:
         for j, o in enumerate(scenario.obstacles):
             if math.dist(p, o.centre) <= o.radius:
-                raise ScenarioError(f"{where}: {list(p)} lies inside obstacles[{j}] "
-                                    f"(centre {list(o.centre)}, radius {o.radius})")
+                raise ScenarioError(
+                    f"{where}: {list(p)} lies inside obstacles[{j}] (centre {list(o.centre)}, radius {o.radius})"
+                )
     for i in range(len(robots)):
         for j in range(i + 1, len(robots)):
             if robots[i][1] == robots[j][1]:

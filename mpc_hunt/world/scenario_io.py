@@ -21,7 +21,7 @@ from mpc_hunt.world.names import shipped_name
 from mpc_hunt.world.scenario import LIMITS_DOC, Attacker, Defender, HuntParameters, Obstacle, Scenario, key_shown
 
 DEFAULT_SCENARIO = "paper-obstacles"
-MAX_FILE_BYTES = 1 << 20   # a scenario or state file is a few kB at most
+MAX_FILE_BYTES = 1 << 20  # a scenario or state file is a few kB at most
 _TOP_KEYS = {"name", "description", "arena", "attacker", "defenders", "obstacles", "hunt"}
 
 
@@ -51,8 +51,9 @@ def read_input_file(path: str | Path) -> str:
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise ScenarioError(f"{path}: not a UTF-8 text file (byte 0x{data[exc.start]:02x} "
-                            f"at offset {exc.start})") from None
+        raise ScenarioError(
+            f"{path}: not a UTF-8 text file (byte 0x{data[exc.start]:02x} at offset {exc.start})"
+        ) from None
 
 
 def parse_toml(text: str, source: str) -> dict:
@@ -102,10 +103,12 @@ def scenario_from_dict(data: dict) -> Scenario:
         raise ScenarioError("name: missing")
     if "attacker" not in data:
         raise ScenarioError("attacker: missing")
-    defenders = tuple(Defender(**_keys(d, Defender, f"defenders[{i}]"))
-                      for i, d in enumerate(_table_list(data, "defenders")))
-    obstacles = tuple(Obstacle(**_keys(o, Obstacle, f"obstacles[{i}]"))
-                      for i, o in enumerate(_table_list(data, "obstacles")))
+    defenders = tuple(
+        Defender(**_keys(d, Defender, f"defenders[{i}]")) for i, d in enumerate(_table_list(data, "defenders"))
+    )
+    obstacles = tuple(
+        Obstacle(**_keys(o, Obstacle, f"obstacles[{i}]")) for i, o in enumerate(_table_list(data, "obstacles"))
+    )
     return Scenario(
         name=data["name"],
         description=data.get("description", ""),
@@ -119,6 +122,7 @@ def scenario_from_dict(data: dict) -> Scenario:
 
 def scenario_to_dict(scenario: Scenario) -> dict:
     """Plain data for TOML: vectors as lists, every hunt parameter written out, the arena if there is one."""
+
     def plain(obj):
         return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(obj).items() if v is not None}
 
@@ -183,4 +187,3 @@ def resolve_scenario(name_or_file: str | Path | None = None) -> Scenario:
         return builtin_scenario(DEFAULT_SCENARIO)
     name = builtin_name(name_or_file)
     return load_scenario(str(name_or_file)) if name is None else builtin_scenario(name)
-

@@ -37,9 +37,16 @@ def _normal(v: np.ndarray) -> np.ndarray:
     return v / length if length > 0 else np.array([1.0, 0.0])
 
 
-def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np.ndarray,
-                    planned_next: np.ndarray, time_step: float, speeds: np.ndarray,
-                    min_separation: float, also: Callable[[int], list] | None = None) -> np.ndarray:
+def keep_separation(
+    positions: np.ndarray,
+    velocities: np.ndarray,
+    unplanned: np.ndarray,
+    planned_next: np.ndarray,
+    time_step: float,
+    speeds: np.ndarray,
+    min_separation: float,
+    also: Callable[[int], list] | None = None,
+) -> np.ndarray:
     """``velocities`` with the unplanned defenders' rows filtered (see the module's docstring).
 
     ``planned_next`` holds the next positions of the defenders not in
@@ -53,7 +60,7 @@ def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np
     movers = np.flatnonzero(unplanned)
     for i in movers:
         p = positions[i]
-        rows = []     # (a, b): a · v ≥ b
+        rows = []  # (a, b): a · v ≥ b
         for j in planned:
             n = _normal(p - planned_next[j])
             gap = dot2(n, p - planned_next[j])
@@ -69,8 +76,7 @@ def keep_separation(positions: np.ndarray, velocities: np.ndarray, unplanned: np
     return out
 
 
-def onto_half_planes(v: np.ndarray, rows: list[tuple[np.ndarray, float]], speed: float,
-                     aim: float = 0.0) -> np.ndarray:
+def onto_half_planes(v: np.ndarray, rows: list[tuple[np.ndarray, float]], speed: float, aim: float = 0.0) -> np.ndarray:
     """``v`` projected onto each broken half-plane a · v ≥ b of ``rows`` in turn (onto a · v = b + ``aim``),
     capped at ``speed``, then scaled towards 0 until none is broken (every b ≤ 0, so v = 0 keeps them all)."""
     for a, b in rows:

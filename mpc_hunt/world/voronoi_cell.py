@@ -64,8 +64,13 @@ def clip(cell: Cell, normal: np.ndarray, offset: float, label: int) -> Cell:
     return Cell(np.array(vertices, dtype=float).reshape(-1, 2), tuple(labels))
 
 
-def attacker_cell(p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray,
-                  box: tuple[float, float, float, float]) -> Cell:
+def attacker_cell(
+    p_a: np.ndarray,
+    defenders: np.ndarray,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    box: tuple[float, float, float, float],
+) -> Cell:
     """The attacker's cell w.r.t. every defender and obstacle, within ``box`` (see the module's docstring)."""
     p_a = np.asarray(p_a, dtype=float)
     cell = box_cell(box)

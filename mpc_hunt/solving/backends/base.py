@@ -33,17 +33,17 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from mpc_hunt.errors import OptionError, SolverError, UnknownNameError, field_name
 from mpc_hunt.capture.certificate import qp_certificate
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.errors import OptionError, SolverError, UnknownNameError, field_name
 
 # The accuracy profiles: ours, tuned per backend (default), tighter (high), looser (low), and each solver's own
 # defaults (solver), as qpbenchmark's "default" profile runs them (docs/benchmarks.md).
 ACCURACIES = ("default", "high", "low", "solver")
-CACHE_SIZE = 16   # structures kept set up per backend (the controlled set changes during a hunt)
-MAX_ITERATIONS = 1_000_000   # the largest iteration cap taken
-FIRST_CAP = 100   # a clockless solver's cap under a time limit before any time per iteration is measured
+CACHE_SIZE = 16  # structures kept set up per backend (the controlled set changes during a hunt)
+MAX_ITERATIONS = 1_000_000  # the largest iteration cap taken
+FIRST_CAP = 100  # a clockless solver's cap under a time limit before any time per iteration is measured
 PACE_SOLVES = 32  # the last solves a clockless solver's cost (fixed + per iteration) is fitted to
 PACE_MARGIN = 1.5  # the cost per iteration budgeted: this many times the fitted one
 BUDGET = ("time_limit", "max_iter")
@@ -62,41 +62,46 @@ class Backend:
     """
 
     name: ClassVar[str]
-    accepts: ClassVar[tuple[str, ...]]      # problem kinds: "nlp", "qp", "socp", "ocp-nlp", "ocp-qp"
+    accepts: ClassVar[tuple[str, ...]]  # problem kinds: "nlp", "qp", "socp", "ocp-nlp", "ocp-qp"
     # The step its C export writes (mpc_hunt.solving.export): "hpipm" (CasADi's, built against this machine's HPIPM
     # and BLASFEO) or "condensed" (with DAQP's sources, for any target); None: no export.
     exports: ClassVar[str | None] = None
-    package: ClassVar[str]                  # the solver's import name
-    install: ClassVar[str]                  # what to pip install
+    package: ClassVar[str]  # the solver's import name
+    install: ClassVar[str]  # what to pip install
     ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}
-    TIME_LIMIT: ClassVar[bool] = True       # whether it takes a time limit at all
-    CLOCK: ClassVar[bool] = True            # whether the solver stops itself on the clock (else: an iteration cap)
-    MAX_ITER: ClassVar[int] = 1000          # the iteration cap without max_iter
-    NATIVE: ClassVar[dict[str, str]] = {}   # the solver's own names of time_limit and max_iter
-    LOOP_CERTIFICATE: ClassVar[bool] = False    # whether its loop step writes its QP's certificate (output 5)
-    objectives: ClassVar[tuple[str, ...] | None] = None     # the objectives whose QPs it can solve (None: every one)
+    TIME_LIMIT: ClassVar[bool] = True  # whether it takes a time limit at all
+    CLOCK: ClassVar[bool] = True  # whether the solver stops itself on the clock (else: an iteration cap)
+    MAX_ITER: ClassVar[int] = 1000  # the iteration cap without max_iter
+    NATIVE: ClassVar[dict[str, str]] = {}  # the solver's own names of time_limit and max_iter
+    LOOP_CERTIFICATE: ClassVar[bool] = False  # whether its loop step writes its QP's certificate (output 5)
+    objectives: ClassVar[tuple[str, ...] | None] = None  # the objectives whose QPs it can solve (None: every one)
 
-    def __init__(self, time_limit: float | None = None, accuracy: str = "default", *, max_iter: int | None = None,
-                 **options):
+    def __init__(
+        self, time_limit: float | None = None, accuracy: str = "default", *, max_iter: int | None = None, **options
+    ):
         if accuracy not in ACCURACIES:
             raise UnknownNameError(f"accuracy: unknown {accuracy!r} (available: {', '.join(ACCURACIES)})")
         if time_limit is not None and not (_number(time_limit) and 0 < time_limit < float("inf")):
             raise OptionError(f"time_limit: a positive, finite number of seconds or None, got {time_limit!r}")
         if time_limit is not None and not self.TIME_LIMIT:
-            raise SolverError(f"{field_name('time_limit')}: backend {self.name} takes none (its step is one call "
-                              f"that nothing can stop); bound it with {field_name('max_iter')}, drop "
-                              f"{field_name('time_limit')} or pick another backend")
-        if max_iter is not None and not (_number(max_iter) and float(max_iter).is_integer()
-                                         and 1 <= max_iter <= MAX_ITERATIONS):
-            raise OptionError(f"max_iter: a whole number of iterations from 1 to {MAX_ITERATIONS} or None, "
-                              f"got {max_iter!r}")
+            raise SolverError(
+                f"{field_name('time_limit')}: backend {self.name} takes none (its step is one call "
+                f"that nothing can stop); bound it with {field_name('max_iter')}, drop "
+                f"{field_name('time_limit')} or pick another backend"
+            )
+        if max_iter is not None and not (
+            _number(max_iter) and float(max_iter).is_integer() and 1 <= max_iter <= MAX_ITERATIONS
+        ):
+            raise OptionError(
+                f"max_iter: a whole number of iterations from 1 to {MAX_ITERATIONS} or None, got {max_iter!r}"
+            )
         self._check_options(options)
         self.time_limit = None if time_limit is None else float(time_limit)
         self.max_iter = None if max_iter is None else int(max_iter)
         self.accuracy = accuracy
         self.options = {**self.ACCURACY.get(accuracy, {}), **options}
         self.setups = 0
-        self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)     # (seconds, iterations)
+        self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
 
     @classmethod
@@ -108,9 +113,12 @@ class Backend:
         own = {native: ours for ours, native in self.NATIVE.items()}
         for key in options:
             if key in own or key in BUDGET:
-                raise OptionError(f"{key}: the budget is given as {own.get(key, key)}=..., the same name on every "
-                                  f"backend (not as a solver option)" if key in own else
-                                  f"{key}: give it as the budget {key}=..., not as a solver option")
+                raise OptionError(
+                    f"{key}: the budget is given as {own.get(key, key)}=..., the same name on every "
+                    f"backend (not as a solver option)"
+                    if key in own
+                    else f"{key}: give it as the budget {key}=..., not as a solver option"
+                )
         names = self.option_names()
         unknown = [key for key in options if names is not None and key not in names]
         if unknown:
@@ -192,8 +200,13 @@ class Backend:
         except (RuntimeError, ValueError, ArithmeticError) as exc:  # the solver library gave up
             self._cache.pop(data.key, None)
             message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-            return Solution(status=Status.ERROR, message=message, backend=self.name,
-                            solver_time=time.perf_counter() - t0, setup_time=setup_time)
+            return Solution(
+                status=Status.ERROR,
+                message=message,
+                backend=self.name,
+                solver_time=time.perf_counter() - t0,
+                setup_time=setup_time,
+            )
         solver_time = time.perf_counter() - t0
         if not new:
             self.record_pace(solver_time, result.iterations)
@@ -201,11 +214,22 @@ class Backend:
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
         if result.x is None and result.status.usable:
             result = replace(result, status=Status.ERROR, message=f"{result.message} (no solution returned)")
-        if result.x is not None and result.duals.y is not None and isinstance(data, QPData) \
-                and len(result.duals.y) == data.A.shape[0]:
-            result = replace(result, certificate=qp_certificate(data.P, data.q, data.A, data.l, data.u, result.x,
-                                                                result.duals.y, data.cones))
+        if (
+            result.x is not None
+            and result.duals.y is not None
+            and isinstance(data, QPData)
+            and len(result.duals.y) == data.A.shape[0]
+        ):
+            result = replace(
+                result,
+                certificate=qp_certificate(
+                    data.P, data.q, data.A, data.l, data.u, result.x, result.duals.y, data.cones
+                ),
+            )
         if self.time_limit is not None and solver_time > self.time_limit and result.status.usable:
-            result = replace(result, status=Status.TIME_LIMIT, message=f"{result.message}, after {solver_time:.3g} s: "
-                                                                       f"past the {self.time_limit:g} s limit")
+            result = replace(
+                result,
+                status=Status.TIME_LIMIT,
+                message=f"{result.message}, after {solver_time:.3g} s: past the {self.time_limit:g} s limit",
+            )
         return replace(result, backend=self.name, solver_time=solver_time, setup_time=setup_time)

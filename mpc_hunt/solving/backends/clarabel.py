@@ -13,8 +13,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from mpc_hunt.capture.data import QPData
-from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.solving.backends.base import Backend
 
 _STATUS = {
     "Solved": Status.OPTIMAL,
@@ -36,8 +36,11 @@ class ConicLayout:
         upper, lower = data.bounded_rows()
         self.nonnegative = len(upper) + len(lower)
         # Each stacked row: the source row of A and its sign (+1: u − Ax ≥ 0 or a cone row, −1: Ax − l ≥ 0).
-        rows = [(r, 1.0) for r in upper] + [(r, -1.0) for r in lower] \
+        rows = (
+            [(r, 1.0) for r in upper]
+            + [(r, -1.0) for r in lower]
             + [(r, 1.0) for start, k in data.cones for r in range(start, start + k)]
+        )
         self.rows = len(rows)
         self.b_index = np.array([r for r, _ in rows], dtype=int)
         self.b_sign = np.array([sign for _, sign in rows])
@@ -48,7 +51,10 @@ class ConicLayout:
         dst, col, src, sgn = [], [], [], []
         for k, (r, c) in enumerate(zip(coo.row, coo.col)):
             for dest, sign in by_row.get(int(r), []):
-                dst.append(dest); col.append(c); src.append(k); sgn.append(sign)
+                dst.append(dest)
+                col.append(c)
+                src.append(k)
+                sgn.append(sign)
         # The order of A.data in COO equals its CSC order (tocoo keeps stored entries in place).
         ids = sp.csc_matrix((np.arange(1, len(dst) + 1, dtype=float), (dst, col)), shape=(self.rows, n))
         order = ids.data.astype(int) - 1
@@ -84,8 +90,11 @@ class ClarabelBackend(Backend):
     accepts = ("qp", "socp")
     package = "clarabel"
     install = "clarabel"
-    ACCURACY = {"default": {}, "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
-                "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5}}
+    ACCURACY = {
+        "default": {},
+        "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},
+        "low": {"tol_gap_abs": 1e-5, "tol_gap_rel": 1e-5, "tol_feas": 1e-5},
+    }
     MAX_ITER = 200
     NATIVE = {"time_limit": "time_limit", "max_iter": "max_iter"}
 
@@ -108,8 +117,9 @@ class ClarabelBackend(Backend):
         if self.time_limit is not None:
             settings.time_limit = self.time_limit
         layout = ConicLayout(data)
-        cones = ([clarabel.NonnegativeConeT(layout.nonnegative)] if layout.nonnegative else []) \
-            + [clarabel.SecondOrderConeT(k) for k in layout.cone_sizes]
+        cones = ([clarabel.NonnegativeConeT(layout.nonnegative)] if layout.nonnegative else []) + [
+            clarabel.SecondOrderConeT(k) for k in layout.cone_sizes
+        ]
         solver = clarabel.DefaultSolver(data.P, data.q, layout.matrix(data), layout.vector(data), cones, settings)
         return solver, layout
 
@@ -122,7 +132,12 @@ class ClarabelBackend(Backend):
         sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)
-        return Solution(status=_STATUS.get(raw, Status.ERROR), message=raw, x=x,
-                        formulation_objective=float(sol.obj_val), iterations=int(sol.iterations),
-                        duals=WarmStart(x, layout.row_duals(np.array(sol.z), data.A.shape[0])),
-                        extras={"reported_solve_time_s": float(sol.solve_time)})
+        return Solution(
+            status=_STATUS.get(raw, Status.ERROR),
+            message=raw,
+            x=x,
+            formulation_objective=float(sol.obj_val),
+            iterations=int(sol.iterations),
+            duals=WarmStart(x, layout.row_duals(np.array(sol.z), data.A.shape[0])),
+            extras={"reported_solve_time_s": float(sol.solve_time)},
+        )

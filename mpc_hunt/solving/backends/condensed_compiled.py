@@ -26,7 +26,7 @@ from mpc_hunt.solving.compiled import CompilationWarning, build, compiler
 from mpc_hunt.solving.vendored_daqp import DAQP_SOURCES, DAQP_VERSION, daqp_digest, daqp_sources
 
 FLAGS = ("-O2", "-fPIC", "-shared")
-NON_FINITE_INPUT = -100     # the step's own codes beyond DAQP's exit flags
+NON_FINITE_INPUT = -100  # the step's own codes beyond DAQP's exit flags
 NON_FINITE_PLAN = -101
 CODES = {NON_FINITE_INPUT: "non-finite input", NON_FINITE_PLAN: "non-finite plan", -99: "out of memory"}
 
@@ -34,9 +34,17 @@ CODES = {NON_FINITE_INPUT: "non-finite input", NON_FINITE_PLAN: "non-finite plan
 def step_source(function, sizes: dict) -> str:
     """The step around DAQP (``condensed/condensed_step.c``) for the condensing ``function`` of ``sizes``
     (declared before it: generated code or its header)."""
-    return render("condensed/condensed_step.c", **sizes, sz_arg=function.sz_arg(), sz_res=function.sz_res(),
-                  sz_iw=function.sz_iw(), sz_w=function.sz_w(), condense=CONDENSE,
-                  non_finite_input=NON_FINITE_INPUT, non_finite_plan=NON_FINITE_PLAN)
+    return render(
+        "condensed/condensed_step.c",
+        **sizes,
+        sz_arg=function.sz_arg(),
+        sz_res=function.sz_res(),
+        sz_iw=function.sz_iw(),
+        sz_w=function.sz_w(),
+        condense=CONDENSE,
+        non_finite_input=NON_FINITE_INPUT,
+        non_finite_plan=NON_FINITE_PLAN,
+    )
 
 
 def compiled_library(function, sizes: dict, flags: tuple):
@@ -46,20 +54,21 @@ def compiled_library(function, sizes: dict, flags: tuple):
 
     cc = compiler()
     if cc is None:
-        warnings.warn("no C compiler found: the condensed step runs interpreted", CompilationWarning,
-                      stacklevel=4)
+        warnings.warn("no C compiler found: the condensed step runs interpreted", CompilationWarning, stacklevel=4)
         return None
     generator = ca.CodeGenerator(f"{CONDENSE}.c", {"with_header": False})
     generator.add(function)
-    source = (f"/* DAQP {DAQP_VERSION}, sources {daqp_digest()} */\n" + generator.dump()
-              + step_source(function, sizes))
+    source = f"/* DAQP {DAQP_VERSION}, sources {daqp_digest()} */\n" + generator.dump() + step_source(function, sizes)
     extra = (f"-I{DAQP_SOURCES / 'include'}", *map(str, daqp_sources()))
     try:
         path = build(source, flags, (), cc, extra)
         library = ctypes.CDLL(str(path))
     except (OSError, RuntimeError) as exc:
-        warnings.warn(f"the condensed step could not be built ({str(exc).splitlines()[0]}): it runs "
-                      "interpreted", CompilationWarning, stacklevel=4)
+        warnings.warn(
+            f"the condensed step could not be built ({str(exc).splitlines()[0]}): it runs interpreted",
+            CompilationWarning,
+            stacklevel=4,
+        )
         return None
     library.mpc_hunt_daqp_new.restype = ctypes.c_void_p
     library.mpc_hunt_daqp_free.argtypes = [ctypes.c_void_p]
@@ -78,7 +87,7 @@ class CompiledBuffer:
         if not self.workspace:
             raise MemoryError("the condensed step's workspace could not be allocated")
         weakref.finalize(self, library.mpc_hunt_daqp_free, self.workspace)
-        self.arrays = [None] * 4       # θ, reference, plan, objective (kept alive: the library holds their addresses)
+        self.arrays = [None] * 4  # θ, reference, plan, objective (kept alive: the library holds their addresses)
         self.pointers = [None] * 4
         self.code = 0
 

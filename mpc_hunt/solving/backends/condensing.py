@@ -21,8 +21,8 @@ from typing import Any
 
 import numpy as np
 
-INFINITY = 1e30             # DAQP's infinite bound (DAQP_INF)
-CONDENSE = "mpc_hunt_condense"      # the condensing Function's name, as its generated C calls it
+INFINITY = 1e30  # DAQP's infinite bound (DAQP_INF)
+CONDENSE = "mpc_hunt_condense"  # the condensing Function's name, as its generated C calls it
 
 
 def condensed(graph) -> tuple[Any, dict]:
@@ -44,17 +44,17 @@ def condensed(graph) -> tuple[Any, dict]:
         col += nxs[k]
         if k < N:
             nx, nu = nxs[k], nus[k]
-            step = v[used:used + nu]
+            step = v[used : used + nu]
             parts.append(step)
             controls += range(col, col + nu)
-            gx, gu = A[row:row + nxs[k + 1], col - nx:col], A[row:row + nxs[k + 1], col:col + nu]
+            gx, gu = A[row : row + nxs[k + 1], col - nx : col], A[row : row + nxs[k + 1], col : col + nu]
             gaps += range(row, row + nxs[k + 1])
             xi = -(ca.mtimes(gx, xi) + ca.mtimes(gu, step))
             row += nxs[k + 1]
             col += nu
             used += nu
         row += ngs[k]
-    Z = ca.jacobian(ca.vertcat(*parts), v)                 # z = Z ν: ξ_0 = 0 and the gaps hold exactly
+    Z = ca.jacobian(ca.vertcat(*parts), v)  # z = Z ν: ξ_0 = 0 and the gaps hold exactly
 
     def infinite(e, sign) -> bool:
         return bool(e.is_constant()) and float(e) == sign * np.inf
@@ -69,12 +69,18 @@ def condensed(graph) -> tuple[Any, dict]:
     H = ca.mtimes([Z.T, qp["h"], Z])
     H = 0.5 * (H + H.T)
     zero = ca.DM.zeros(z.shape[0])
-    outputs = [H, ca.mtimes(Z.T, qp["g"]), constraint.T,
-               ca.fmin(ca.vertcat(ubx[controls], ubx[bounded], qp["uba"][rows]), INFINITY),
-               ca.fmax(ca.vertcat(lbx[controls], lbx[bounded], qp["lba"][rows]), -INFINITY),
-               ca.substitute(graph.plan, z, zero), ca.mtimes(ca.jacobian(graph.plan, z), Z),
-               ca.substitute(graph.cost, z, zero)]
+    outputs = [
+        H,
+        ca.mtimes(Z.T, qp["g"]),
+        constraint.T,
+        ca.fmin(ca.vertcat(ubx[controls], ubx[bounded], qp["uba"][rows]), INFINITY),
+        ca.fmax(ca.vertcat(lbx[controls], lbx[bounded], qp["lba"][rows]), -INFINITY),
+        ca.substitute(graph.plan, z, zero),
+        ca.mtimes(ca.jacobian(graph.plan, z), Z),
+        ca.substitute(graph.cost, z, zero),
+    ]
     function = ca.Function(CONDENSE, graph.inputs, [ca.densify(o) for o in outputs])
-    sizes = dict(nv=nv, m=nv + constraint.shape[0], ms=nv, n_theta=graph.inputs[0].numel(),
-                 n_reference=graph.inputs[1].numel())
+    sizes = dict(
+        nv=nv, m=nv + constraint.shape[0], ms=nv, n_theta=graph.inputs[0].numel(), n_reference=graph.inputs[1].numel()
+    )
     return function, sizes

@@ -23,8 +23,8 @@ import numpy as np
 
 from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.capture.data import StageQPData
-from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.solving.backends.base import Backend
 
 QP_KEYS = ("h", "g", "a", "lba", "uba", "lbx", "ubx")
 
@@ -35,7 +35,7 @@ class ConicStepBackend(Backend):
     accepts = ("ocp-qp",)
     package = "casadi"
     install = "casadi"
-    CLOCK = False           # the step is one CasADi call; its conic plugins read no clock: a time limit is a cap
+    CLOCK = False  # the step is one CasADi call; its conic plugins read no clock: a time limit is a cap
     LOOP_CERTIFICATE = True  # the step's output 5: its QP's certificate
     plugin: ClassVar[str]
 
@@ -49,8 +49,12 @@ class ConicStepBackend(Backend):
         import casadi as ca
 
         qp = [graph.qp[key] for key in QP_KEYS]
-        solver = ca.conic("capture", self.plugin, {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
-                          {"error_on_fail": False, **self.conic_options(graph)})
+        solver = ca.conic(
+            "capture",
+            self.plugin,
+            {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
+            {"error_on_fail": False, **self.conic_options(graph)},
+        )
         return ca.Function("linearise", graph.inputs, qp), solver
 
     def setup(self, data: StageQPData):
@@ -65,8 +69,11 @@ class ConicStepBackend(Backend):
         solution = solver(**dict(zip(QP_KEYS, linearise(*inputs))), lam_x0=lam_x0, lam_a0=lam_a0)
         plan, cost = read(*inputs, solution["x"])
         residuals = certificate(*linearise(*inputs), solution["x"], solution["lam_x"], solution["lam_a"])
-        return ca.Function("step", inputs + [lam_x0, lam_a0],
-                           [plan, cost, solution["lam_x"], solution["lam_a"], solution["cost"], residuals])
+        return ca.Function(
+            "step",
+            inputs + [lam_x0, lam_a0],
+            [plan, cost, solution["lam_x"], solution["lam_a"], solution["cost"], residuals],
+        )
 
     def run(self, step, data: StageQPData, warm: WarmStart) -> Solution:
         outputs = call(step, data, warm)
@@ -105,12 +112,15 @@ def certificate(h, g, a, lba, uba, lbx, ubx, z, lam_x, lam_a):
     primal = ca.mmax(ca.vertcat(ca.fmax(az - uba, lba - az), ca.fmax(z - ubx, lbx - z), 0))
     dual = ca.norm_inf(ca.mtimes(h, z) + g + ca.mtimes(a.T, lam_a) + lam_x)
 
-    def bound_terms(lam, lower, upper):    # u λ⁺ − l λ⁻ over the finite bounds (as the NumPy certificate)
-        return ca.sum1(ca.if_else(ca.logic_and(lam > 0, ca.fabs(upper) < ca.inf), upper * lam, 0)
-                       + ca.if_else(ca.logic_and(lam < 0, ca.fabs(lower) < ca.inf), lower * lam, 0))
+    def bound_terms(lam, lower, upper):  # u λ⁺ − l λ⁻ over the finite bounds (as the NumPy certificate)
+        return ca.sum1(
+            ca.if_else(ca.logic_and(lam > 0, ca.fabs(upper) < ca.inf), upper * lam, 0)
+            + ca.if_else(ca.logic_and(lam < 0, ca.fabs(lower) < ca.inf), lower * lam, 0)
+        )
 
-    gap = ca.fabs(ca.dot(z, ca.mtimes(h, z)) + ca.dot(g, z) + bound_terms(lam_a, lba, uba)
-                  + bound_terms(lam_x, lbx, ubx))
+    gap = ca.fabs(
+        ca.dot(z, ca.mtimes(h, z)) + ca.dot(g, z) + bound_terms(lam_a, lba, uba) + bound_terms(lam_x, lbx, ubx)
+    )
     return ca.vertcat(primal, dual, gap)
 
 
@@ -125,6 +135,12 @@ def call(step, data: StageQPData, warm: WarmStart) -> tuple:
 
 def as_solution(status: Status, message: str, iterations: int, outputs: tuple) -> Solution:
     plan, cost, lam_x, lam_a, residuals = outputs
-    return Solution(status=status, message=message, x=np.array(plan).ravel(), formulation_objective=float(cost),
-                    iterations=iterations, duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()),
-                    certificate=Certificate(*(float(v) for v in np.array(residuals).ravel())))
+    return Solution(
+        status=status,
+        message=message,
+        x=np.array(plan).ravel(),
+        formulation_objective=float(cost),
+        iterations=iterations,
+        duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()),
+        certificate=Certificate(*(float(v) for v in np.array(residuals).ravel())),
+    )

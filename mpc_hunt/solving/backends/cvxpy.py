@@ -15,10 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpc_hunt.capture.data import QPData
-from mpc_hunt.solving.backends.base import Backend
-from mpc_hunt.solving.backends.clarabel import ClarabelBackend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
+from mpc_hunt.solving.backends.base import Backend
+from mpc_hunt.solving.backends.clarabel import ClarabelBackend
 
 
 @dataclass
@@ -31,9 +31,9 @@ class _Problem:
     c: object
     lin: object
     A: object
-    b: object    # u on upper and cone rows
-    bl: object   # l on lower rows
-    rows: list   # (constraint, its rows of A, sign): how each constraint's duals map onto the rows' multipliers y
+    b: object  # u on upper and cone rows
+    bl: object  # l on lower rows
+    rows: list  # (constraint, its rows of A, sign): how each constraint's duals map onto the rows' multipliers y
 
 
 class CvxpyBackend(Backend):
@@ -43,17 +43,26 @@ class CvxpyBackend(Backend):
     accepts = ("qp", "socp")
     package = "cvxpy"
     install = "cvxpy"
-    ACCURACY = ClarabelBackend.ACCURACY      # Clarabel's tolerances (any other solver gets the default)
+    ACCURACY = ClarabelBackend.ACCURACY  # Clarabel's tolerances (any other solver gets the default)
 
     MAX_ITER = ClarabelBackend.MAX_ITER
-    BUDGETED = ("CLARABEL", "OSQP")     # the solvers it hands time_limit and max_iter (both by those names)
+    BUDGETED = ("CLARABEL", "OSQP")  # the solvers it hands time_limit and max_iter (both by those names)
 
-    def __init__(self, time_limit: float | None = None, accuracy: str = "default", solver: str = "CLARABEL", *,
-                 max_iter: int | None = None, **options):
+    def __init__(
+        self,
+        time_limit: float | None = None,
+        accuracy: str = "default",
+        solver: str = "CLARABEL",
+        *,
+        max_iter: int | None = None,
+        **options,
+    ):
         self.solver = solver
         if solver not in self.BUDGETED and (time_limit is not None or max_iter is not None):
-            raise OptionError(f"solver: CVXPY's {solver} is handed no budget here (only {', '.join(self.BUDGETED)}); "
-                              "drop time_limit and max_iter or pick one of those")
+            raise OptionError(
+                f"solver: CVXPY's {solver} is handed no budget here (only {', '.join(self.BUDGETED)}); "
+                "drop time_limit and max_iter or pick one of those"
+            )
         super().__init__(time_limit, accuracy if solver == "CLARABEL" else "default", max_iter=max_iter, **options)
 
     def option_names(self) -> frozenset[str] | None:  # type: ignore[override]
@@ -73,8 +82,13 @@ class CvxpyBackend(Backend):
         if len(lower):
             rows.append((A[lower] @ x >= bl[lower], lower, -1.0))
         for start, size in data.cones:
-            rows.append((cp.SOC(b[start] - A[start] @ x, b[start + 1:start + size] - A[start + 1:start + size] @ x),
-                         np.arange(start, start + size), 1.0))
+            rows.append(
+                (
+                    cp.SOC(b[start] - A[start] @ x, b[start + 1 : start + size] - A[start + 1 : start + size] @ x),
+                    np.arange(start, start + size),
+                    1.0,
+                )
+            )
         objective = cp.Minimize(cp.sum_squares(J @ x + c) + lin @ x)
         state = _Problem(cp.Problem(objective, [row[0] for row in rows]), x, J, c, lin, A, b, bl, rows)
         self.update(state, data)
@@ -102,17 +116,27 @@ class CvxpyBackend(Backend):
                 state.problem.solve(**kwargs)
         except (cp.error.SolverError, cp.error.DCPError) as exc:
             raise RuntimeError(str(exc)) from None
-        status = {cp.OPTIMAL: Status.OPTIMAL, cp.OPTIMAL_INACCURATE: Status.OPTIMAL_INACCURATE,
-                  cp.INFEASIBLE: Status.INFEASIBLE, cp.INFEASIBLE_INACCURATE: Status.INFEASIBLE,
-                  cp.UNBOUNDED: Status.INFEASIBLE, cp.UNBOUNDED_INACCURATE: Status.INFEASIBLE,
-                  cp.USER_LIMIT: Status.ITERATION_LIMIT}.get(state.problem.status, Status.ERROR)
+        status = {
+            cp.OPTIMAL: Status.OPTIMAL,
+            cp.OPTIMAL_INACCURATE: Status.OPTIMAL_INACCURATE,
+            cp.INFEASIBLE: Status.INFEASIBLE,
+            cp.INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+            cp.UNBOUNDED: Status.INFEASIBLE,
+            cp.UNBOUNDED_INACCURATE: Status.INFEASIBLE,
+            cp.USER_LIMIT: Status.ITERATION_LIMIT,
+        }.get(state.problem.status, Status.ERROR)
         stats = state.problem.solver_stats
         x = None if state.x.value is None else np.array(state.x.value)
         objective = None if x is None else float(state.problem.value - data.c @ data.c)
-        return Solution(status=status, message=f"{state.problem.status} ({stats.solver_name})", x=x,
-                        formulation_objective=objective, iterations=int(stats.num_iters or 0),
-                        duals=WarmStart(x, _row_duals(state, data.A.shape[0])),
-                        extras={"reported_solve_time_s": float(stats.solve_time or 0.0)})
+        return Solution(
+            status=status,
+            message=f"{state.problem.status} ({stats.solver_name})",
+            x=x,
+            formulation_objective=objective,
+            iterations=int(stats.num_iters or 0),
+            duals=WarmStart(x, _row_duals(state, data.A.shape[0])),
+            extras={"reported_solve_time_s": float(stats.solve_time or 0.0)},
+        )
 
 
 def _row_duals(state: _Problem, m: int) -> np.ndarray | None:
@@ -123,6 +147,7 @@ def _row_duals(state: _Problem, m: int) -> np.ndarray | None:
         value = constraint.dual_value
         if value is None:
             return None
-        y[index] += sign * np.concatenate([np.ravel(v) for v in value]) if isinstance(value, list) \
-            else sign * np.ravel(value)
+        y[index] += (
+            sign * np.concatenate([np.ravel(v) for v in value]) if isinstance(value, list) else sign * np.ravel(value)
+        )
     return y

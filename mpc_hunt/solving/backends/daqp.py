@@ -23,15 +23,30 @@ from __future__ import annotations
 import numpy as np
 
 from mpc_hunt.capture.data import QPData
-from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.solving.backends.base import Backend
 
 # DAQP's exit flags: the status each gives, and its name (the daqp-condensed backend's too).
-EXIT_STATUS = {2: Status.OPTIMAL, 1: Status.OPTIMAL, -1: Status.INFEASIBLE, -3: Status.INFEASIBLE,
-               -4: Status.ITERATION_LIMIT, -7: Status.TIME_LIMIT}
-EXIT_MESSAGE = {2: "soft optimal", 1: "optimal", -1: "infeasible", -2: "cycling", -3: "unbounded",
-                -4: "iteration limit", -5: "non-convex", -6: "overdetermined initial active set", -7: "time limit"}
-ACTIVE, LOWER = 1, 2      # DAQP's constraint flags
+EXIT_STATUS = {
+    2: Status.OPTIMAL,
+    1: Status.OPTIMAL,
+    -1: Status.INFEASIBLE,
+    -3: Status.INFEASIBLE,
+    -4: Status.ITERATION_LIMIT,
+    -7: Status.TIME_LIMIT,
+}
+EXIT_MESSAGE = {
+    2: "soft optimal",
+    1: "optimal",
+    -1: "infeasible",
+    -2: "cycling",
+    -3: "unbounded",
+    -4: "iteration limit",
+    -5: "non-convex",
+    -6: "overdetermined initial active set",
+    -7: "time limit",
+}
+ACTIVE, LOWER = 1, 2  # DAQP's constraint flags
 
 
 def _kept(data: QPData) -> np.ndarray:
@@ -91,7 +106,12 @@ class DaqpBackend(Backend):
         x = np.array(x)
         y = np.zeros(data.A.shape[0])
         y[kept] = info["lam"]
-        return Solution(status=EXIT_STATUS.get(int(flag), Status.ERROR),
-                        message=EXIT_MESSAGE.get(int(flag), str(flag)), x=x, formulation_objective=float(fval),
-                        iterations=int(info["iterations"]), duals=WarmStart(x, y),
-                        extras={"reported_solve_time_s": float(info["solve_time"])})
+        return Solution(
+            status=EXIT_STATUS.get(int(flag), Status.ERROR),
+            message=EXIT_MESSAGE.get(int(flag), str(flag)),
+            x=x,
+            formulation_objective=float(fval),
+            iterations=int(info["iterations"]),
+            duals=WarmStart(x, y),
+            extras={"reported_solve_time_s": float(info["solve_time"])},
+        )

@@ -49,18 +49,19 @@ class DaqpCondensedBackend(Backend):
     name = "daqp-condensed"
     accepts = ("ocp-qp",)
     exports = "condensed"
-    objectives = ("enclose",)     # every control weighted: a positive definite condensed Hessian
+    objectives = ("enclose",)  # every control weighted: a positive definite condensed Hessian
     package = "daqp"
     install = "daqp"
-    TIME_LIMIT = False            # DAQP's limit needs its profiling build; the board's build has no clock
-    ACCURACY = {"default": {}, "high": {}, "low": {}}     # an active-set solution is exact on its active set
+    TIME_LIMIT = False  # DAQP's limit needs its profiling build; the board's build has no clock
+    ACCURACY = {"default": {}, "high": {}, "low": {}}  # an active-set solution is exact on its active set
 
-    def __init__(self, time_limit: float | None = None, accuracy: str = "default", flags: tuple = FLAGS,
-                 **options):
+    def __init__(self, time_limit: float | None = None, accuracy: str = "default", flags: tuple = FLAGS, **options):
         super().__init__(time_limit, accuracy, **options)
         if self.max_iter is not None:
-            raise OptionError(f"max_iter: backend {self.name}'s compiled step (the board's) runs DAQP's own cap; "
-                              "drop max_iter or use the hpipm backend")
+            raise OptionError(
+                f"max_iter: backend {self.name}'s compiled step (the board's) runs DAQP's own cap; "
+                "drop max_iter or use the hpipm backend"
+            )
         if self.options:
             raise UnknownNameError(f"backend {self.name} takes no options (got {', '.join(sorted(self.options))})")
         self.flags = tuple(flags)
@@ -80,9 +81,13 @@ class DaqpCondensedBackend(Backend):
             buffer.set_res(i, memoryview(a))
         buffer.evaluate()
         status, iterations = self.loop_status(step, buffer)
-        return Solution(status=status, message=message(buffer.code), x=plan if status.usable else None,
-                        formulation_objective=float(objective[0]) if status.usable else None,
-                        iterations=iterations)
+        return Solution(
+            status=status,
+            message=message(buffer.code),
+            x=plan if status.usable else None,
+            formulation_objective=float(objective[0]) if status.usable else None,
+            iterations=iterations,
+        )
 
     def generated_step(self, step: CondensedStep) -> CondensedStep:
         return step

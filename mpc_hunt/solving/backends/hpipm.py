@@ -27,9 +27,11 @@ class HpipmBackend(ConicStepBackend):
     exports = "hpipm"
     # Complementarity one decade looser: CasADi hands HPIPM infinite bounds as ±1e8, whose slacks keep
     # its complementarity residual above 1e-8 (measured: 100 iterations at 1e-8, 9–11 at 1e-7).
-    ACCURACY = {"default": {"res_g_max": 1e-8, "res_b_max": 1e-8, "res_d_max": 1e-8, "res_m_max": 1e-7},
-                "high": {"res_g_max": 1e-10, "res_b_max": 1e-10, "res_d_max": 1e-10, "res_m_max": 1e-9},
-                "low": {"res_g_max": 1e-5, "res_b_max": 1e-5, "res_d_max": 1e-5, "res_m_max": 1e-5}}
+    ACCURACY = {
+        "default": {"res_g_max": 1e-8, "res_b_max": 1e-8, "res_d_max": 1e-8, "res_m_max": 1e-7},
+        "high": {"res_g_max": 1e-10, "res_b_max": 1e-10, "res_d_max": 1e-10, "res_m_max": 1e-9},
+        "low": {"res_g_max": 1e-5, "res_b_max": 1e-5, "res_d_max": 1e-5, "res_m_max": 1e-5},
+    }
     MAX_ITER = 100
     NATIVE = {"max_iter": "iter_max"}
 
@@ -48,12 +50,18 @@ class HpipmBackend(ConicStepBackend):
             if key == "mode":
                 continue
             try:
-                ca.conic("probe", "hpipm", {"h": ca.Sparsity.dense(1, 1), "a": ca.Sparsity(0, 1)},
-                         {"N": 0, "nx": [1], "nu": [0], "ng": [0], "hpipm": {key: value}})
+                ca.conic(
+                    "probe",
+                    "hpipm",
+                    {"h": ca.Sparsity.dense(1, 1), "a": ca.Sparsity(0, 1)},
+                    {"N": 0, "nx": [1], "nu": [0], "ng": [0], "hpipm": {key: value}},
+                )
             except RuntimeError:
-                raise OptionError(f"{key}: not an option of HPIPM, or not of its type (HPIPM's own names: "
-                                  "iter_max is max_iter here; tolerances res_g_max, res_b_max, res_d_max, "
-                                  "res_m_max, ...)") from None
+                raise OptionError(
+                    f"{key}: not an option of HPIPM, or not of its type (HPIPM's own names: "
+                    "iter_max is max_iter here; tolerances res_g_max, res_b_max, res_d_max, "
+                    "res_m_max, ...)"
+                ) from None
 
     def conic_options(self, graph) -> dict:
         N, nx, nu, ng = graph.stages

@@ -25,20 +25,21 @@ from dataclasses import dataclass
 from typing import Any
 
 from mpc_hunt.capture.data import StageQPData
+from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.solving.backends.conic_step import as_solution, call
 from mpc_hunt.solving.backends.hpipm import HpipmBackend
 from mpc_hunt.solving.c_template import render
 from mpc_hunt.solving.compiled import FLAGS, compiled
-from mpc_hunt.capture.solution import Solution, Status, WarmStart
 
-MEMORY = ("dim", "qp", "qp_sol", "ipm_arg", "ipm")     # HPIPM's blocks, as CasADi's generated code names them
+MEMORY = ("dim", "qp", "qp_sol", "ipm_arg", "ipm")  # HPIPM's blocks, as CasADi's generated code names them
 
 
 def _replace(source: str, old: str, new: str, count: int = 1) -> str:
     """``old`` replaced ``count`` times; a generator that writes otherwise is refused, not patched blindly."""
     if source.count(old) != count:
-        raise RuntimeError(f"CasADi's generated HPIPM code has {source.count(old)} of {old.strip()!r}, "
-                           f"expected {count}")
+        raise RuntimeError(
+            f"CasADi's generated HPIPM code has {source.count(old)} of {old.strip()!r}, expected {count}"
+        )
     return source.replace(old, new)
 
 
@@ -47,19 +48,29 @@ def patch(source: str) -> str:
     mode = re.findall(r"p\.hpipm_options\.mode = (\d+);", source)
     if len(mode) != 1:
         raise RuntimeError("CasADi's generated HPIPM code does not set one mode")
-    source = _replace(source, "  p.hpipm_options.mu0 =",
-                      f"  d_ocp_qp_ipm_arg_set_default((enum hpipm_mode) {mode[0]}, &p.hpipm_options);\n"
-                      "  p.hpipm_options.mu0 =")
+    source = _replace(
+        source,
+        "  p.hpipm_options.mu0 =",
+        f"  d_ocp_qp_ipm_arg_set_default((enum hpipm_mode) {mode[0]}, &p.hpipm_options);\n  p.hpipm_options.mu0 =",
+    )
     for block in MEMORY:
-        source = _replace(source, f"void *{block}_mem = malloc({block}_size);",
-                          f"static void *{block}_mem = 0; if (!{block}_mem) {block}_mem = malloc({block}_size);")
+        source = _replace(
+            source,
+            f"void *{block}_mem = malloc({block}_size);",
+            f"static void *{block}_mem = 0; if (!{block}_mem) {block}_mem = malloc({block}_size);",
+        )
         source = _replace(source, f"free({block}_mem);", "")
-    source = _replace(source, "#include <hpipm_d_ocp_qp_utils.h>\n",
-                      "#include <hpipm_d_ocp_qp_utils.h>\n\n" + render("hpipm/hpipm_status.c"))
-    source = _replace(source, "  casadi_hpipm_solve(&d, arg, res, iw, w);\n  if (d.return_status!=0) {\n"
-                      "    return -1;\n  }\n",
-                      "  casadi_hpipm_solve(&d, arg, res, iw, w);\n"
-                      "  mpc_hunt_status = d.return_status; mpc_hunt_iterations = d.iter_count;\n")
+    source = _replace(
+        source,
+        "#include <hpipm_d_ocp_qp_utils.h>\n",
+        "#include <hpipm_d_ocp_qp_utils.h>\n\n" + render("hpipm/hpipm_status.c"),
+    )
+    source = _replace(
+        source,
+        "  casadi_hpipm_solve(&d, arg, res, iw, w);\n  if (d.return_status!=0) {\n    return -1;\n  }\n",
+        "  casadi_hpipm_solve(&d, arg, res, iw, w);\n"
+        "  mpc_hunt_status = d.return_status; mpc_hunt_iterations = d.iter_count;\n",
+    )
     return source
 
 

@@ -6,9 +6,9 @@ import numpy as np
 
 from mpc_hunt.capture.certificate import Certificate, bound_violation, complementarity
 from mpc_hunt.capture.data import NLPData
-from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
+from mpc_hunt.solving.backends.base import Backend
 
 _STATUS = {
     "Solve_Succeeded": Status.OPTIMAL,
@@ -29,8 +29,11 @@ class IpoptBackend(Backend):
     install = "casadi"
     # IPOPT relaxes every bound by bound_relax_factor (1e-8 by default, in a row's units: 6e-7 m on nlp's
     # Eq. 13 in m², whose r_d² is 6.4e-5 m²; ms-nlp's rows are per step); "high" tightens it.
-    ACCURACY = {"default": {"tol": 1e-8}, "high": {"tol": 1e-10, "constr_viol_tol": 1e-10, "bound_relax_factor": 1e-12},
-                "low": {"tol": 1e-5}}
+    ACCURACY = {
+        "default": {"tol": 1e-8},
+        "high": {"tol": 1e-10, "constr_viol_tol": 1e-10, "bound_relax_factor": 1e-12},
+        "low": {"tol": 1e-5},
+    }
     # A stage-structured NLP is re-solved each step from the shifted previous solution: the adaptive
     # barrier update then takes fewer iterations than the monotone one (studies/step_latency).
     # The paper's one-step NLP keeps IPOPT's defaults.
@@ -42,8 +45,10 @@ class IpoptBackend(Backend):
         """The budget's names (``max_cpu_time`` too), then every other option as IPOPT itself takes it: a one-variable
         NLP is set up with them, and IPOPT's refusal becomes one line naming the option."""
         if "max_cpu_time" in options:
-            raise OptionError("max_cpu_time: the budget is given as time_limit=..., the same name on every backend "
-                              "(not as a solver option)")
+            raise OptionError(
+                "max_cpu_time: the budget is given as time_limit=..., the same name on every backend "
+                "(not as a solver option)"
+            )
         super()._check_options(options)
         if not options:
             return
@@ -52,15 +57,20 @@ class IpoptBackend(Backend):
         x = ca.MX.sym("x")
         for key, value in options.items():
             try:
-                ca.nlpsol("probe", "ipopt", {"x": x, "f": x ** 2}, self._settings({key: value}))
+                ca.nlpsol("probe", "ipopt", {"x": x, "f": x**2}, self._settings({key: value}))
             except RuntimeError as exc:
                 reason = str(exc).strip().splitlines()[-1].split(": ", 1)[-1] if str(exc).strip() else "refused"
                 raise OptionError(f"{key}: IPOPT refuses it ({reason}); check its name and value") from None
 
     def _settings(self, options: dict) -> dict:
-        settings = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-                    "ipopt.warm_start_init_point": "yes",
-                    "ipopt.warm_start_bound_push": 1e-9, "ipopt.warm_start_mult_bound_push": 1e-9}
+        settings = {
+            "ipopt.print_level": 0,
+            "print_time": False,
+            "ipopt.sb": "yes",
+            "ipopt.warm_start_init_point": "yes",
+            "ipopt.warm_start_bound_push": 1e-9,
+            "ipopt.warm_start_mult_bound_push": 1e-9,
+        }
         return settings | {f"ipopt.{k}": v for k, v in options.items()}
 
     def setup(self, data: NLPData):
@@ -77,19 +87,25 @@ class IpoptBackend(Backend):
             args["x0"] = warm.x
         if warm.y is not None and warm.z is not None:
             args["lam_g0"], args["lam_x0"] = warm.y, warm.z
-        out = solver(**args)    # CasADi raises RuntimeError on evaluation errors (NaN, …)
+        out = solver(**args)  # CasADi raises RuntimeError on evaluation errors (NaN, …)
         stats = solver.stats()
         raw = stats.get("return_status", "unknown")
         x = np.array(out["x"]).ravel()
         lam_g, lam_x = np.array(out["lam_g"]).ravel(), np.array(out["lam_x"]).ravel()
-        return Solution(status=_STATUS.get(raw, Status.ERROR), message=raw, x=x,
-                        formulation_objective=float(out["f"]), iterations=int(stats.get("iter_count", 0)),
-                        duals=WarmStart(x, lam_g, lam_x), certificate=certificate(data, x, np.array(out["g"]).ravel(),
-                                                                                   lam_g, lam_x, stats))
+        return Solution(
+            status=_STATUS.get(raw, Status.ERROR),
+            message=raw,
+            x=x,
+            formulation_objective=float(out["f"]),
+            iterations=int(stats.get("iter_count", 0)),
+            duals=WarmStart(x, lam_g, lam_x),
+            certificate=certificate(data, x, np.array(out["g"]).ravel(), lam_g, lam_x, stats),
+        )
 
 
-def certificate(data: NLPData, x: np.ndarray, g: np.ndarray, lam_g: np.ndarray, lam_x: np.ndarray,
-                stats: dict) -> Certificate:
+def certificate(
+    data: NLPData, x: np.ndarray, g: np.ndarray, lam_g: np.ndarray, lam_x: np.ndarray, stats: dict
+) -> Certificate:
     """IPOPT's final measures (:mod:`mpc_hunt.capture.certificate`): the primal infeasibility of g's and x's bounds
     and the complementarity of the returned multipliers, computed here; the dual infeasibility, IPOPT's own of its
     last iterate (NaN when it recorded none)."""

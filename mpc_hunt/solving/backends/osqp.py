@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from mpc_hunt.capture.data import QPData
-from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
+from mpc_hunt.solving.backends.base import Backend
 
 
 def _scale(data: QPData) -> float:
@@ -26,8 +26,11 @@ class OsqpBackend(Backend):
     accepts = ("qp",)
     package = "osqp"
     install = "osqp"
-    ACCURACY = {"default": {"eps_abs": 1e-7, "eps_rel": 1e-7}, "high": {"eps_abs": 1e-9, "eps_rel": 1e-9},
-                "low": {"eps_abs": 1e-4, "eps_rel": 1e-4}}
+    ACCURACY = {
+        "default": {"eps_abs": 1e-7, "eps_rel": 1e-7},
+        "high": {"eps_abs": 1e-9, "eps_rel": 1e-9},
+        "low": {"eps_abs": 1e-4, "eps_rel": 1e-4},
+    }
     MAX_ITER = 20000
     NATIVE = {"time_limit": "time_limit", "max_iter": "max_iter"}
 
@@ -40,8 +43,13 @@ class OsqpBackend(Backend):
     def setup(self, data: QPData):
         import osqp
 
-        settings = {"verbose": False, "polishing": True, "warm_starting": True, **self.options,
-                    "max_iter": self.iteration_cap()}
+        settings = {
+            "verbose": False,
+            "polishing": True,
+            "warm_starting": True,
+            **self.options,
+            "max_iter": self.iteration_cap(),
+        }
         if self.time_limit is not None:
             settings["time_limit"] = self.time_limit
         solver = osqp.OSQP()
@@ -63,16 +71,25 @@ class OsqpBackend(Backend):
         res = solver.solve(raise_error=False)
         info = res.info
         S = osqp.SolverStatus
-        status = {S.OSQP_SOLVED: Status.OPTIMAL, S.OSQP_SOLVED_INACCURATE: Status.OPTIMAL_INACCURATE,
-                  S.OSQP_PRIMAL_INFEASIBLE: Status.INFEASIBLE, S.OSQP_PRIMAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
-                  S.OSQP_DUAL_INFEASIBLE: Status.INFEASIBLE, S.OSQP_DUAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
-                  S.OSQP_MAX_ITER_REACHED: Status.ITERATION_LIMIT,
-                  S.OSQP_TIME_LIMIT_REACHED: Status.TIME_LIMIT}.get(info.status_val, Status.ERROR)
+        status = {
+            S.OSQP_SOLVED: Status.OPTIMAL,
+            S.OSQP_SOLVED_INACCURATE: Status.OPTIMAL_INACCURATE,
+            S.OSQP_PRIMAL_INFEASIBLE: Status.INFEASIBLE,
+            S.OSQP_PRIMAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+            S.OSQP_DUAL_INFEASIBLE: Status.INFEASIBLE,
+            S.OSQP_DUAL_INFEASIBLE_INACCURATE: Status.INFEASIBLE,
+            S.OSQP_MAX_ITER_REACHED: Status.ITERATION_LIMIT,
+            S.OSQP_TIME_LIMIT_REACHED: Status.TIME_LIMIT,
+        }.get(info.status_val, Status.ERROR)
         x = None if res.x is None else np.array(res.x)
         scale = _scale(data)
         y = None if res.y is None else np.array(res.y) / scale
-        return Solution(status=status, message=info.status, x=x,
-                        formulation_objective=None if x is None else float(info.obj_val) / scale,
-                        iterations=int(info.iter), duals=WarmStart(x, y),
-                        extras={"reported_solve_time_s": float(info.solve_time + info.update_time
-                                                               + info.polish_time)})
+        return Solution(
+            status=status,
+            message=info.status,
+            x=x,
+            formulation_objective=None if x is None else float(info.obj_val) / scale,
+            iterations=int(info.iter),
+            duals=WarmStart(x, y),
+            extras={"reported_solve_time_s": float(info.solve_time + info.update_time + info.polish_time)},
+        )

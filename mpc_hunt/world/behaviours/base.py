@@ -21,7 +21,7 @@ from mpc_hunt.world.geometry import dot2, norm, saturate, unit
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
-DEFAULT_SENSING = 3.0    # m: an evader's sensing radius unless its scenario gives one (docs/model.md)
+DEFAULT_SENSING = 3.0  # m: an evader's sensing radius unless its scenario gives one (docs/model.md)
 NOBODY = np.empty((0, 2))
 
 
@@ -57,8 +57,9 @@ def steered(scenario: Scenario, p_a: np.ndarray, wish: np.ndarray) -> np.ndarray
     """The velocity ``wish`` plus the obstacles' field (Eq. 3, weighted by k_o), capped at v_a and kept out of
     every obstacle."""
     hunt = scenario.hunt
-    push = hunt.k_o * obstacle_repulsion(p_a, scenario.obstacle_centres, scenario.obstacle_radii,
-                                         hunt.protective_distance, hunt.eta)
+    push = hunt.k_o * obstacle_repulsion(
+        p_a, scenario.obstacle_centres, scenario.obstacle_radii, hunt.protective_distance, hunt.eta
+    )
     return keep_out(scenario, p_a, saturate(wish + push, scenario.attacker.max_speed))
 
 

@@ -22,7 +22,7 @@ from mpc_hunt.world.field import nominal_intent
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
-GAP_MARGIN = math.pi / 6     # rad: how far inside the widest gap the intent must point to be kept
+GAP_MARGIN = math.pi / 6  # rad: how far inside the widest gap the intent must point to be kept
 
 
 def widest_gap(p_a: np.ndarray, near: np.ndarray) -> tuple[float, float]:

@@ -52,8 +52,14 @@ def features(p_a: np.ndarray, near: np.ndarray, team: int, radius: float, to_int
     start, width = widest_gap(p_a, near)
     gap = np.array([math.cos(start + 0.5 * width), math.sin(start + 0.5 * width)])
     centre = near.mean(axis=0) - p_a
-    return np.concatenate([to_intent @ unit(flee_direction(p_a, near)), to_intent @ gap, to_intent @ unit(centre),
-                           [norm(near - p_a).min() / radius, norm(centre) / radius, len(near) / team, 1.0]])
+    return np.concatenate(
+        [
+            to_intent @ unit(flee_direction(p_a, near)),
+            to_intent @ gap,
+            to_intent @ unit(centre),
+            [norm(near - p_a).min() / radius, norm(centre) / radius, len(near) / team, 1.0],
+        ]
+    )
 
 
 def weights_file():
@@ -74,19 +80,19 @@ def load_weights(path) -> np.ndarray:
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
-        raise DataFileError(f"{path}: cannot read the learned attacker's weights "
-                            f"({getattr(exc, 'strerror', None) or exc}); {fix}") from None
+        raise DataFileError(
+            f"{path}: cannot read the learned attacker's weights ({getattr(exc, 'strerror', None) or exc}); {fix}"
+        ) from None
     if not text.strip():
         raise DataFileError(f"{path}: empty, expected the learned attacker's weights; {fix}")
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise DataFileError(f"{path}: not valid JSON ({exc}); {fix}") from None
-    except (ValueError, RecursionError):      # a whole number of too many digits, arrays nested too deeply
+    except (ValueError, RecursionError):  # a whole number of too many digits, arrays nested too deeply
         raise DataFileError(f"{path}: not valid JSON (too many digits, or nested too deeply); {fix}") from None
     if not isinstance(data, dict) or "weights" not in data:
-        raise DataFileError(f"{path}: expected a JSON object with \"weights\": 2 lists of {FEATURES} numbers; "
-                            f"{fix}")
+        raise DataFileError(f'{path}: expected a JSON object with "weights": 2 lists of {FEATURES} numbers; {fix}')
     try:
         return checked_weights(data["weights"])
     except ScenarioError as exc:
@@ -98,8 +104,11 @@ def checked_weights(weights) -> np.ndarray:
     ScenarioError."""
     rule = f"learned attacker: weights must be 2 × {FEATURES} finite numbers"
     if not isinstance(weights, np.ndarray):
-        if not (isinstance(weights, (list, tuple)) and len(weights) == 2 and
-                all(isinstance(row, (list, tuple)) and len(row) == FEATURES for row in weights)):
+        if not (
+            isinstance(weights, (list, tuple))
+            and len(weights) == 2
+            and all(isinstance(row, (list, tuple)) and len(row) == FEATURES for row in weights)
+        ):
             raise ScenarioError(f"{rule}, got {_outline(weights)}")
         if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for row in weights for x in row):
             raise ScenarioError(f"{rule}, got an entry that is not a number")
@@ -108,8 +117,9 @@ def checked_weights(weights) -> np.ndarray:
     except (TypeError, ValueError):
         raise ScenarioError(f"{rule}, got an entry that is not a number") from None
     if w.shape != (2, FEATURES) or not np.all(np.isfinite(w)):
-        raise ScenarioError(f"{rule}, got " + (f"shape {w.shape}" if w.shape != (2, FEATURES) else
-                                               "a NaN or infinite entry"))
+        raise ScenarioError(
+            f"{rule}, got " + (f"shape {w.shape}" if w.shape != (2, FEATURES) else "a NaN or infinite entry")
+        )
     return w
 
 

@@ -42,11 +42,12 @@ def best_heading(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.nda
     """The unit heading of the module's docstring against the defenders at ``p_d``."""
     s = scenario
     speeds = np.full(len(p_d), float(np.max(s.defender_max_speeds)))
-    region = dominance(p_a, p_d, speeds, s.attacker.max_speed, s.obstacle_centres, s.obstacle_radii, s.arena,
-                       reach=s.hunt.hunt_radius)
-    open_ = region.blocked > region.edge                                      # no obstacle before the edge
+    region = dominance(
+        p_a, p_d, speeds, s.attacker.max_speed, s.obstacle_centres, s.obstacle_radii, s.arena, reach=s.hunt.hunt_radius
+    )
+    open_ = region.blocked > region.edge  # no obstacle before the edge
     if open_.any():
-        exits = p_a + region.edge[:, None] * region.rays                      # (m, 2) the edge points
+        exits = p_a + region.edge[:, None] * region.rays  # (m, 2) the edge points
         arrival = np.min((norm(exits[:, None, :] - p_d[None]) - s.hunt.hunt_radius) / speeds, axis=1)
         margin = np.where(open_, arrival - region.edge / s.attacker.max_speed, -np.inf)
         return region.rays[int(np.argmax(margin))]

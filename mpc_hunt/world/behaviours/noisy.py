@@ -20,7 +20,7 @@ from mpc_hunt.world.geometry import saturate
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
-DEFAULT_DISTURBANCE = 1.0    # of v_a: the disturbance's largest size unless the scenario gives one
+DEFAULT_DISTURBANCE = 1.0  # of v_a: the disturbance's largest size unless the scenario gives one
 
 
 class NoisyAttacker:

@@ -37,8 +37,11 @@ def policy_file():
 
 def attacker_policy(path=None) -> Mlp:
     """The attacker's network: the shipped one, or the policy file ``path``."""
-    return shipped_mlp(__package__, POLICY, "attacker", ATTACKER_VIEW) if path is None else \
-        load_mlp(path, "attacker", ATTACKER_VIEW)
+    return (
+        shipped_mlp(__package__, POLICY, "attacker", ATTACKER_VIEW)
+        if path is None
+        else load_mlp(path, "attacker", ATTACKER_VIEW)
+    )
 
 
 class PpoAttacker:
