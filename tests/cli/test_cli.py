@@ -137,8 +137,9 @@ def test_solve_at_a_state_file(capsys, tmp_path):
      "--max-iter, drop --time-limit or pick another backend"),
     (["compare", "--objective", "enclose", "--pair", "distributed:daqp-condensed", "--time-limit", "0.1"],
      "--time-limit: backend daqp-condensed takes none; leave it out of the pairs, or drop --time-limit"),
-    (["compare", "--pair", "distributed"], "--pair: distributed: formulation distributed does not pose the paper "
-                                           "objective (pick --objective enclose, or another pair)"),
+    (["compare", "--pair", "distributed"], "--pair: distributed: formulation distributed poses the enclose "
+                                           "objective, not the paper objective (pick another formulation, or "
+                                           "another --objective)"),
     (["problems", "--build", "x.json", "--scenario", "two-defenders"],
      "--random: random states need at least 3 defenders; the first scenario, two-defenders, has 2: give 0, or put "
      "another scenario first"),
