@@ -92,7 +92,7 @@ class CvxpyBackend(Backend):
         objective = cp.Minimize(cp.sum_squares(J @ x + c) + lin @ x)
         state = _Problem(cp.Problem(objective, [row[0] for row in rows]), x, J, c, lin, A, b, bl, rows)
         self.update(state, data)
-        try:        # CVXPY compiles the parametrised problem for its solver once: a structure's set-up, not a step
+        try:  # CVXPY compiles the parametrised problem for its solver once: a structure's set-up, not a step
             state.problem.get_problem_data(self.solver)
         except (cp.error.SolverError, cp.error.DCPError) as exc:
             raise RuntimeError(str(exc)) from None
