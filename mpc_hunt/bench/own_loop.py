@@ -26,7 +26,6 @@ linearisation's error side by side. Ctrl-C stops the run and keeps every hunt fi
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable, Iterator
@@ -40,7 +39,7 @@ from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.spec import make_controller
 from mpc_hunt.errors import BenchmarkError
 from mpc_hunt.sim.hunt_result import HuntResult
-from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.sim.simulator import check_seconds, simulate
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.workers import run_local
 from mpc_hunt.world.attacker import perceives
@@ -182,11 +181,8 @@ def loop_tasks(
         raise BenchmarkError("pairs: none to run")
     if accuracy not in VIOLATION_TOLERANCE:
         raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
-    for name, value in (("deadline", deadline), ("abandon_after", abandon_after)):
-        if value is not None and not (
-            isinstance(value, (int, float)) and not isinstance(value, bool) and 0 < value < math.inf
-        ):
-            raise BenchmarkError(f"{name}: a positive number of seconds, got {value!r}")
+    check_seconds("deadline", deadline, BenchmarkError)
+    check_seconds("abandon_after", abandon_after, BenchmarkError)
     budget = tuple((k, v) for k, v in (("time_limit", time_limit), ("max_iter", max_iter)) if v is not None)
     return [
         LoopTask(scenario, formulation, backend, horizon, controller, accuracy, budget, deadline, abandon_after)

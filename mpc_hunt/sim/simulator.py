@@ -36,6 +36,14 @@ from mpc_hunt.world.scenario import Scenario
 DEFAULT_SEED = 0
 
 
+def check_seconds(name: str, value: object, error: type[Exception] = OptionError) -> None:
+    """Refuse ``value`` for the setting ``name`` unless it is None or a positive, finite number of seconds."""
+    if value is not None and not (
+        isinstance(value, (int, float)) and not isinstance(value, bool) and 0 < value < float("inf")
+    ):
+        raise error(f"{name}: a positive, finite number of seconds or None, got {value!r}")
+
+
 def simulate(
     scenario: Scenario,
     controller: Controller | None = None,
@@ -64,16 +72,8 @@ def simulate(
     ``abandon_after`` (s), if given, stops the run (termination ``"abandoned"``) once the capture stage's solves
     have failed for that long in a row: the hunt is then the fallback's, not the capture stage's.
     """
-    if deadline is not None and not (
-        isinstance(deadline, (int, float)) and not isinstance(deadline, bool) and 0 < deadline < float("inf")
-    ):
-        raise OptionError(f"deadline: a positive, finite number of seconds or None, got {deadline!r}")
-    if abandon_after is not None and not (
-        isinstance(abandon_after, (int, float))
-        and not isinstance(abandon_after, bool)
-        and 0 < abandon_after < float("inf")
-    ):
-        raise OptionError(f"abandon_after: a positive, finite number of seconds or None, got {abandon_after!r}")
+    check_seconds("deadline", deadline)
+    check_seconds("abandon_after", abandon_after)
     controller = controller or ControllerSpec("paper", options={"prediction": prediction}, stage=PAPER).build(scenario)
     if behaviour is None:
         behaviour = make_behaviour(scenario, np.random.default_rng(DEFAULT_SEED) if rng is None else rng)
