@@ -95,3 +95,7 @@ class SolvesData(Protocol):
     name: str
 
     def solve(self, data: NLPData | QPData | StageQPData, warm: WarmStart | None = None) -> Solution: ...
+
+    def time_left(self) -> float | None:
+        """Seconds left of the step's time limit (None: no limit): what a formulation of several solves reads."""
+        ...

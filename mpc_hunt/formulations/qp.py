@@ -13,6 +13,7 @@ structure; each step only changes their values.
 
 from __future__ import annotations
 
+import threading
 from dataclasses import replace
 from functools import lru_cache
 
@@ -150,31 +151,40 @@ class LinearisedCapture:
         self.function = ca.Function(
             "capture_qp", [theta, Xref], [ca.triu(P), qvec, A, lower, ca.vertcat(*hi) - b0, Jx, c, lin]
         )
-        self._patterns = [self.function.sparsity_out(i) for i in (0, 2)]
-
-    @staticmethod
-    def _csc(pattern: ca.Sparsity, values) -> sp.csc_matrix:
-        colind, row = pattern.get_ccs()
-        return sp.csc_matrix(
-            (np.array(values.nonzeros()), np.array(row), np.array(colind)), shape=(pattern.size1(), pattern.size2())
-        )
+        # The function evaluated through CasADi's buffers: its outputs written straight into fresh NumPy arrays
+        # (the nonzeros, placed), no conversion of CasADi matrices per step; one buffer per thread.
+        self._local = threading.local()
+        self._outputs = [self.function.sparsity_out(i) for i in range(self.function.n_out())]
+        self._csc_index = {i: tuple(np.array(v) for v in self._outputs[i].get_ccs()) for i in (0, 2)}
+        self._places = {i: np.array(pattern.find()) for i, pattern in enumerate(self._outputs) if i not in (0, 2)}
 
     def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray) -> QPData:
         """The QP at reference X̄ in x = (δ, q, s)."""
-        P, q, A, l, u, J, c, lin = self.function(theta, Xref)
+        theta, Xref = np.ascontiguousarray(theta, dtype=float), np.ascontiguousarray(Xref, dtype=float)
+        out = [np.empty(pattern.nnz()) for pattern in self._outputs]
+        local = self._local
+        if not hasattr(local, "buffer"):
+            local.buffer, local.evaluate = self.function.buffer()
+        local.buffer.set_arg(0, memoryview(theta))
+        local.buffer.set_arg(1, memoryview(Xref))
+        for i, values in enumerate(out):
+            local.buffer.set_res(i, memoryview(values))
+        local.evaluate()
+        local.bound = theta, Xref, out  # the buffer keeps their addresses: kept alive until the next evaluation
+        P, q, A, l, u, J, c, lin = (self._csc(i, v) if i in (0, 2) else self._dense(i, v) for i, v in enumerate(out))
         return QPData(
-            key,
-            self._csc(self._patterns[0], P),
-            np.array(q).ravel(),
-            self._csc(self._patterns[1], A),
-            np.array(l).ravel(),
-            np.array(u).ravel(),
-            np.array(J),
-            np.array(c).ravel(),
-            np.array(lin).ravel(),
-            tuple(self.cones),
-            self.implied,
+            key, P, q.ravel(), A, l.ravel(), u.ravel(), J, c.ravel(), lin.ravel(), tuple(self.cones), self.implied
         )
+
+    def _csc(self, i: int, values: np.ndarray) -> sp.csc_matrix:
+        colind, row = self._csc_index[i]
+        return sp.csc_matrix((values, row, colind), shape=self._outputs[i].shape)
+
+    def _dense(self, i: int, values: np.ndarray) -> np.ndarray:
+        rows, cols = self._outputs[i].shape
+        dense = np.zeros(rows * cols)
+        dense[self._places[i]] = values  # column-major places of the nonzeros
+        return dense.reshape(cols, rows).T
 
 
 @lru_cache(maxsize=32)

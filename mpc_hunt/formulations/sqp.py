@@ -32,23 +32,25 @@ class SQPFormulation(QPFormulation):
             problem.held_plan() if warm_plan is None else warm_plan,
             duals,
             self.iteration,
-            getattr(backend, "time_limit", None),
+            backend.time_left,
         )
 
 
-def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_limit: float | None = None) -> Solution:
+def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_left=lambda: None) -> Solution:
     """``step(reference, duals)`` (one QP linearised at ``reference``) repeated at its own plan until ``iteration``
-    says it has settled; times and iterations summed. With a ``time_limit`` (s, the backend's, for each QP), no QP
-    is started once the QPs' time has reached it: the step ends ``time_limit`` with the last usable plan."""
+    says it has settled; times and iterations summed. ``time_left()`` is what is left of the step's time limit (s,
+    the backend's, :meth:`~mpc_hunt.solving.backends.base.Backend.time_left`; None: no limit), each QP handed it:
+    no QP is started once it is spent, the step then ending ``time_limit`` with the last usable plan."""
     solver_time = setup_time = 0.0
     iterations = 0
     last = None
     for count in range(iteration.max_qps):
-        if last is not None and time_limit is not None and solver_time >= time_limit:
+        left = time_left()
+        if last is not None and left is not None and left <= 0:
             return replace(
                 last,
                 status=Status.TIME_LIMIT,
-                message=f"{count} QPs in {solver_time:.3g} s: the {time_limit:g} s limit reached",
+                message=f"{count} QPs in {solver_time:.3g} s: the step's time limit reached",
                 solver_time=solver_time,
                 setup_time=setup_time,
                 iterations=iterations,

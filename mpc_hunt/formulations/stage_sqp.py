@@ -28,5 +28,5 @@ class StageSQPFormulation(RTIFormulation):
             problem.held_plan() if warm_plan is None else warm_plan,
             duals,
             self.iteration,
-            getattr(backend, "time_limit", None),
+            backend.time_left,
         )

@@ -92,7 +92,8 @@ class CaptureLoop:
         of this step (the reference it started from, if none) and returns its status. A step that ran past the
         backend's time limit returns ``time_limit`` (its plan kept), and no further QP is started after it."""
         t0 = time.perf_counter()
-        status = self._step()
+        with self.backend.step_within(t0):
+            status = self._step()
         elapsed = time.perf_counter() - t0
         if self._stepped:
             self.backend.record_pace(elapsed, self.iterations)
@@ -105,13 +106,12 @@ class CaptureLoop:
 
     def _step(self) -> Status:
         iteration = self.formulation.iteration
-        limit = self.backend.time_limit
-        t0 = time.perf_counter()
         self.iterations = 0
         np.copyto(self._previous, self.reference)
         self.message = ""
         for count in range(iteration.max_qps):
-            if count and limit is not None and time.perf_counter() - t0 > limit:
+            left = self.backend.time_left()
+            if count and left is not None and left <= 0:
                 np.copyto(self.plan, self._previous)
                 return Status.TIME_LIMIT
             self.qps = count + 1

@@ -121,7 +121,8 @@ class CaptureSolver:
                 self.formulation.prepare(problem.structure)
                 self._prepared.add(problem.structure)
                 build_time = time.perf_counter() - t0
-            result = self.formulation.solve(problem, self.backend, warm_plan, duals)
+            with self.backend.step_within(time.perf_counter()):  # the time limit is the step's, all its QPs'
+                result = self.formulation.solve(problem, self.backend, warm_plan, duals)
         except (RuntimeError, ValueError, ArithmeticError) as exc:
             message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             solution = Solution(status=Status.ERROR, message=message, overhead_time=time.perf_counter() - t0, **names)

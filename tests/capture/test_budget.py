@@ -10,7 +10,7 @@ from conftest import problem_at, small_scenario
 from mpc_hunt import CaptureSolver, Status, make_controller
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.solving import registry
-from mpc_hunt.solving.backends.base import PACE_MARGIN
+from mpc_hunt.solving.backends.base import MIN_SLICE, PACE_MARGIN
 from mpc_hunt.solving.backends.daqp import DaqpBackend
 
 INSTALLED = [b for b in registry.BACKENDS if registry.installed(b)]
@@ -95,3 +95,48 @@ def test_a_solve_measures_the_pace_its_cap_is_made_from(scenario):
     fixed, per_iteration = solver.backend.cost()
     assert per_iteration > 0 and solver.backend.iteration_cap() == min(
         solver.backend.MAX_ITER, int((0.5 - fixed) / (PACE_MARGIN * per_iteration)))
+
+
+def test_a_step_of_several_qps_shares_one_time_limit(scenario):
+    """sqp's QPs are handed what is left of the step's limit, less the solver's fixed cost, each less than the one
+    before; once it is spent no QP starts, and the step ends ``time_limit`` with the last usable plan."""
+    solver = CaptureSolver("sqp", "osqp", time_limit=5.0)
+    handed, clock, fixed, solved = [], [], [], []
+    solve = solver.backend.solve
+
+    def recording(data, warm=None):
+        handed.append(solver.backend.clock_limit())
+        clock.append(solver.backend.time_left())
+        fixed.append(solver.backend.cost()[0])
+        solved.append(solve(data, warm))
+        return solved[-1]
+
+    solver.backend.solve = recording
+    problem = problem_at(scenario, 10)
+    solver.solve(problem)                                  # the structure's set-up: not the step's time
+    handed.clear(), clock.clear(), fixed.clear()
+    assert solver.solve(problem).status.usable and len(handed) >= 2
+    assert all(a > b for a, b in zip(clock, clock[1:])) and 4.9 < clock[0] <= 5.0
+    assert all(h == pytest.approx(c - f, abs=1e-3) for h, c, f in zip(handed, clock, fixed)) and max(fixed) > 0
+
+    solved.clear()                                         # one second for the first QP, then nothing left
+    solver.backend.time_left = lambda: 1.0 if not solved else -1e-9
+    step = solver.solve(problem)
+    assert step.status is Status.TIME_LIMIT and "the step's time limit reached" in step.message
+    assert len(solved) == 1 and solved[0].status.usable and step.plan is not None
+    assert step.iterations == solved[0].iterations
+
+
+def test_a_solver_with_a_clock_is_handed_the_time_left_and_stops_when_there_is_none(scenario):
+    import time
+
+    solver = CaptureSolver("qp", "osqp", time_limit=0.5, polishing=False)
+    problem = problem_at(scenario, 10)
+    solver.solve(problem)
+    backend = solver.backend
+    assert backend.time_left() == 0.5 and backend.clock_limit() == pytest.approx(0.5 - backend.cost()[0])
+    with backend.step_within(time.perf_counter() - 1.0):   # a step whose time is spent before its QP starts
+        assert backend.clock_limit() == MIN_SLICE
+        late = solver.formulation.solve(problem, backend, None, None)
+    assert late.status is Status.TIME_LIMIT and late.iterations <= 1
+    assert backend.time_left() == 0.5                      # the step over, the limit is whole again

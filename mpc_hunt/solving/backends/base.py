@@ -16,8 +16,13 @@ an iteration cap from its measured cost: a solve of k iterations takes a fixed
 cost plus k times a cost per iteration, both fitted robustly (Theil–Sen) to its
 last solves (a structure's first, slower by its allocations, apart); the cap is
 the limit less the fixed cost over 1.5 times the cost per iteration
-(:meth:`Backend.iteration_cap`). A solve that ran past its time limit all the
-same returns ``time_limit``, never ``optimal``. The solver's own names for the
+(:meth:`Backend.iteration_cap`). The time limit is the step's: while a step is
+under way (:meth:`Backend.step_within`, opened by the solver and the control
+loop), every solve of it is handed what is left of the step's limit, a solver
+with a clock that less its fitted fixed cost (:meth:`Backend.clock_limit`), so
+that a step of several QPs (``sqp``), or one whose linearisation came first,
+ends within its limit, not each QP within it. A solve that ran past its time
+limit all the same returns ``time_limit``, never ``optimal``. The solver's own names for the
 budget and any option the solver does not know are refused when the backend is
 made, each in one line naming the key.
 """
@@ -28,6 +33,8 @@ import difflib
 import math
 import time
 from collections import OrderedDict, deque
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import replace
 from typing import Any, ClassVar
 
@@ -46,6 +53,7 @@ MAX_ITERATIONS = 1_000_000  # the largest iteration cap taken
 FIRST_CAP = 100  # a clockless solver's cap under a time limit before any time per iteration is measured
 PACE_SOLVES = 32  # the last solves a clockless solver's cost (fixed + per iteration) is fitted to
 PACE_MARGIN = 1.5  # the cost per iteration budgeted: this many times the fitted one
+MIN_SLICE = 1e-6  # s: the clock limit a solver is handed when its step's time is already spent (it stops at once)
 BUDGET = ("time_limit", "max_iter")
 
 
@@ -103,6 +111,7 @@ class Backend:
         self.setups = 0
         self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
+        self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
 
     @classmethod
     def option_names(cls) -> frozenset[str] | None:
@@ -147,17 +156,45 @@ class Backend:
         if iterations >= 1:
             self._solves.append((seconds, iterations))
 
+    @contextmanager
+    def step_within(self, start: float) -> Iterator[None]:
+        """A step started at ``start`` (``time.perf_counter()`` s): until it ends, every solve shares the time limit
+        from there (:meth:`time_left`); a step opened inside another keeps the outer one's deadline."""
+        outer = self._deadline
+        if self.time_limit is not None and outer is None:
+            self._deadline = start + self.time_limit
+        try:
+            yield
+        finally:
+            self._deadline = outer
+
+    def time_left(self) -> float | None:
+        """Seconds left of the time limit (None: no limit): of the step under way, else the whole limit."""
+        if self.time_limit is None:
+            return None
+        return self.time_limit if self._deadline is None else self._deadline - time.perf_counter()
+
+    def clock_limit(self) -> float | None:
+        """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less its
+        fitted fixed :meth:`cost` (what a solve spends besides its iterations, around the solver's own clock), at
+        least :data:`MIN_SLICE` (None: no limit)."""
+        left = self.time_left()
+        if left is None:
+            return None
+        return max(left - self.cost()[0], MIN_SLICE)
+
     def iteration_cap(self) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
-        under a time limit what fits in it: the limit less the fixed :meth:`cost` over :data:`PACE_MARGIN` × the
-        cost per iteration (:data:`FIRST_CAP` before a solve is measured)."""
+        under a time limit what fits in the :meth:`time_left`: that less the fixed :meth:`cost` over
+        :data:`PACE_MARGIN` × the cost per iteration (:data:`FIRST_CAP` before a solve is measured)."""
         cap = self.max_iter or self.MAX_ITER
-        if self.time_limit is None or self.CLOCK:
+        left = self.time_left()
+        if left is None or self.CLOCK:
             return cap
         fixed, per_iteration = self.cost()
         if per_iteration <= 0:
             return min(cap, FIRST_CAP)
-        return max(1, min(cap, math.floor((self.time_limit - fixed) / (PACE_MARGIN * per_iteration))))
+        return max(1, min(cap, math.floor((left - fixed) / (PACE_MARGIN * per_iteration))))
 
     # What a concrete backend supplies.
     def setup(self, data) -> Any:
@@ -194,6 +231,8 @@ class Backend:
             if new:
                 setup_time = time.perf_counter() - t0
                 t0 = time.perf_counter()
+                if self._deadline is not None:  # a set-up is a structure's, once: not the step's time
+                    self._deadline += setup_time
             else:
                 self.update(state, data)
             result = self.run(state, data, warm or WarmStart())
@@ -226,7 +265,9 @@ class Backend:
                     data.P, data.q, data.A, data.l, data.u, result.x, result.duals.y, data.cones
                 ),
             )
-        if self.time_limit is not None and solver_time > self.time_limit and result.status.usable:
+        left = self.time_left()
+        overran = left is not None and (left < 0 if self._deadline is not None else solver_time > left)
+        if overran and result.status.usable:
             result = replace(
                 result,
                 status=Status.TIME_LIMIT,

@@ -121,14 +121,17 @@ class ClarabelBackend(Backend):
             clarabel.SecondOrderConeT(k) for k in layout.cone_sizes
         ]
         solver = clarabel.DefaultSolver(data.P, data.q, layout.matrix(data), layout.vector(data), cones, settings)
-        return solver, layout
+        return solver, layout, settings
 
     def update(self, state, data: QPData) -> None:
-        solver, layout = state
+        solver, layout, _ = state
         solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
 
     def run(self, state, data: QPData, warm: WarmStart) -> Solution:
-        solver, layout = state
+        solver, layout, settings = state
+        if self.time_limit is not None:  # what is left of the step's limit (Backend.clock_limit)
+            settings.time_limit = self.clock_limit()
+            solver.update(settings=settings)
         sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)

@@ -112,8 +112,8 @@ class CvxpyBackend(Backend):
         kwargs = {"warm_start": True, "solver": self.solver, **self.options}
         if self.solver in self.BUDGETED:
             kwargs["max_iter"] = self.iteration_cap()
-            if self.time_limit is not None:
-                kwargs["time_limit"] = self.time_limit
+            if self.time_limit is not None:  # what is left of the step's limit, less CVXPY's own fixed cost
+                kwargs["time_limit"] = self.clock_limit()
         try:
             with warnings.catch_warnings():  # "may be inaccurate" is reported through the status
                 warnings.simplefilter("ignore", UserWarning)

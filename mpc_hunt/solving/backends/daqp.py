@@ -102,6 +102,8 @@ class DaqpBackend(Backend):
             sense = np.where(y > 0, ACTIVE, np.where(y < 0, ACTIVE | LOWER, 0)).astype(np.int32)
             model.update(sense=sense)
         model.settings = {"iter_limit": self.iteration_cap()}
+        if self.time_limit is not None:  # its clock, read in long inner loops only: the cap is what holds
+            model.settings = {"time_limit": self.clock_limit()}
         x, fval, flag, info = model.solve()
         x = np.array(x)
         y = np.zeros(data.A.shape[0])

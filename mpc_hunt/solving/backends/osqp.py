@@ -68,6 +68,8 @@ class OsqpBackend(Backend):
             # Primal only: the previous step's duals belong to another linearisation and,
             # measured on closed-loop sequences, cost ADMM iterations instead of saving them.
             solver.warm_start(x=warm.x)
+        if self.time_limit is not None:  # what is left of the step's limit (Backend.clock_limit)
+            solver.update_settings(time_limit=self.clock_limit())
         res = solver.solve(raise_error=False)
         info = res.info
         S = osqp.SolverStatus
