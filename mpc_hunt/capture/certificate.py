@@ -69,7 +69,7 @@ def qp_certificate(
 ) -> Certificate:
     """The certificate of ``(x, y)`` for min ½xᵀPx + qᵀx s.t. l ≤ Ax ≤ u (rows in ``cones``: (start, size) of
     second-order cones t ≥ |v| written u − Ax), ``P`` given as its upper triangle when ``upper``."""
-    P = sp.csc_matrix(P)
+    P = P if isinstance(P, sp.csc_matrix) else sp.csc_matrix(P)
     Px = P @ x + (P.T @ x - P.diagonal() * x if upper else 0.0)
     Ax = A @ x
     cone = np.zeros(len(Ax), dtype=bool)

@@ -111,6 +111,7 @@ class Backend:
         self.setups = 0
         self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
+        self._fit: tuple[float, float] | None = None  # cost(), fitted to the solves recorded so far
         self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
 
     @classmethod
@@ -139,7 +140,13 @@ class Backend:
         """(fixed, per iteration) seconds of a solve, fitted to the last solves: the per-iteration cost the median
         of the slopes between pairs of solves of different iteration counts (Theil–Sen: a solve slowed by the
         machine moves it little), the fixed cost the median of what each solve leaves over; with one iteration
-        count only, no fixed cost and the median time per iteration. (0, 0) before any solve."""
+        count only, no fixed cost and the median time per iteration. (0, 0) before any solve. Fitted once per solve
+        recorded."""
+        if self._fit is None:
+            self._fit = self._fitted()
+        return self._fit
+
+    def _fitted(self) -> tuple[float, float]:
         if not self._solves:
             return 0.0, 0.0
         t, k = (np.array(v, dtype=float) for v in zip(*self._solves))
@@ -155,6 +162,7 @@ class Backend:
         """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` towards :meth:`cost`."""
         if iterations >= 1:
             self._solves.append((seconds, iterations))
+            self._fit = None
 
     @contextmanager
     def step_within(self, start: float) -> Iterator[None]:
