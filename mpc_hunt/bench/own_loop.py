@@ -56,6 +56,7 @@ class LoopHunt:
     scenario: str
     result: HuntResult
     wall: float  # the whole hunt's wall-clock time (s)
+    time_limit: float | None = None  # each step's (s), if one was given
 
 
 @dataclass
@@ -208,7 +209,9 @@ def run_hunt(task: LoopTask) -> LoopHunt:
     result = simulate(
         task.scenario, hunter, deadline=task.deadline, abandon_after=task.abandon_after, rng=np.random.default_rng(0)
     )
-    return LoopHunt(task.formulation, task.backend, task.horizon, task.scenario.name, result, time.perf_counter() - t0)
+    wall = time.perf_counter() - t0
+    limit = dict(task.budget).get("time_limit")
+    return LoopHunt(task.formulation, task.backend, task.horizon, task.scenario.name, result, wall, limit)
 
 
 def run_tasks(tasks: Iterable[LoopTask], workers: int = 1) -> Iterator[LoopHunt]:
@@ -280,6 +283,7 @@ def hunt_summary(hunt: LoopHunt) -> dict:
     certified = r.certificates[usable & ~np.any(np.isnan(r.certificates), axis=1)] if len(usable) else np.zeros((0, 3))
     scored = r.applied_violations[~np.any(np.isnan(r.applied_violations), axis=1)]
     hard = scored[:, [VIOLATION_NAMES.index(n) for n in HARD]]
+    over = r.solve_times - r.overhead_times - (hunt.time_limit or 0.0)  # past the limit, beyond our own overhead
     return {
         "formulation": hunt.formulation,
         "backend": hunt.backend,
@@ -295,6 +299,10 @@ def hunt_summary(hunt: LoopHunt) -> dict:
         "iterations": [int(i) for i in r.solve_iterations],
         "setups": int(np.sum(r.setup_times > 0)),
         "setup_max_s": _stat(r.setup_times, np.max),
+        "overhead_max_s": _stat(r.overhead_times, np.max),
+        "time_limit_s": hunt.time_limit,
+        "past_limit_and_overhead": None if hunt.time_limit is None else int(np.sum(over > 0)),
+        "largest_overrun_s": None if hunt.time_limit is None else _stat(over, np.max),
         "budget_hits": r.budget_hits,
         "failed_solves": r.failed_solves,
         "fallbacks": r.fallbacks,
@@ -339,6 +347,11 @@ def score(hunts: list[dict], tolerance: float, deadline: float | None) -> dict:
         "deadline_misses": None if deadline is None else int(np.sum(waits > deadline)),
         "setups": sum(h["setups"] for h in hunts),
         "setup_max_s": _largest([h["setup_max_s"] for h in hunts]),
+        "overhead_max_s": _largest([h["overhead_max_s"] for h in hunts]),
+        "past_limit_and_overhead": None
+        if first["time_limit_s"] is None
+        else sum(h["past_limit_and_overhead"] for h in hunts),
+        "largest_overrun_s": _largest([h["largest_overrun_s"] for h in hunts]),
         "budget_hits": sum(h["budget_hits"] for h in hunts),
         "failed_solves": sum(h["failed_solves"] for h in hunts),
         "fallbacks": sum(h["fallbacks"] for h in hunts),

@@ -46,6 +46,9 @@ class HuntResult:
     # gap; NaN where none) and the true violations of the plan applied (VIOLATION_NAMES' order, m; NaN where the
     # plan was not scored or a fallback was applied).
     setup_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # Of each solve's time, our own work around the solver (building its data, reading its answer, the certificate):
+    # what a step may take past its time limit (the solver's share of the step is bounded by what is left of it).
+    overhead_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solve_statuses: tuple[str, ...] = ()
     certificates: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     applied_violations: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))

@@ -111,3 +111,20 @@ def test_own_loop_settings_are_refused_in_the_other_modes(capsys):
     for flag, value in (("--workers", "1"), ("--abandon-after", "5"), ("--deadline", "0.02")):
         assert main(["compare", "--mode", "cold", flag, value]) == 2
         assert f"{flag}: own-loop only" in capsys.readouterr().err
+
+
+def test_a_step_past_its_limit_beyond_its_own_overhead_is_counted():
+    """Under a time limit, each step's own overhead is recorded, and a step counts as past "the limit plus the
+    measured overhead" exactly when its time less its overhead exceeds the limit."""
+    run = run_own_loop([capture_stage_scenario(3.0)], [("sqp", "osqp")], [3], time_limit=1e-4)
+    hunt = run.hunts[0]
+    r = hunt.result
+    assert hunt.time_limit == 1e-4 and len(r.overhead_times) == len(r.solve_times) > 0
+    assert np.all((r.overhead_times > 0) & (r.overhead_times <= r.solve_times))
+    over = r.solve_times - r.overhead_times - 1e-4
+    row = rows(run)[0]
+    assert row["past_limit_and_overhead"] == int(np.sum(over > 0))
+    assert row["largest_overrun_s"] == pytest.approx(over.max())
+    assert row["overhead_max_s"] == pytest.approx(r.overhead_times.max())
+    unlimited = rows(run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [1]))[0]
+    assert unlimited["past_limit_and_overhead"] is None and unlimited["largest_overrun_s"] is None

@@ -98,8 +98,8 @@ def test_a_solve_measures_the_pace_its_cap_is_made_from(scenario):
 
 
 def test_a_step_of_several_qps_shares_one_time_limit(scenario):
-    """sqp's QPs are handed what is left of the step's limit, less the solver's fixed cost, each less than the one
-    before; once it is spent no QP starts, and the step ends ``time_limit`` with the last usable plan."""
+    """sqp's QPs are handed what is left of the step's limit, less their time outside the solver's clock, each less
+    than the one before; once it is spent no QP starts, and the step ends ``time_limit`` with the last usable plan."""
     solver = CaptureSolver("sqp", "osqp", time_limit=5.0)
     handed, clock, fixed, solved = [], [], [], []
     solve = solver.backend.solve
@@ -107,7 +107,7 @@ def test_a_step_of_several_qps_shares_one_time_limit(scenario):
     def recording(data, warm=None):
         handed.append(solver.backend.clock_limit())
         clock.append(solver.backend.time_left())
-        fixed.append(solver.backend.cost()[0])
+        fixed.append(solver.backend.outside_clock())
         solved.append(solve(data, warm))
         return solved[-1]
 
@@ -132,11 +132,29 @@ def test_a_solver_with_a_clock_is_handed_the_time_left_and_stops_when_there_is_n
 
     solver = CaptureSolver("qp", "osqp", time_limit=0.5, polishing=False)
     problem = problem_at(scenario, 10)
-    solver.solve(problem)
+    solver.solve(problem)                                  # the structure's set-up: nothing measured
+    assert solver.backend.outside_clock() == 0.0 and solver.backend.clock_limit() == 0.5
+    for _ in range(3):
+        solver.solve(problem)
     backend = solver.backend
-    assert backend.time_left() == 0.5 and backend.clock_limit() == pytest.approx(0.5 - backend.cost()[0])
+    outside = backend.outside_clock()
+    assert 0 < outside < 0.01 and backend.clock_limit() == pytest.approx(0.5 - outside)
     with backend.step_within(time.perf_counter() - 1.0):   # a step whose time is spent before its QP starts
         assert backend.clock_limit() == MIN_SLICE
         late = solver.formulation.solve(problem, backend, None, None)
     assert late.status is Status.TIME_LIMIT and late.iterations <= 1
     assert backend.time_left() == 0.5                      # the step over, the limit is whole again
+
+
+def test_the_time_outside_a_solvers_clock_is_measured_against_the_time_it_reports(scenario):
+    """CVXPY's canonicalisation and read-back lie outside Clarabel's clock: what is subtracted from the time left is
+    the margin times the median of each solve's measured time less its reported one (a structure's first apart)."""
+    solver = CaptureSolver("qp", "cvxpy", time_limit=1.0)
+    problem = problem_at(scenario, 3)
+    solver.solve(problem)
+    outside = []
+    for _ in range(5):
+        s = solver.solve(problem)
+        outside.append(s.solver_time - s.extras["reported_solve_time_s"])
+    assert min(outside) > 0
+    assert solver.backend.outside_clock() == pytest.approx(PACE_MARGIN * np.median(outside))

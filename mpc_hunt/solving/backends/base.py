@@ -19,7 +19,8 @@ the limit less the fixed cost over 1.5 times the cost per iteration
 (:meth:`Backend.iteration_cap`). The time limit is the step's: while a step is
 under way (:meth:`Backend.step_within`, opened by the solver and the control
 loop), every solve of it is handed what is left of the step's limit, a solver
-with a clock that less its fitted fixed cost (:meth:`Backend.clock_limit`), so
+with a clock that less what a solve spends outside that clock, measured
+against the solve time the solver reports (:meth:`Backend.clock_limit`), so
 that a step of several QPs (``sqp``), or one whose linearisation came first,
 ends within its limit, not each QP within it. A solve that ran past its time
 limit all the same returns ``time_limit``, never ``optimal``. The solver's own names for the
@@ -111,6 +112,7 @@ class Backend:
         self.setups = 0
         self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
+        self._outside: deque[float] = deque(maxlen=PACE_SOLVES)  # s of each solve outside the solver's own clock
         self._fit: tuple[float, float] | None = None  # cost(), fitted to the solves recorded so far
         self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
 
@@ -182,14 +184,22 @@ class Backend:
             return None
         return self.time_limit if self._deadline is None else self._deadline - time.perf_counter()
 
+    def outside_clock(self) -> float:
+        """Seconds a solve spends outside the solver's own clock (handing it the data, CVXPY's canonicalisation,
+        reading the answer back): :data:`PACE_MARGIN` × the median, over the last solves, of each one's time less
+        the solve time its solver reported (0 before any, or for a solver that reports none)."""
+        if not self._outside:
+            return 0.0
+        return PACE_MARGIN * float(np.median(self._outside))
+
     def clock_limit(self) -> float | None:
-        """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less its
-        fitted fixed :meth:`cost` (what a solve spends besides its iterations, around the solver's own clock), at
-        least :data:`MIN_SLICE` (None: no limit)."""
+        """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less what
+        the solve will spend outside the solver's clock (:meth:`outside_clock`), at least :data:`MIN_SLICE` (None:
+        no limit)."""
         left = self.time_left()
         if left is None:
             return None
-        return max(left - self.cost()[0], MIN_SLICE)
+        return max(left - self.outside_clock(), MIN_SLICE)
 
     def iteration_cap(self) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
@@ -257,6 +267,9 @@ class Backend:
         solver_time = time.perf_counter() - t0
         if not new:
             self.record_pace(solver_time, result.iterations)
+            reported = result.extras.get("reported_solve_time_s")
+            if reported is not None:
+                self._outside.append(max(solver_time - float(reported), 0.0))
         if result.x is not None and not np.all(np.isfinite(result.x)):
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
         if result.x is None and result.status.usable:
