@@ -580,10 +580,37 @@ def plan_agreement(states: dict[int, list[HuntState]]) -> dict[int, float]:
     return out
 
 
+CHECKED_FIELDS = {"rounds": ("size", "scheme", "rounds", "median_gap", "max_gap"),
+                  "growth": ("size", "robot_plan_difference_m")}   # what --check reads of each row
+
+
+def results_shape_error(data: object) -> str | None:
+    """What keeps ``data`` from being results.json as this study writes it, as far as --check reads it (None: it is
+    of that shape)."""
+    if not isinstance(data, dict):
+        return "expected a JSON object with 'rounds' and 'growth'"
+    for key, fields in CHECKED_FIELDS.items():
+        rows = data.get(key)
+        if not isinstance(rows, list) or not all(isinstance(row, dict) for row in rows):
+            return f"{key}: expected a list of objects"
+        for i, row in enumerate(rows):
+            missing = [name for name in fields if name not in row]
+            if missing:
+                return f"{key}[{i}]: no {missing[0]!r}"
+            if not all(isinstance(row[name], (int, float)) and not isinstance(row[name], bool)
+                       for name in fields if name not in ("scheme",)):
+                return f"{key}[{i}]: {', '.join(fields)} are numbers (but scheme)"
+    return None
+
+
 def check(out: Path) -> int:
     """The committed rounds table, rerun on the committed states (deterministic, machine-independent: HPIPM on
     the wheel's BLASFEO); the timings are the run's, not checked."""
-    committed = read_json_file(out / "results.json", f"run {COMMAND} --output {out} to make the results to check")
+    fix = f"run {COMMAND} --output {out} to make the results to check"
+    committed = read_json_file(out / "results.json", fix)
+    wrong = results_shape_error(committed)
+    if wrong:
+        raise DataFileError(f"{out / 'results.json'}: {wrong}; {fix}")
     states = load_states(out / "states.json")
     errors = []
     fresh = rounds_table(states)
@@ -599,8 +626,13 @@ def check(out: Path) -> int:
                           f"committed, {difference:.1e} m now")
     if len(fresh) != len(committed["rounds"]):
         errors.append(f"rounds: {len(committed['rounds'])} rows committed, {len(fresh)} now")
-    if readme(committed) != (out / "README.md").read_text(encoding="utf-8"):
-        errors.append("README.md is not what results.json renders")
+    try:
+        rendered = readme(committed)
+    except (KeyError, TypeError, ValueError, IndexError) as exc:     # a field the table reads beyond --check's own
+        errors.append(f"results.json: its README does not render ({type(exc).__name__}: {exc})")
+    else:
+        if rendered != (out / "README.md").read_text(encoding="utf-8"):
+            errors.append("README.md is not what results.json renders")
     return check_result(errors, "team_size", COMMAND)
 
 

@@ -1045,7 +1045,7 @@ def main(argv: list[str] | None = None) -> int:
         with quiet_solvers(args.verbose):
             return command(args)
 
-    return run_command(f"mpc-hunt {args.command}", run, flag, interrupted=EXIT_ERROR)
+    return run_command(f"mpc-hunt {args.command}", run, flag)
 
 
 if __name__ == "__main__":

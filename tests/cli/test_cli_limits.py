@@ -154,3 +154,16 @@ def test_ctrl_c_clears_simulates_progress_bar_before_its_line(tmp_path):
     text = (shown + rest).decode()
     assert text.rsplit("\r", 1)[-1] == "mpc-hunt simulate: interrupted: nothing written\n", text[-300:]
     assert text.rsplit("\r", 2)[-2].strip() == "", text[-300:]     # the bar blanked, the line from its start
+
+
+def test_a_ctrl_c_no_command_catches_itself_is_one_line_and_status_130(monkeypatch, capsys):
+    """Outside the sections a command stops itself in (a solve, a sweep's hunts), Ctrl-C is still one line and
+    128 + SIGINT, as the commands that stop at once end."""
+    from mpc_hunt.cli import commands
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(commands, "_backends", interrupted)
+    assert commands.main(["backends"]) == 130
+    assert capsys.readouterr().err == "mpc-hunt backends: interrupted\n"

@@ -252,3 +252,18 @@ def test_team_size_check_of_a_missing_folder_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == f"error: {out / 'results.json'}: no such file; run python studies/team_size.py --output {out} to " \
                   "make the results to check\n"
+
+
+@pytest.mark.parametrize("content,message", [
+    ("{}", "rounds: expected a list of objects"),
+    ("[]", "expected a JSON object with 'rounds' and 'growth'"),
+    ('{"rounds": [{"size": 3}], "growth": []}', "rounds[0]: no 'scheme'"),
+    ('{"rounds": [], "growth": [{"size": "3", "robot_plan_difference_m": 0}]}', "growth[0]: size"),
+])
+def test_team_size_check_of_results_of_another_shape_is_one_line(content, message, tmp_path, capsys):
+    out = tmp_path / "wrong"
+    out.mkdir()
+    (out / "results.json").write_text(content)
+    assert study("team_size").main(["--check", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "to make the results to check" in err, err
