@@ -135,10 +135,16 @@ def settings() -> dict:
             "horizons": HORIZONS, "budget_s": BUDGET, "abandon_after_s": ABANDON_AFTER, "streak": STREAK, "misses": MISSES, "tolerance_m": TOLERANCE}
 
 
+def fit_line(rows: list[dict]) -> str:
+    fits = [f"{r['formulation']}/{r['backend']} N = {r['horizon']}" for r in rows if fit(r)]
+    return "Fit to embed: " + (", ".join(fits) if fits else "none") + "."
+
+
 def headline(results: dict) -> str:
     m = results["machine"]
     return "\n".join(table(results["rows"])) + (
-        f"\n\nMachine: {m['cpu']}, {m['cores']} cores, Python {m['python']}; load average "
+        f"\n\n{fit_line(results['rows'])}\n\n{overrun_line(results['overruns'])}\n\n"
+        f"Machine: {m['cpu']}, {m['cores']} cores, Python {m['python']}; load average "
         f"{m['load_average'][0]} at the start, {m['load_average_end'][0]} at the end.\n")
 
 
@@ -199,7 +205,6 @@ def write(summaries: list[dict], machine: dict) -> None:
 def readme(results: dict) -> str:
     """studies/realtime/README.md, from the results."""
     rows, machine = results["rows"], results["machine"]
-    fits = [f"{r['formulation']}/{r['backend']} N = {r['horizon']}" for r in rows if fit(r)]
     text = ["# Every pair in its own loop, under a 50 Hz budget", "",
             f"Regenerate with `{COMMAND}` (it resumes from `hunts.jsonl`, kept out of the repository). "
             f"{len(results['hunts'])} hunts: each pair drives the paper's capture stage (prediction on) through "
@@ -218,7 +223,7 @@ def readme(results: dict) -> str:
             f"(the p99 within it), no run of more than {STREAK} failed solves, no violating plan (captures are the "
             f"paper's controller's, reported beside).", "",
             "## Machine", "", *machine_lines(machine), "", "## Results", "", *table(rows), "",
-            "Fit to embed: " + (", ".join(fits) if fits else "none") + ".", "", overrun_line(results["overruns"]), ""]
+            fit_line(rows), "", overrun_line(results["overruns"]), ""]
     return "\n".join(text)
 
 
@@ -238,6 +243,19 @@ def check() -> list[str]:
     return errors
 
 
+def run_machine(now: dict) -> dict:
+    """The machine the kept hunts ran on: the committed results' description when they are the same run's (same
+    settings), so that rewriting the results after a change to how they are shown keeps it; else ``now``."""
+    path = OUT / "results.json"
+    try:
+        committed = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return now
+    if not isinstance(committed, dict) or committed.get("settings") != settings() or "machine" not in committed:
+        return now
+    return committed["machine"]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="check the committed settings and table against the code")
@@ -249,10 +267,12 @@ def main(argv: list[str] | None = None) -> int:
         return check_result(check(), "studies/realtime", COMMAND)
     if args.fresh and PROGRESS.exists():
         PROGRESS.unlink()
-    machine = describe_machine()
+    machine, kept = describe_machine(), len(finished())
     with stop_at_once("realtime study"):         # Ctrl-C: at once; every finished hunt is kept in hunts.jsonl
         summaries = run(args.workers)
     machine["load_average_end"] = load_average()
+    if kept >= len(tasks()):                      # no hunt ran: rewritten with the machine of the run that ran them
+        machine = run_machine(machine)
     if len(summaries) != len(tasks()):
         raise MpcHuntError(f"{len(summaries)} of {len(tasks())} hunts finished; rerun {COMMAND} to finish them")
     write(summaries, machine)

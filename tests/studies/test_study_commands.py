@@ -225,6 +225,21 @@ def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch,
     usage_error(capsys, "realtime", ["--workers", "3"])
 
 
+def test_the_realtime_study_rewritten_without_a_hunt_keeps_the_machine_its_hunts_ran_on(tmp_path, monkeypatch):
+    module = study("realtime")
+    monkeypatch.setattr(module, "OUT", tmp_path)
+    now = {"cpu": "this one"}
+    assert module.run_machine(now) is now                             # nothing committed
+    ran = {"cpu": "the run's", "load_average": [3.0, 2.0, 1.0]}
+    (tmp_path / "results.json").write_text(json.dumps({"settings": module.settings(), "machine": ran}))
+    assert module.run_machine(now) == ran
+    other = module.settings() | {"budget_s": 0.05}
+    (tmp_path / "results.json").write_text(json.dumps({"settings": other, "machine": ran}))
+    assert module.run_machine(now) is now                             # another run's
+    (tmp_path / "results.json").write_text("{cut")
+    assert module.run_machine(now) is now
+
+
 @pytest.mark.parametrize("folder,content,message", [
     ("missing", None, "states.json: no such file"),
     ("empty", None, "states.json: no such file"),
