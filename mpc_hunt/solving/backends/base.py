@@ -265,6 +265,8 @@ class Backend:
                 setup_time=setup_time,
             )
         solver_time = time.perf_counter() - t0
+        left = self.time_left()  # read before our own work on the answer (the certificate): not the solver's time
+        overran = left is not None and (left < 0 if self._deadline is not None else solver_time > left)
         if not new:
             self.record_pace(solver_time, result.iterations)
             reported = result.extras.get("reported_solve_time_s")
@@ -286,8 +288,6 @@ class Backend:
                     data.P, data.q, data.A, data.l, data.u, result.x, result.duals.y, data.cones
                 ),
             )
-        left = self.time_left()
-        overran = left is not None and (left < 0 if self._deadline is not None else solver_time > left)
         if overran and result.status.usable:
             result = replace(
                 result,
