@@ -105,9 +105,9 @@ def test_a_step_of_several_qps_shares_one_time_limit(scenario):
     solve = solver.backend.solve
 
     def recording(data, warm=None):
-        handed.append(solver.backend.clock_limit())
         clock.append(solver.backend.time_left())
         fixed.append(solver.backend.outside_clock())
+        handed.append(solver.backend.clock_limit())       # read last: the clock has only moved on
         solved.append(solve(data, warm))
         return solved[-1]
 
@@ -117,7 +117,7 @@ def test_a_step_of_several_qps_shares_one_time_limit(scenario):
     handed.clear(), clock.clear(), fixed.clear()
     assert solver.solve(problem).status.usable and len(handed) >= 2
     assert all(a > b for a, b in zip(clock, clock[1:])) and 4.9 < clock[0] <= 5.0
-    assert all(h == pytest.approx(c - f, abs=1e-3) for h, c, f in zip(handed, clock, fixed)) and max(fixed) > 0
+    assert all(c - f - 0.5 < h <= c - f for h, c, f in zip(handed, clock, fixed)) and max(fixed) > 0
 
     solved.clear()                                         # one second for the first QP, then nothing left
     solver.backend.time_left = lambda: 1.0 if not solved else -1e-9
