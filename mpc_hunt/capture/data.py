@@ -48,6 +48,8 @@ class QPData:
     ``implied`` marks rows that the others imply (None: none), which a backend
     may leave out (an active-set method, on which they are degenerate); their
     multipliers are then 0, a valid choice since the rest imply them.
+    ``J_pattern`` is (rows, columns) of J's entries that may be nonzero, the same
+    for every ``key`` (None: any), as ``A``'s stored entries are for ``A``.
     """
 
     key: tuple
@@ -61,6 +63,7 @@ class QPData:
     lin: np.ndarray
     cones: tuple[tuple[int, int], ...] = ()
     implied: np.ndarray | None = None
+    J_pattern: tuple[np.ndarray, np.ndarray] | None = None
 
     def bounded_rows(self) -> tuple[np.ndarray, np.ndarray]:
         """The rows outside the cones with a finite upper bound, and those with a finite lower bound."""

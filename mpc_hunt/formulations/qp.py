@@ -157,6 +157,8 @@ class LinearisedCapture:
         self._outputs = [self.function.sparsity_out(i) for i in range(self.function.n_out())]
         self._csc_index = {i: tuple(np.array(v) for v in self._outputs[i].get_ccs()) for i in (0, 2)}
         self._places = {i: np.array(pattern.find()) for i, pattern in enumerate(self._outputs) if i not in (0, 2)}
+        rows = self._outputs[5].size1()
+        self.J_pattern = (self._places[5] % rows, self._places[5] // rows)  # J's structural nonzeros
 
     def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray) -> QPData:
         """The QP at reference X̄ in x = (δ, q, s)."""
@@ -173,7 +175,18 @@ class LinearisedCapture:
         local.bound = theta, Xref, out  # the buffer keeps their addresses: kept alive until the next evaluation
         P, q, A, l, u, J, c, lin = (self._csc(i, v) if i in (0, 2) else self._dense(i, v) for i, v in enumerate(out))
         return QPData(
-            key, P, q.ravel(), A, l.ravel(), u.ravel(), J, c.ravel(), lin.ravel(), tuple(self.cones), self.implied
+            key,
+            P,
+            q.ravel(),
+            A,
+            l.ravel(),
+            u.ravel(),
+            J,
+            c.ravel(),
+            lin.ravel(),
+            tuple(self.cones),
+            self.implied,
+            self.J_pattern,
         )
 
     def _csc(self, i: int, values: np.ndarray) -> sp.csc_matrix:
