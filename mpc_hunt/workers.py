@@ -30,7 +30,7 @@ def run_local(todo: Iterable, work: Callable[[Any], Any], workers: int | None = 
     when the caller stops iterating. ``work`` is a module-level function (so that it pickles); ``todo`` is read as
     workers are free (at most two tasks a worker wait at once)."""
     workers = workers or os.cpu_count() or 1
-    pending, retry = iter(todo), deque()
+    pending, retry = iter(todo), deque[Any]()
     for _ in range(MAX_WORKER_DEATHS + 1):
         if not (yield from _run_pool(pending, retry, workers, work)):
             return
