@@ -98,7 +98,11 @@ def from_capture_stage(scenario: Scenario, window: float) -> Scenario | None:
         return None
     obs = found[0]
     defenders = tuple(
-        replace(d, start=(float(p[0]), float(p[1])), fails_at=None if d.fails_at is None else max(d.fails_at - obs.time, 0.0))
+        replace(
+            d,
+            start=(float(p[0]), float(p[1])),
+            fails_at=None if d.fails_at is None else max(d.fails_at - obs.time, 0.0),
+        )
         for d, p in zip(scenario.defenders, obs.defenders)
     )
     hunt = replace(scenario.hunt, time_limit=min(window, scenario.hunt.time_limit))

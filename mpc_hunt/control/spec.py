@@ -110,6 +110,13 @@ class ControllerSpec:
         return cls(name, formulation, backend, horizon)
 
     @property
+    def capture_stage(self) -> tuple[str, str, int]:
+        """A solving controller's formulation, backend and horizon, as settled on construction."""
+        if self.formulation is None or self.backend is None or self.horizon is None:
+            raise SettingError("controller", f"{self.controller} solves no capture problem")
+        return self.formulation, self.backend, self.horizon
+
+    @property
     def label(self) -> str:
         """The spec's text form (:meth:`parse`'s), every field written: how a sweep stores its strategy."""
         if self.controller not in controllers.SOLVING:

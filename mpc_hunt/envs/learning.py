@@ -155,7 +155,11 @@ class TeamHunts:
         """The baseline's velocities at hunt ``k``'s state, computed once for that state."""
         base, self.next_base[k] = self.next_base[k], None
         if base is None:
-            base = cast(VoronoiController, self.bases[k]).command(self._playing(k).current.controller_observation()).velocities
+            base = (
+                cast(VoronoiController, self.bases[k])
+                .command(self._playing(k).current.controller_observation())
+                .velocities
+            )
         return base
 
     def views(self, k: int) -> np.ndarray:

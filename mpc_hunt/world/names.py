@@ -8,7 +8,6 @@ from typing import TypeVar
 
 from mpc_hunt.errors import UnknownNameError
 
-
 _Entry = TypeVar("_Entry")
 
 
