@@ -25,12 +25,12 @@ PR_SET_PDEATHSIG = 1  # prctl(2): the signal a process gets when its parent dies
 _END = object()  # the end of a task iterator
 
 
-def run_local(todo: Iterable, work: Callable[[Any], Any], workers: int | None = None) -> Iterator:
+def run_local(todo: Iterable, work: Callable[[Any], Any], workers: int | None = None) -> Generator[Any, None, None]:
     """``work(task)`` for each task of ``todo`` on local worker processes, yielded as each finishes; stops cleanly
     when the caller stops iterating. ``work`` is a module-level function (so that it pickles); ``todo`` is read as
     workers are free (at most two tasks a worker wait at once)."""
     workers = workers or os.cpu_count() or 1
-    pending, retry = iter(todo), deque()
+    pending, retry = iter(todo), deque[Any]()
     for _ in range(MAX_WORKER_DEATHS + 1):
         if not (yield from _run_pool(pending, retry, workers, work)):
             return

@@ -43,7 +43,7 @@ class MultiStartNLP:
         plans = [problem.held_plan()] + [random_plan(problem, rng) for _ in range(self.starts - 1)]
         for plan in plans:
             solution = self.solver.solve(problem, plan)
-            if is_success(solution.success, solution.violation, self.tolerance):
+            if is_success(solution.success, solution.violation, self.tolerance) and solution.objective is not None:
                 best = solution.objective if best is None else min(best, solution.objective)
             if progress is not None:
                 progress()

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import asdict, dataclass, field
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
@@ -99,8 +99,8 @@ def check_pairs(pairs: list[str] | None, objective: str = "paper") -> list[tuple
         return registry.pairs(objective=objective)
     out: list[tuple[str, str]] = []
     for text in pairs:
-        formulation, _, backend = text.partition(":")
-        backend = registry.check_pair(formulation, backend) if backend else None
+        formulation, _, named = text.partition(":")
+        backend = registry.check_pair(formulation, named) if named else None
         refusal = registry.objective_refusal(formulation, backend, objective)
         if refusal is not None:
             raise BenchmarkError(
@@ -152,7 +152,7 @@ def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, hor
 
 
 def _new_mpc(run: CompareRun, pair: tuple[str, str]) -> CaptureMPC:
-    budget = {} if run.max_iter is None else {"max_iter": run.max_iter}
+    budget: dict[str, Any] = {} if run.max_iter is None else {"max_iter": run.max_iter}
     return CaptureMPC(*pair, time_limit=run.time_limit, accuracy=run.accuracy, score=True, **budget)
 
 

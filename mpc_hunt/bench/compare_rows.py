@@ -41,7 +41,7 @@ def best_known(run: CompareRun) -> dict[tuple[str, int], float]:
     """The lowest objective passing the success rule, per (problem, horizon), over references and records."""
     best = {key: value for key, value in run.references.items() if value is not None}
     for r in run.records:
-        if r.success:
+        if r.success and r.objective is not None:
             key = (r.problem, r.horizon)
             best[key] = min(best.get(key, math.inf), r.objective)
     return best

@@ -99,13 +99,17 @@ def from_capture_stage(scenario: Scenario, window: float) -> Scenario | None:
         return None
     obs = found[0]
     defenders = tuple(
-        replace(d, start=tuple(map(float, p)), fails_at=None if d.fails_at is None else max(d.fails_at - obs.time, 0.0))
+        replace(
+            d,
+            start=(float(p[0]), float(p[1])),
+            fails_at=None if d.fails_at is None else max(d.fails_at - obs.time, 0.0),
+        )
         for d, p in zip(scenario.defenders, obs.defenders)
     )
     hunt = replace(scenario.hunt, time_limit=min(window, scenario.hunt.time_limit))
     return replace(
         scenario,
-        attacker=replace(scenario.attacker, start=tuple(map(float, obs.attacker))),
+        attacker=replace(scenario.attacker, start=(float(obs.attacker[0]), float(obs.attacker[1]))),
         defenders=defenders,
         hunt=hunt,
         description=f"{scenario.name} from t = {obs.time:.1f} s, its capture stage's start, "

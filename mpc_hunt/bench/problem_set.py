@@ -170,7 +170,7 @@ def problem_set_from_dict(data: object, source: str = "<data>") -> ProblemSet:
         if not isinstance(raw, dict):
             raise ScenarioError(f"{where}: expected an object")
         name = raw.get("scenario")
-        if name not in scenarios:
+        if not isinstance(name, str) or name not in scenarios:
             raise ScenarioError(f"{where}: scenario: {name!r} is not among the set's scenarios")
         tags = raw.get("tags", [])
         if not (isinstance(tags, list) and all(isinstance(t, str) for t in tags)):

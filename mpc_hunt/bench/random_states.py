@@ -166,7 +166,8 @@ def random_entries(
 ) -> tuple[dict[str, Scenario], list[ProblemEntry]]:
     """``per_case`` random states for every family, their scenarios named ``random-<i>``."""
     probe = probe or ActivityProbe()
-    scenarios, entries = {}, []
+    scenarios: dict[str, Scenario] = {}
+    entries: list[ProblemEntry] = []
     for case in VIOLATION_NAMES:
         for _ in range(per_case):
             name = f"random-{len(entries)}"

@@ -57,9 +57,9 @@ def _bound_terms(bound: np.ndarray, multiplier: np.ndarray) -> np.ndarray:
 
 
 def qp_certificate(
-    P: sp.spmatrix,
+    P: sp.csc_matrix,
     q: np.ndarray,
-    A: sp.spmatrix,
+    A: sp.csc_matrix,
     l: np.ndarray,
     u: np.ndarray,
     x: np.ndarray,

@@ -95,7 +95,8 @@ class StageQPData:
 class SolvesData(Protocol):
     """What a formulation is handed to solve its data with: a backend (:mod:`mpc_hunt.solving.backends`)."""
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     def solve(self, data: NLPData | QPData | StageQPData, warm: WarmStart | None = None) -> Solution: ...
 

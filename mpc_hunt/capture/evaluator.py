@@ -159,7 +159,7 @@ def evaluate(problem: CaptureProblem, plan: np.ndarray) -> Evaluation:
 
 def _enclose_terms(problem: CaptureProblem, plan, path, steps, r_d) -> dict[str, float]:
     """The terms of :data:`ENCLOSE_OBJECTIVE`."""
-    e, ref, c = problem.enclose_weights, problem.reference, problem.controlled
+    e, ref, c = problem.enclose_weights, problem.enclose_reference, problem.controlled
     arena = problem.scenario.arena
     if arena is None:
         beyond = np.zeros((len(path), 4))

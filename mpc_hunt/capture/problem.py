@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import cast
 
 import numpy as np
 
@@ -46,7 +47,7 @@ def checked_horizon(horizon: object) -> int:
     why = horizon_error(horizon)
     if why:
         raise ProblemError(f"horizon: {why}")
-    return int(horizon)
+    return int(cast(int, horizon))  # as checked
 
 
 # What the capture stage minimises (docs/formulations.md): ``paper``, Eq. 12 as published (force error, ring,
@@ -137,6 +138,13 @@ class CaptureProblem:
             raise ProblemError(f"objective: unknown {self.objective!r} (available: {', '.join(OBJECTIVES)})")
         if self.objective == "enclose":
             set_(self, "reference", self._checked_reference(n))
+
+    @property
+    def enclose_reference(self) -> Reference:
+        """The reference of an ``enclose`` problem (checked on construction); refused for another objective."""
+        if self.reference is None:
+            raise ProblemError(f"reference: the {self.objective} objective has none")
+        return self.reference
 
     def _checked_reference(self, n: int) -> Reference:
         ref, N = self.reference, self.horizon

@@ -637,7 +637,7 @@ def _solve(args) -> int:
     from mpc_hunt.world.hunt_state import save_state
 
     stage = _spec(args, args.objective)  # the controller of each objective's name poses that objective
-    formulation, backend, horizon = stage.formulation, stage.backend, stage.horizon
+    formulation, backend, horizon = stage.capture_stage
     if args.save_state:
         check_output(args.save_state, (".json",), "--save-state")
     solver = CaptureSolver(
@@ -658,7 +658,7 @@ def _solve(args) -> int:
         f"{solution.formulation} on {solution.backend}, horizon {horizon}, scenario {scenario.name} "
         f"at t = {state.time:.1f} s: {solution.status.value} ({solution.message})"
     ]
-    if solution.objective is not None:
+    if solution.objective is not None and solution.violation is not None and solution.plan is not None:  # scored
         own = "–" if solution.formulation_objective is None else f"{solution.formulation_objective:.6g}"
         lines.append(f"objective (evaluator): {solution.objective:.6g}; formulation's own: {own}")
         lines.append("violations (m): " + ", ".join(f"{k} {v:.2e}" for k, v in solution.violation.items()))
@@ -771,10 +771,10 @@ def _backends(args) -> int:
             f"{', '.join(registry.compatible_backends(f))}"
         )
     for b in registry.BACKENDS:
-        cls = registry.backend_class(b)
-        where = "installed" if registry.installed(b) else f"NOT installed: pip install {cls.install}"
-        only = f"; objective {' or '.join(cls.objectives)} only" if cls.objectives is not None else ""
-        print(f"backend {b} (accepts {', '.join(cls.accepts)}{only}): {where}")
+        solver = registry.backend_class(b)
+        where = "installed" if registry.installed(b) else f"NOT installed: pip install {solver.install}"
+        only = f"; objective {' or '.join(solver.objectives)} only" if solver.objectives is not None else ""
+        print(f"backend {b} (accepts {', '.join(solver.accepts)}{only}): {where}")
     return 0
 
 

@@ -6,23 +6,35 @@ from __future__ import annotations
 
 import inspect
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 from mpc_hunt.control.containment import Containment
+from mpc_hunt.control.controller import Controller
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.ppo_team import PpoTeam
-from mpc_hunt.control.reference import PaperObjective
+from mpc_hunt.control.reference import CaptureReference, PaperObjective
 from mpc_hunt.control.strategy import AdaptiveStrategy, HuntingStrategy
 from mpc_hunt.control.trap import Trap
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.names import registered
 
 
+class Entry(Protocol):
+    """A registry line: a controller's class, or a solving controller's :class:`Solving`; a solving one also has
+    its ``OBJECTIVE``."""
+
+    @property
+    def SUMMARY(self) -> str: ...
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Controller: ...
+
+
 @dataclass(frozen=True)
 class Solving:
     """A solving controller's registry line: its reference × the capture stage (:class:`HuntingStrategy`)."""
 
-    reference: type
+    reference: type[CaptureReference]
 
     @property
     def OBJECTIVE(self) -> str:
@@ -36,7 +48,7 @@ class Solving:
         return HuntingStrategy(scenario, self.reference, **options)
 
 
-CONTROLLERS = {
+CONTROLLERS: dict[str, Entry] = {
     "paper": Solving(PaperObjective),
     "enclose": Solving(Enclosure),
     "apf": EncirclingController,
@@ -63,7 +75,7 @@ def described() -> str:
 def table() -> str:
     """The registry as a Markdown table (docs/architecture.md holds it; a test compares)."""
     rows = [
-        f"| `{name}` | {'the ' + entry.OBJECTIVE + ' objective' if name in SOLVING else 'no optimisation'} "
+        f"| `{name}` | {'the ' + getattr(entry, 'OBJECTIVE') + ' objective' if name in SOLVING else 'no optimisation'} "
         f"| {entry.SUMMARY} |"
         for name, entry in CONTROLLERS.items()
     ]
@@ -72,4 +84,4 @@ def table() -> str:
 
 def controller_objective(name: str) -> str:
     """The capture objective the solving controller ``name`` (one of :data:`SOLVING`) poses."""
-    return registered(CONTROLLERS, "controller", name).OBJECTIVE
+    return getattr(registered(CONTROLLERS, "controller", name), "OBJECTIVE")

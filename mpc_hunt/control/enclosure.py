@@ -79,6 +79,12 @@ class _Circle:
     radius: float | None = None
     heading: float | None = None  # the frozen escape (or herding) direction while closing
 
+    def frozen(self) -> tuple[np.ndarray, float, float]:
+        """The centre, radius and heading of a closing circle (all three are set as it closes)."""
+        if self.centre is None or self.radius is None or self.heading is None:
+            raise RuntimeError(f"a {self.phase} circle has no centre, radius and heading")
+        return self.centre, self.radius, self.heading
+
 
 class Enclosure(Places):
     """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``enclose`` objective."""
@@ -108,8 +114,10 @@ class Enclosure(Places):
         predicted = self._predicted(p_a, P)
         anchor = self._anchor(obs, len(movers))
         c = self.circle
-        if c.phase == "close" and norm(p_a - c.centre) > max(0.5 * c.radius, ANCHOR_GAP):
-            self.circle = c = _Circle()  # it slipped out: gather again
+        if c.phase == "close":
+            centre, radius, _ = c.frozen()
+            if norm(p_a - centre) > max(0.5 * radius, ANCHOR_GAP):
+                self.circle = c = _Circle()  # it slipped out: gather again
         core = self._core(p_a if c.centre is None else c.centre, P, movers)
         if c.phase != "close":
             angles, heading = self._angles(p_a, P, movers, core, anchor, predicted)
@@ -124,22 +132,24 @@ class Enclosure(Places):
                 c.phase = "close"
             if c.phase == "close":
                 c.centre, c.heading = (p_a.copy() if anchor is None else anchor), heading
-                c.radius = max(0.5 * s.hunt.hunt_radius, min(R + CLEARANCE, max(norm(P[i] - c.centre) for i in core)))
+                nearest_fit = float(max(norm(P[i] - c.centre) for i in core))
+                c.radius = max(0.5 * s.hunt.hunt_radius, min(R + CLEARANCE, nearest_fit))
         places = np.repeat(P[None], N, axis=0).astype(float)
         undisturbed = self._predicted(p_a, P[:0])
         target = undisturbed  # gathering, the attacker should not notice anybody
         if c.phase == "close":
-            angles = self._spread(c.centre, P, movers, core, anchor, c.heading, c.radius)
-            farthest = max(norm(P[i] - c.centre) for i in core)
+            centre, radius, heading = c.frozen()
+            angles = self._spread(centre, P, movers, core, anchor, heading, radius)
+            farthest = float(max(norm(P[i] - centre) for i in core))
             rate = SHRINK_RATE * float(np.min(s.defender_max_speeds[movers])) * T
             ring = 0.5 * s.hunt.hunt_radius
-            c.radius = max(ring, min(c.radius, max(c.radius - rate, farthest - FOLLOW_SLACK)))
-            radii = np.maximum(ring, c.radius - rate * np.arange(1, N + 1))
+            c.radius = radius = max(ring, min(radius, max(radius - rate, farthest - FOLLOW_SLACK)))
+            radii = np.maximum(ring, radius - rate * np.arange(1, N + 1))
             drift = self._drift(c, P, movers) if anchor is None else np.zeros(2)
-            centres = c.centre + np.arange(1, N + 1)[:, None] * drift
-            c.centre = c.centre + drift
+            centres = centre + np.arange(1, N + 1)[:, None] * drift
+            c.centre = centre + drift
             for i in movers:
-                places[:, i] = centres + radii[:, None] * direction(angles[i])
+                places[:, i] = centres + radii[:, None] * direction(angles[int(i)])
             target = centres
         else:
             radius = PUSH * R if c.phase == "herd" else R + CLEARANCE
@@ -194,17 +204,17 @@ class Enclosure(Places):
         """
         distance = {int(i): float(norm(P[i] - centre)) for i in movers}
         core = [i for i in self._members if i in distance]
-        for i in sorted(distance, key=distance.get):
+        for i in sorted(distance, key=distance.__getitem__):
             if i in core:
                 continue
             if len(core) < CORE:
                 core.append(i)
                 continue
-            worst = max(core, key=distance.get)
+            worst = max(core, key=distance.__getitem__)
             if distance[i] < distance[worst] - SWAP_MARGIN:
                 core[core.index(worst)] = i
         self._members = core
-        return np.array(sorted(core, key=distance.get), dtype=int)
+        return np.array(sorted(core, key=distance.__getitem__), dtype=int)
 
     def _angles(self, centre, P, movers, core, anchor, predicted, heading: float | None = None):
         """Each mover's bearing on the circle around ``centre``, and the direction the first place faces."""
@@ -262,12 +272,13 @@ class Enclosure(Places):
         """One step of the closing circle's centre towards the farthest defender still on its way (the
         circle carries the attacker, at ``DRIFT`` of its top speed), until that defender is near."""
         s = self.scenario
-        away = {int(i): float(norm(P[i] - c.centre)) for i in movers}
-        i = max(away, key=away.get)
-        gap = away[i] - (c.radius + s.attacker.perception_radius + CLEARANCE)
+        centre, radius, _ = c.frozen()
+        away = {int(i): float(norm(P[i] - centre)) for i in movers}
+        i = max(away, key=away.__getitem__)
+        gap = away[i] - (radius + s.attacker.perception_radius + CLEARANCE)
         if gap <= 0:
             return np.zeros(2)
-        return unit(P[i] - c.centre) * min(gap, DRIFT * s.attacker.max_speed * s.hunt.time_step)
+        return unit(P[i] - centre) * min(gap, DRIFT * s.attacker.max_speed * s.hunt.time_step)
 
     def _blocker(self, p_a, P, core, angles, heading, radius) -> int | None:
         """The first member whose place faces the escape direction, once it stands there (else None)."""

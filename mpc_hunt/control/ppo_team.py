@@ -114,7 +114,7 @@ class PpoTeam:
         p_a, P = obs.attacker, obs.defenders
         T = s.hunt.time_step
         base = self.base.command(obs)
-        if self.held == 0:
+        if self.held == 0 or self.corrections is None:  # (None only before the first decision, held 0 then)
             v_a = attacker_velocity_estimate(obs, T)
             v_d = np.zeros_like(P) if self.last is None else (P - self.last) / T
             self.corrections = np.array(

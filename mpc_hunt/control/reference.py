@@ -30,7 +30,10 @@ class CaptureReference(Protocol):
     NAME: str  # the controller's name (:data:`~mpc_hunt.control.controllers.CONTROLLERS`)
     SUMMARY: str  # one line: what the controller does (the CLI's help, the docs)
     OBJECTIVE: str  # the capture objective it poses: "paper" or "enclose"
-    weights: EncloseWeights | None  # the enclose objective's weights; None for the paper's
+
+    @property
+    def weights(self) -> EncloseWeights | None:
+        """The enclose objective's weights; None for the paper's."""
 
     def __init__(self, scenario: Scenario, horizon: int) -> None: ...
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 import argparse
 from dataclasses import InitVar, dataclass, field
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any, Mapping, cast
 
 import numpy as np
 
@@ -87,7 +87,8 @@ class ControllerSpec:
         """The spec of ``controller`` with ``settings``, :func:`make_controller`'s keywords (its capture stage's
         fields and its options)."""
         rest = _mapping(settings or {})
-        return cls(controller, *(rest.pop(key, None) for key in STAGE), options=rest, stage=stage)
+        formulation, backend, horizon = (rest.pop(key, None) for key in STAGE)
+        return cls(controller, formulation, backend, horizon, options=rest, stage=stage)
 
     @classmethod
     def parse(cls, text: str) -> ControllerSpec:
@@ -105,7 +106,15 @@ class ControllerSpec:
                 horizon = horizon_argument(horizon)
             except argparse.ArgumentTypeError as exc:
                 raise SettingError("horizon", str(exc)) from None
-        return cls(name, *given[:2], horizon)
+        formulation, backend = (given + [None, None])[:2]
+        return cls(name, formulation, backend, horizon)
+
+    @property
+    def capture_stage(self) -> tuple[str, str, int]:
+        """A solving controller's formulation, backend and horizon, as settled on construction."""
+        if self.formulation is None or self.backend is None or self.horizon is None:
+            raise SettingError("controller", f"{self.controller} solves no capture problem")
+        return self.formulation, self.backend, self.horizon
 
     @property
     def label(self) -> str:
@@ -140,7 +149,7 @@ class ControllerSpec:
             controller = self.build(scenario, belief=belief, rng=np.random.default_rng(0))
         except MpcHuntError as exc:
             raise OptionError(f"{argument}: {exc}") from None
-        mpc = getattr(controller, "mpc", None)
+        mpc: Any = getattr(controller, "mpc", None)
         passed = [k for k in self.options if mpc is not None and k in mpc.solver.backend.options]
         if passed:
             solver, keys = mpc.solver, ", ".join(map(repr, passed))
@@ -230,7 +239,7 @@ def _stage(
     if refusal is not None:
         field = refusal.fields[0]
         raise SettingError(field, f"{refusal.reason} of controller {name!r}: use another {field}")
-    return {"formulation": formulation, "backend": backend, "horizon": int(horizon)}
+    return {"formulation": formulation, "backend": backend, "horizon": int(cast(int, horizon))}  # as checked
 
 
 def _ring(scenario):

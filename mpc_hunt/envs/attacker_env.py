@@ -50,7 +50,7 @@ class AttackerEnv(HuntEnv):
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         other = self.new_episode(seed, options)
         self.controller = self.controller_spec.build(self.scenario, belief=self.belief, rng=other)
-        return self.episode.observation(), self.info()
+        return self.current.observation(), self.info()
 
     def step(self, action):
         e, action = self.started(), self.checked(action)  # both before the controller moves

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
+from gymnasium import spaces
 
 from mpc_hunt.envs.actions import checked_action
 from mpc_hunt.envs.episode import Episode
@@ -23,12 +24,13 @@ class HuntEnv(gym.Env):
     """One side of a hunt as a Gymnasium environment; the other side is scripted (the subclass's)."""
 
     metadata = {"render_modes": RENDER_MODES, "render_fps": 10}
+    action_space: spaces.Box  # each side's: a velocity, or one per defender
 
     def __init__(self, hunts: Hunts, render_mode: str | None = None):
         check_render_mode(render_mode)
         self.hunts, self.render_mode = hunts, render_mode
         self.observation_space = observation_space(
-            hunts.defenders, hunts.max_obstacles, max(hunts.attacker_speed, hunts.defender_speed), hunts.time_step
+            hunts.team, hunts.max_obstacles, max(hunts.attacker_speed, hunts.defender_speed), hunts.time_step
         )
         self.episode: Episode | None = None
 
@@ -45,6 +47,13 @@ class HuntEnv(gym.Env):
     def scenario(self):
         return None if self.episode is None else self.episode.scenario
 
+    @property
+    def current(self) -> Episode:
+        """The episode of the last reset, ended or not: refused before the first reset."""
+        if self.episode is None:
+            raise MpcHuntError("call reset() first")
+        return self.episode
+
     def started(self) -> Episode:
         """The running episode: a step before the first reset, or after the hunt has ended, is refused."""
         if self.episode is None:
@@ -56,7 +65,7 @@ class HuntEnv(gym.Env):
         return checked_action(action, self.action_space, "action")
 
     def info(self) -> dict:
-        return self.episode.info()
+        return self.current.info()
 
     def render(self):
         return self.episode.image() if self.render_mode == "rgb_array" and self.episode is not None else None

@@ -11,6 +11,8 @@ its randomness drawn from the reset's seed.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from gymnasium import spaces
 
@@ -19,6 +21,7 @@ from mpc_hunt.envs.hunts import Hunts
 from mpc_hunt.errors import UnknownNameError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.world.behaviours import BEHAVIOURS, make_behaviour, with_behaviour
+from mpc_hunt.world.behaviours.base import Behaviour
 from mpc_hunt.world.scenario import Scenario
 
 
@@ -35,19 +38,20 @@ class DefenderEnv(HuntEnv):
     ):
         super().__init__(Hunts(scenario, ranges, defenders), render_mode)
         speed = self.hunts.defender_speed
-        self.action_space = spaces.Box(-speed, speed, shape=(self.hunts.defenders, 2), dtype=np.float64)
+        self.action_space = spaces.Box(-speed, speed, shape=(self.hunts.team, 2), dtype=np.float64)
         if attacker is not None and (not isinstance(attacker, str) or attacker not in BEHAVIOURS):
             raise UnknownNameError(f"attacker: unknown behaviour {attacker!r} (available: {', '.join(BEHAVIOURS)})")
         self.attacker_name = attacker
-        self.behaviour = None
+        self.behaviour: Behaviour | None = None
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         other = self.new_episode(seed, options)
         scenario = self.scenario if self.attacker_name is None else with_behaviour(self.scenario, self.attacker_name)
         self.behaviour = make_behaviour(scenario, other)
-        return self.episode.observation(), self.info()
+        return self.current.observation(), self.info()
 
     def step(self, action):
         e, action = self.started(), self.checked(action)  # both before the attacker's behaviour draws
-        outcome = e.step(action, self.behaviour.velocity(e.attacker, e.defenders))
+        behaviour = cast(Behaviour, self.behaviour)  # the reset's, as started() checked
+        outcome = e.step(action, behaviour.velocity(e.attacker, e.defenders))
         return e.observation(), -outcome.reward, outcome.terminated, outcome.truncated, self.info()

@@ -50,7 +50,8 @@ class Episode:
     def __init__(self, scenario: Scenario, max_obstacles: int):
         self.scenario, self.max_obstacles = scenario, max_obstacles
         self.max_steps, self.hold_steps = steps(scenario)
-        self.step_count, self.held, self.termination = 0, 0, None
+        self.step_count, self.held = 0, 0
+        self.termination: str | None = None
         self.attacker = np.array(scenario.attacker.start, dtype=float)
         self.defenders = scenario.defender_starts.copy()
         self.attacker_velocity = np.zeros(2)

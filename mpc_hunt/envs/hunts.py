@@ -18,6 +18,7 @@ the hunt's last time).
 from __future__ import annotations
 
 import dataclasses
+from typing import cast
 
 import numpy as np
 
@@ -78,47 +79,57 @@ class Hunts:
         set_(self, "ranges", dataclasses.replace(ranges, n_defenders=(int(d), int(d))))
         _check_reach(
             "ranges",
-            max(map(abs, self.ranges.arena)),
+            max(map(abs, self.drawn.arena)),
             max(self.attacker_speed, self.defender_speed),
-            self.ranges.time_limit + self.time_step,
+            self.drawn.time_limit + self.time_step,
         )
 
     @property
+    def team(self) -> int:
+        """How many defenders every hunt has: ``defenders`` as set on construction (never None after)."""
+        return cast(int, self.defenders)
+
+    @property
+    def drawn(self) -> ScenarioRanges:
+        """The ranges the hunts are drawn from, when there is no ``scenario`` (set on construction then)."""
+        return cast(ScenarioRanges, self.ranges)
+
+    @property
     def max_obstacles(self) -> int:
-        return len(self.scenario.obstacles) if self.scenario is not None else self.ranges.n_obstacles[1]
+        return len(self.scenario.obstacles) if self.scenario is not None else self.drawn.n_obstacles[1]
 
     @property
     def attacker_speed(self) -> float:
         """The fastest attacker this source plays (the bound of its action)."""
         if self.scenario is not None:
             return self.scenario.attacker.max_speed
-        return self.ranges.speed_ratio[1] * self.ranges.defender_speed[1]
+        return self.drawn.speed_ratio[1] * self.drawn.defender_speed[1]
 
     @property
     def defender_speed(self) -> float:
         """The fastest defender this source plays (the bound of its actions)."""
         if self.scenario is not None:
             return float(self.scenario.defender_max_speeds.max())
-        return self.ranges.defender_speed[1]
+        return self.drawn.defender_speed[1]
 
     @property
     def time_step(self) -> float:
         """The step of this source's hunts (the shortest its observation's bounds allow for)."""
-        return (self.scenario.hunt if self.scenario is not None else self.ranges.hunt()).time_step
+        return (self.scenario.hunt if self.scenario is not None else self.drawn.hunt()).time_step
 
     def probe(self) -> Scenario:
         """A hunt of the source, to check settings on before the first reset."""
         return (
             self.scenario
             if self.scenario is not None
-            else random_scenario(np.random.default_rng(PROBE_SEED), self.ranges, name="env")
+            else random_scenario(np.random.default_rng(PROBE_SEED), self.drawn, name="env")
         )
 
     def draw(self, rng: np.random.Generator, given: Scenario | None) -> Scenario:
         """The hunt of this reset: ``given`` (from :meth:`given`), else the source's."""
         if given is not None:
             return given
-        return self.scenario if self.scenario is not None else random_scenario(rng, self.ranges, name="env")
+        return self.scenario if self.scenario is not None else random_scenario(rng, self.drawn, name="env")
 
     def given(self, options: dict | None) -> Scenario | None:
         """The scenario a reset's ``options`` give, checked against the spaces, or None. Other keys are left to

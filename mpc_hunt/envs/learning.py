@@ -25,6 +25,8 @@ Playing a trained network through :mod:`mpc_hunt.world.behaviours.ppo` or
 
 from __future__ import annotations
 
+from typing import cast
+
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
@@ -65,11 +67,11 @@ class AttackerViewEnv(gym.Env):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
 
     def _view(self) -> np.ndarray:
-        e = self.env.episode
+        e = self.env.current
         return attacker_view(e.scenario, e.attacker, e.defenders, e.defender_velocities, sensing_radius(e.scenario))
 
     def _sensing(self) -> bool:
-        e = self.env.episode
+        e = self.env.current
         return len(sensed(e.attacker, e.defenders, sensing_radius(e.scenario))) > 0
 
     def _run(self, action: np.ndarray | None) -> tuple[float, bool, bool, dict]:
@@ -79,7 +81,7 @@ class AttackerViewEnv(gym.Env):
         info = self.env.info()
         while True:
             if not self._sensing():
-                held, velocity = 0, undisturbed(self.env.scenario, self.env.episode.attacker)
+                held, velocity = 0, undisturbed(self.env.scenario, self.env.current.attacker)
             elif held == 0:
                 return total, False, False, info
             else:
@@ -123,8 +125,8 @@ class TeamHunts:
             {name: DefenderEnv(defenders=defenders, attacker=name) for name in attackers} for _ in range(hunts)
         ]
         self.rng = np.random.default_rng(seed)
-        self.playing: list[DefenderEnv] = [None] * hunts
-        self.bases: list[VoronoiController] = [None] * hunts
+        self.playing: list[DefenderEnv | None] = [None] * hunts
+        self.bases: list[VoronoiController | None] = [None] * hunts
         self.next_base: list[np.ndarray | None] = [None] * hunts  # the base at each hunt's state, once
         self.terminal_views: list[np.ndarray | None] = [None] * hunts
 
@@ -140,18 +142,29 @@ class TeamHunts:
 
     def start(self, k: int, env: DefenderEnv) -> None:
         """Hunt ``k`` goes on as ``env``'s (reset, its hunt just begun), with a new baseline."""
-        self.playing[k], self.bases[k], self.next_base[k] = env, VoronoiController(env.episode.scenario), None
+        self.playing[k], self.bases[k], self.next_base[k] = env, VoronoiController(env.current.scenario), None
+
+    def _playing(self, k: int) -> DefenderEnv:
+        """The environment hunt ``k`` goes on in: refused before the first reset."""
+        env = self.playing[k]
+        if env is None:
+            raise MpcHuntError("call reset() first")
+        return env
 
     def _base(self, k: int) -> np.ndarray:
         """The baseline's velocities at hunt ``k``'s state, computed once for that state."""
         base, self.next_base[k] = self.next_base[k], None
         if base is None:
-            base = self.bases[k].command(self.playing[k].episode.controller_observation()).velocities
+            base = (
+                cast(VoronoiController, self.bases[k])
+                .command(self._playing(k).current.controller_observation())
+                .velocities
+            )
         return base
 
     def views(self, k: int) -> np.ndarray:
         """Hunt ``k``'s views, one row per defender (:func:`~mpc_hunt.control.ppo_team.team_view`)."""
-        e, base = self.playing[k].episode, self._base(k)
+        e, base = self._playing(k).current, self._base(k)
         self.next_base[k] = base  # the state's first step uses it again
         return np.array(
             [
@@ -181,8 +194,9 @@ class TeamHunts:
             1.0,
         ).reshape(len(self.envs), self.defenders, 2)  # before anything moves
         views, rewards, dones, infos = [], [], [], []
-        for k, env in enumerate(self.playing):
-            e = env.episode
+        for k in range(len(self.envs)):
+            env = self._playing(k)
+            e = env.current
             total, ended, info = 0.0, False, {}
             for _ in range(self.decision_steps):
                 active = ~e.scenario.failed(e.time)

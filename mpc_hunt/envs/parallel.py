@@ -47,12 +47,12 @@ class HuntParallelEnv(ParallelEnv):
     ):
         check_render_mode(render_mode)
         self.hunts, self.render_mode = Hunts(scenario, ranges, defenders), render_mode
-        self.possible_agents = [ATTACKER] + [f"defender_{i}" for i in range(self.hunts.defenders)]
+        self.possible_agents = [ATTACKER] + [f"defender_{i}" for i in range(self.hunts.team)]
         self.agents: list[str] = []
         self.episode: Episode | None = None
         self.rng: np.random.Generator | None = None
         self._observation = observation_space(
-            self.hunts.defenders,
+            self.hunts.team,
             self.hunts.max_obstacles,
             max(self.hunts.attacker_speed, self.hunts.defender_speed),
             self.hunts.time_step,

@@ -9,12 +9,14 @@ any policy of the attacker's observation (a trained agent of
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, cast
 
 import numpy as np
 
+from mpc_hunt.control.controller import Controller
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec
+from mpc_hunt.envs.episode import Episode
 from mpc_hunt.envs.observation import observe
 from mpc_hunt.errors import OptionError, SettingError
 from mpc_hunt.world.behaviours.base import attacker_move
@@ -61,13 +63,15 @@ class ControllerPolicy:
         self.env, self.belief = env, belief
         self.spec = controller_spec(controller, options, "options", env.hunts.probe(), belief)
         self.rng = np.random.default_rng(seed)
-        self.episode = self.controller = None
+        self.episode: Episode | None = None
+        self.controller: Controller | None = None
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
-        if self.episode is not self.env.episode:  # a new hunt: a new controller (it keeps memory)
-            self.episode = self.env.episode
-            self.controller = self.spec.build(self.episode.scenario, belief=self.belief, rng=self.rng)
-        return self.controller.command(self.episode.controller_observation()).velocities
+        episode: Episode = self.env.episode
+        if self.episode is not episode:  # a new hunt: a new controller (it keeps memory)
+            self.episode = episode
+            self.controller = self.spec.build(episode.scenario, belief=self.belief, rng=self.rng)
+        return cast(Controller, self.controller).command(episode.controller_observation()).velocities
 
 
 class PolicyAttacker:

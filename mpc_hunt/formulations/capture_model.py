@@ -222,7 +222,7 @@ class ParameterWriter:
         theta[self._scenario_run] = run
         theta[self._scalars] = scalars
         if structure.objective == "enclose":
-            e, ref = problem.enclose_weights, problem.reference
+            e, ref = problem.enclose_weights, problem.enclose_reference
             theta[self._weights] = (0.0, 0.0, e.move, 1.0)
             theta[self._enclose] = (*arena, e.attacker, e.edge, e.edge_margin)
             nc, N = structure.planned, structure.horizon

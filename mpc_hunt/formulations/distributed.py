@@ -188,5 +188,6 @@ class DistributedFormulation(Formulation):
             plan=problem.plan_from_x(x),
             iterations=out.iterations,
             extras=out.extras(self.rounds),
-            **times,
+            solver_time=times["solver_time"],
+            setup_time=times["setup_time"],
         )

@@ -55,11 +55,15 @@ class StagedNLP:
         # relaxation (1e-8 in a row's units) then move a robot by ~1e-10 m, not ~1e-7 m, so a plan the
         # world caps at the robot's speed lands where it was planned (docs/robustness.md).
         length = ca.sum1(p["step_limits"]) / nc
-        w, guess, g, f = [], [], [], 0
-        lbg, ubg, relax, kinds = [], [], [], []
+        w_parts: list[ca.SX] = []
+        guess_parts: list[ca.SX] = []
+        g_parts: list[ca.SX] = []
+        f: ca.SX | float = 0
+        lbg, ubg, relax = [], [], []
+        kind_parts: list[np.ndarray] = []
 
         def rows(expr, lower, upper, relaxable):
-            g.append(expr)
+            g_parts.append(expr)
             lbg.extend(np.broadcast_to(lower, expr.shape[0]))
             ubg.extend(np.broadcast_to(upper, expr.shape[0]))
             relax.extend(np.broadcast_to(relaxable, expr.shape[0]))
@@ -78,9 +82,9 @@ class StagedNLP:
                 u += [q, s]
                 u_guess += [q_guess, ca.fabs(sq_guess - q_guess)]
                 u_kinds += ["q"] + ["s"] * nc
-            w.append(ca.vertcat(*u))
-            guess.append(ca.vertcat(*u_guess))
-            kinds.append(np.array(u_kinds, dtype=object))
+            w_parts.append(ca.vertcat(*u))
+            guess_parts.append(ca.vertcat(*u_guess))
+            kind_parts.append(np.array(u_kinds, dtype=object))
             if k < N:
                 x_next = ca.SX.sym(f"x{k + 1}", sm.nx)
                 rows(x_next - sm.dynamics(x, du, exact if k == 0 else stage(k)), 0.0, 0.0, False)
@@ -97,18 +101,18 @@ class StagedNLP:
             if k < N:
                 x_guess = sm.dynamics(x_guess, u_guess[0], exact if k == 0 else stage(k))
                 x = x_next
-                w.append(x)
-                guess.append(x_guess)
-                kinds.append(np.full(sm.nx, "state", dtype=object))
-        w, g = ca.vertcat(*w), ca.vertcat(*g)
+                w_parts.append(x)
+                guess_parts.append(x_guess)
+                kind_parts.append(np.full(sm.nx, "state", dtype=object))
+        w, g = ca.vertcat(*w_parts), ca.vertcat(*g_parts)
         self.problem = {"x": w, "p": theta, "f": f, "g": g}
         self.nc = nc
         self.lbg, self.ubg, self.relax = np.array(lbg), np.array(ubg), np.array(relax, dtype=bool)
-        kinds = np.concatenate(kinds)
+        kinds = np.concatenate(kind_parts)
         self.slack = kinds == "s"
         state = np.flatnonzero(kinds == "state")
         self.plan_index = state.reshape(N, sm.nx)[:, 2:].ravel()  # p_d,k for k = 1..N
-        guess = ca.vertcat(*guess)
+        guess = ca.vertcat(*guess_parts)
         held = ca.repmat(p["controlled"], N, 1)
         at_held = ca.substitute(g, w, ca.substitute(guess, D, held))
         self.start = ca.Function("start", [theta, D], [guess, at_held])

@@ -69,7 +69,8 @@ class LinearisedStages:
         # and the rows then hold unrelaxed.
         from_reference = ca.DM([f == "separation" for f in st.families])
         nz = (N + 1) * nx + N * nu
-        x_ref, hessian, gradient, rows, lower, upper, lbz, ubz, ng = [], [], [], [], [], [], [], [], []
+        x_ref, hessian, gradient, rows, lower, lbz, ubz, ng = [], [], [], [], [], [], [], []
+        upper: list[ca.SX | ca.DM] = []  # a DM (+inf) for the path rows, which have no upper bound
         constant = 0  # |ε|² at the reference
         x_ref.append(ca.vertcat(p["attacker"], p["controlled"]))
         held = [x_ref[0]]  # the held plan: "never worse than now"

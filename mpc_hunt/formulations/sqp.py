@@ -72,4 +72,6 @@ def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_lef
         if iteration.settled(np.max(np.abs(result.plan - reference))):
             return replace(result, message=f"converged after {count + 1} QPs", **totals)
         last, duals, reference = result, result.duals, result.plan
+    if last is None:  # (no QP ran)
+        raise ValueError(f"an iteration of at most {iteration.max_qps} QPs runs none")
     return replace(last, status=Status.ITERATION_LIMIT, message=f"no convergence in {iteration.max_qps} QPs", **totals)

@@ -36,7 +36,9 @@ def team_push(structure: Structure) -> ca.Function:
     p = unpack(theta, structure)
     held = [p["held"][2 * j : 2 * j + 2] for j in range(nf)]
     a = p["attacker"]
-    path, pushes, jacobians = [], [], []
+    path: list[ca.SX] = []
+    pushes: list[ca.SX] = []
+    jacobians: list[ca.SX] = []
     for k in range(N):
         positions = p["controlled"] if k == 0 else plans[(k - 1) * nc * 2 : k * nc * 2]
         team = [positions[2 * i : 2 * i + 2] for i in range(nc)] + held

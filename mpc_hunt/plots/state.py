@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.patches import Circle, Rectangle
 
 from mpc_hunt.plots.hunt import ATTACKER_COLOUR, MARGIN, defender_colour, draw_obstacles, new_figure
@@ -27,7 +30,15 @@ def state_image(
     if trail:
         path = np.array(trail)
         ax.plot(path[:, 0], path[:, 1], color=ATTACKER_COLOUR, linewidth=0.8, alpha=0.6)
-    ax.add_patch(Circle(attacker, scenario.hunt.hunt_radius, fill=False, edgecolor=ATTACKER_COLOUR, linestyle="--"))
+    ax.add_patch(
+        Circle(
+            (float(attacker[0]), float(attacker[1])),
+            scenario.hunt.hunt_radius,
+            fill=False,
+            edgecolor=ATTACKER_COLOUR,
+            linestyle="--",
+        )
+    )
     ax.plot(*attacker, "o", color=ATTACKER_COLOUR)
     for i, d in enumerate(np.asarray(defenders).reshape(-1, 2)):
         ax.plot(*d, "o", color=defender_colour(i))
@@ -39,5 +50,5 @@ def state_image(
     ax.set_aspect("equal")
     ax.set_title(f"{scenario.name}, t = {time:.1f} s", fontsize=9)
     fig.canvas.draw()
-    image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+    image = np.asarray(cast(FigureCanvasAgg, fig.canvas).buffer_rgba())[..., :3].copy()  # new_figure's canvas
     return image

@@ -90,8 +90,8 @@ def _success_by_attacker(attackers: list[str], lines: dict, path: Path) -> Path:
     """Success among reachable hunts per attacker, one series per strategy, with 95 % Wilson intervals."""
     fig, (ax,) = _figure(1, width=5.5 + 0.7 * len(attackers))
     for j, (name, by) in enumerate(lines.items()):
-        points = [(i, _reachable(by.get(a, []))) for i, a in enumerate(attackers)]
-        points = [(i, sum(r["outcome"] == "captured" for r in rows), len(rows)) for i, rows in points if rows]
+        reachable = [(i, _reachable(by.get(a, []))) for i, a in enumerate(attackers)]
+        points = [(i, sum(r["outcome"] == "captured" for r in rows), len(rows)) for i, rows in reachable if rows]
         if not points:
             continue
         xs = np.array([i for i, _, _ in points]) + (j - (len(lines) - 1) / 2) * DODGE

@@ -194,7 +194,8 @@ def _result(
     path_lengths = norm(steps).sum(axis=0) if len(d) > 1 else np.zeros(n)
     final = success_test(a[-1], d[-1], centres, radii, hunt.hunt_radius, hunt.centre_tolerance)
     clearance = attacker_clearance = None
-    by_stage = {True: None, False: None}  # capture stage or not: the least clearance its commands led to
+    # capture stage or not: the least clearance its commands led to
+    by_stage: dict[bool, float | None] = {True: None, False: None}
     if len(radii):
         clearance = float(np.min(norm(d[:, :, None, :] - centres[None, None]) - radii))
         attacker_clearance = float(np.min(norm(a[:, None, :] - centres[None]) - radii))

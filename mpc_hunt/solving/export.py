@@ -57,7 +57,7 @@ from mpc_hunt.solving.vendored_daqp import DAQP_SOURCES, DAQP_VERSION
 NAME = "capture_step"
 
 # The export's targets: the compiler the folder's Makefile builds with (None: make's own) and how to run it.
-TARGETS = {
+TARGETS: dict[str, dict[str, str | None]] = {
     "host": {"cc": None, "run": "./capture_step < input.txt", "install": ""},
     "aarch64-linux": {
         "cc": "aarch64-linux-gnu-gcc",

@@ -64,14 +64,14 @@ class CaptureLoop:
         self._previous = np.empty_like(self.plan)  # the last usable plan of the step under way
         self._move = np.empty_like(self.plan)  # |plan − reference|, so a step allocates nothing
         self._buffer, self._evaluate = function.buffer()
-        self._buffer.set_arg(0, memoryview(self.theta))
-        self._buffer.set_arg(1, memoryview(self._reference))
-        self._buffer.set_res(0, memoryview(self.plan.reshape(-1)))
-        self._buffer.set_res(1, memoryview(self.objective))
+        self._buffer.set_arg(0, self.theta.data)
+        self._buffer.set_arg(1, self._reference.data)
+        self._buffer.set_res(0, self.plan.reshape(-1).data)
+        self._buffer.set_res(1, self.objective.data)
         self._stepped = False  # whether a step has run (the first, slower, is not paced)
         self.certificate = np.full(3, np.nan)  # the last QP's primal and dual residuals and duality gap
         if self.backend.LOOP_CERTIFICATE:
-            self._buffer.set_res(5, memoryview(self.certificate))
+            self._buffer.set_res(5, self.certificate.data)
 
     @property
     def extras(self) -> dict:

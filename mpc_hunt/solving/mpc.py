@@ -100,16 +100,16 @@ class CaptureMPC:
     def step(self, problem: CaptureProblem) -> MPCStep:
         """Solve ``problem`` from the memory and apply its plan, or the fallback."""
         start, memory = self._start(problem), self._memory
-        duals = memory.duals if start is not None else None
+        duals = memory.duals if start is not None and memory is not None else None
         solution = self.solver.solve(problem, start, duals)
         if solution.success and solution.violation is not None and hard_violation(solution.violation) > self.tolerance:
             self.violating += 1
             plan, fallback = self._fallback(problem, start)
-        elif solution.success:
+        elif solution.success and solution.plan is not None:  # (a usable solution always has its plan)
             plan, fallback = solution.plan, None
         elif (
             solution.plan is not None
-            and solution.violation is not None
+            and solution.max_violation is not None
             and solution.max_violation <= FEASIBLE_TOLERANCE
         ):
             plan, fallback = solution.plan, FALLBACKS[0]

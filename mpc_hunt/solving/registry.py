@@ -14,6 +14,7 @@ import importlib.util
 from dataclasses import dataclass
 
 from mpc_hunt.errors import SettingError, SolverNotFoundError, UnknownNameError
+from mpc_hunt.formulations.base import Formulation
 from mpc_hunt.formulations.distributed import DistributedFormulation
 from mpc_hunt.formulations.ms_nlp import MSNLPFormulation
 from mpc_hunt.formulations.nlp import NLPFormulation
@@ -22,6 +23,7 @@ from mpc_hunt.formulations.rti import RTIFormulation
 from mpc_hunt.formulations.socp import SOCPFormulation
 from mpc_hunt.formulations.sqp import SQPFormulation
 from mpc_hunt.formulations.stage_sqp import StageSQPFormulation
+from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.solving.backends.clarabel import ClarabelBackend
 from mpc_hunt.solving.backends.cvxpy import CvxpyBackend
 from mpc_hunt.solving.backends.daqp import DaqpBackend
@@ -32,7 +34,7 @@ from mpc_hunt.solving.backends.ipopt import IpoptBackend
 from mpc_hunt.solving.backends.osqp import OsqpBackend
 from mpc_hunt.world.names import registered
 
-FORMULATIONS = {
+FORMULATIONS: dict[str, type[Formulation]] = {
     "nlp": NLPFormulation,
     "qp": QPFormulation,
     "sqp": SQPFormulation,
@@ -43,7 +45,7 @@ FORMULATIONS = {
     "distributed": DistributedFormulation,
 }
 
-BACKENDS = {
+BACKENDS: dict[str, type[Backend]] = {
     "ipopt": IpoptBackend,
     "osqp": OsqpBackend,
     "clarabel": ClarabelBackend,
@@ -55,12 +57,12 @@ BACKENDS = {
 }
 
 
-def formulation_class(name: str) -> type:
+def formulation_class(name: str) -> type[Formulation]:
     """The formulation registered as ``name``; an unknown name lists the registered ones."""
     return registered(FORMULATIONS, "formulation", name)
 
 
-def backend_class(name: str) -> type:
+def backend_class(name: str) -> type[Backend]:
     """The backend registered as ``name`` (its module imports no solver until used)."""
     return registered(BACKENDS, "backend", name)
 
@@ -131,8 +133,8 @@ def objective_refusal(formulation: str, backend: str | None, objective: str) -> 
 class Pair:
     """A formulation and a backend that work together, as their classes; ``backend_name`` as asked for."""
 
-    formulation: type
-    backend: type
+    formulation: type[Formulation]
+    backend: type[Backend]
     backend_name: str
 
     @property

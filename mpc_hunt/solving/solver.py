@@ -23,11 +23,13 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.capture.evaluator import solve_scores
+from mpc_hunt.capture.iteration import QPIteration
 from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.capture.structure import Structure
@@ -82,7 +84,7 @@ class CaptureSolver:
             objective: registry.objective_refusal(formulation, pair.backend_name, objective) for objective in OBJECTIVES
         }  # why an objective cannot be solved (None: it can)
         self._prepared: set[Structure] = set()  # structures whose model this solver has built
-        self._loops: dict[Structure, CaptureLoop] = {}
+        self._loops: dict[Structure, CaptureLoop | TeamLoop] = {}
 
     def loop(self, problem: CaptureProblem) -> CaptureLoop | TeamLoop:
         """The control loop's step for ``problem``'s structure, built on its first problem and kept: a
@@ -114,7 +116,7 @@ class CaptureSolver:
         if self.on_loops:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
-        names = dict(formulation=self.formulation.name, backend=self.backend.name)
+        names: dict[str, Any] = dict(formulation=self.formulation.name, backend=self.backend.name)
         try:
             build_time = 0.0
             if problem.structure not in self._prepared:  # set-up time is counted once per structure
@@ -184,7 +186,10 @@ class CaptureSolver:
         the CPU its Makefile builds for (:data:`mpc_hunt.solving.export.TARGETS`)."""
         from mpc_hunt.solving.export import check_export, write_step
 
-        check_export(target, self.backend.exports, self.formulation.iteration)
+        if not self.stage_form:  # (before the formulation's iteration, which only a stage-form one has)
+            raise MpcHuntError(registry.stage_form_message(self.formulation.name))
+        iteration: QPIteration = getattr(self.formulation, "iteration")
+        check_export(target, self.backend.exports, iteration)
 
         loop = self.loop(problem)
         loop.load(problem)
@@ -203,7 +208,7 @@ class CaptureSolver:
             )
         return write_step(
             Path(folder),
-            self.backend.generated_step(loop.step_function),
+            getattr(self.backend, "generated_step")(loop.step_function),  # every exporting backend's
             self.backend.exports,
             loop.formulation.iteration,
             loop.structure,
@@ -226,7 +231,10 @@ class CaptureSolver:
 def loop_certificate(loop: CaptureLoop | TeamLoop) -> Certificate | None:
     """The certificate of the loop's last step (None where its backend writes none: NaN)."""
     values = loop.certificate
-    return None if np.any(np.isnan(values)) else Certificate(*(float(v) for v in values))
+    if np.any(np.isnan(values)):
+        return None
+    primal, dual, gap = (float(v) for v in values)
+    return Certificate(primal, dual, gap)
 
 
 def solve(problem: CaptureProblem, formulation: str, backend: str | None = None, **options) -> Solution:

@@ -60,7 +60,8 @@ def safety_breaches(result: HuntResult, scenario: Scenario) -> tuple[bool, bool]
     """Did a defender come inside an obstacle's safety distance R_safe (Eq. 15), less ``CONTACT_TOLERANCE``,
     at a position an approaching-stage command led it to, and at one a capture-stage command led it to?"""
     limit = scenario.hunt.safety_distance - CONTACT_TOLERANCE
-    return tuple(
+    approach, capture = (
         clearance is not None and clearance < limit
         for clearance in (result.approach_min_obstacle_clearance, result.capture_min_obstacle_clearance)
     )
+    return approach, capture

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Any, Callable, Mapping
 
 import numpy as np
 import tomli_w
@@ -156,7 +156,7 @@ def ranges_to_dict(ranges: ScenarioRanges) -> dict:
     return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(ranges).items()}
 
 
-def ranges_from_dict(data: Mapping[str, object]) -> ScenarioRanges:
+def ranges_from_dict(data: Mapping[str, Any]) -> ScenarioRanges:
     """Ranges from plain data: any subset of the fields; the others keep their defaults."""
     if not isinstance(data, Mapping):
         raise ScenarioError(f"ranges: expected a table, got {type(data).__name__}")

@@ -27,7 +27,7 @@ from __future__ import annotations
 import itertools
 import time
 from dataclasses import dataclass
-from typing import Any, Callable, Iterable, Iterator, Sequence
+from typing import Any, Callable, Generator, Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -217,7 +217,9 @@ def tasks(
     )
 
 
-def run_local(todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None) -> Iterator[dict]:
+def run_local(
+    todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None
+) -> Generator[dict, None, None]:
     """Rows as hunts finish, on local worker processes (:func:`mpc_hunt.workers.run_local`); stops cleanly when the
     caller stops iterating. ``work`` (default :func:`run_hunt`; a module-level function, so that it pickles) turns
     a task into its row."""
@@ -243,7 +245,7 @@ def connect_dask(scheduler: str):
         ) from None
 
 
-def run_dask(todo: Iterable[Hunt], client) -> Iterator[dict]:
+def run_dask(todo: Iterable[Hunt], client) -> Generator[dict, None, None]:
     """Rows as hunts finish, on the Dask cluster of ``client`` (:func:`connect_dask`), which it closes. At most
     DASK_IN_FLIGHT hunts are handed over at once; ``todo`` is read as they finish."""
     from distributed import KilledWorker, as_completed

@@ -129,7 +129,7 @@ class SweepStore:
         arguments = None if arguments is None else current_arguments(arguments)
         try:
             self.db = sqlite3.connect(self.path)
-            if not exists:
+            if not exists and arguments is not None:  # (a new file always has them: refused above)
                 self._create(arguments)
             stored = self.db.execute("select arguments, numpy from sweep").fetchone()
             self.columns = [r[1] for r in self.db.execute('pragma table_info("hunts")')]
@@ -140,7 +140,9 @@ class SweepStore:
                 f"{self.path}: not a results file of this version of mpc-hunt's sweep (docs/robustness.md)"
             )
         self.legacy = self.columns == LEGACY_COLUMNS
-        self.arguments = self._stored_arguments(stored) if exists else arguments  # a file read: checked
+        self.arguments: dict = (  # a file read: checked
+            self._stored_arguments(stored) if exists or arguments is None else arguments
+        )
         if arguments is not None:
             self._check_resumable(arguments, stored)
             self.db.execute("pragma journal_mode=wal")

@@ -151,7 +151,7 @@ class AttackerModel:
         obstacles' field, Eq. 3, known to the defenders)."""
         return dataclasses.replace(
             self,
-            intent=tuple(map(float, intent)),
+            intent=(float(intent[0]), float(intent[1])),
             perception_radius=float(perception_radius),
             k_d=float(gain) / self.eta,
         )

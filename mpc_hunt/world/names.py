@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
+from typing import TypeVar
 
 from mpc_hunt.errors import UnknownNameError
 
+_Entry = TypeVar("_Entry")
 
-def registered(table: dict[str, type], what: str, name: str) -> type:
+
+def registered(table: Mapping[str, _Entry], what: str, name: str) -> _Entry:
     """The class ``table`` registers as ``name``; an unknown name lists the table's."""
     if not isinstance(name, str) or name not in table:
         raise UnknownNameError(f"unknown {what} {name!r} (available: {', '.join(table)})")

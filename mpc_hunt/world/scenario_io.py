@@ -13,6 +13,7 @@ import tomllib
 from dataclasses import MISSING, asdict, fields
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import tomli_w
 
@@ -126,7 +127,7 @@ def scenario_to_dict(scenario: Scenario) -> dict:
     def plain(obj):
         return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(obj).items() if v is not None}
 
-    data = {"name": scenario.name, "description": scenario.description}
+    data: dict[str, Any] = {"name": scenario.name, "description": scenario.description}
     if scenario.arena is not None:
         data["arena"] = list(scenario.arena)
     data["attacker"] = plain(scenario.attacker)

@@ -51,6 +51,10 @@ def test_a_bad_file_names_what_is_wrong(tmp_path):
     with pytest.raises(ScenarioError, match=r"problems\[0\]: sequence: expected a string or null"):
         problem_set_from_dict(data)
     data = builtin_problem_set("default").to_dict()
+    data["problems"][0]["scenario"] = ["a"]  # not a name (unhashable: once a TypeError)
+    with pytest.raises(ScenarioError, match=r"problems\[0\]: scenario: \['a'\] is not among the set's scenarios"):
+        problem_set_from_dict(data)
+    data = builtin_problem_set("default").to_dict()
     data["problems"][1]["id"] = data["problems"][0]["id"]
     with pytest.raises(ScenarioError, match="appears more than once"):
         problem_set_from_dict(data)

@@ -10,7 +10,7 @@ import pytest
 
 from mpc_hunt.capture.iteration import ONE_QP, QPIteration
 from mpc_hunt.cli.commands import main
-from mpc_hunt.errors import SettingError
+from mpc_hunt.errors import MpcHuntError, SettingError
 from mpc_hunt.solving.export import check_export
 
 
@@ -72,6 +72,13 @@ def test_a_formulation_that_is_not_a_stage_step_is_one_line(tmp_path, capsys):
     assert main(["export", "--formulation", "nlp", "--output", str(tmp_path / "board")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "formulation: only the stage-form steps" in err and "stage-sqp" in err
+
+
+def test_the_solvers_export_of_a_formulation_that_is_not_a_stage_step_is_refused(tmp_path):
+    from mpc_hunt.solving.solver import CaptureSolver
+
+    with pytest.raises(MpcHuntError, match="formulation: only the stage-form steps"):  # not an AttributeError
+        CaptureSolver("nlp", "ipopt").export(tmp_path / "board", None)
 
 
 def test_an_output_that_is_a_file_is_one_line(tmp_path, capsys):

@@ -134,7 +134,7 @@ class Backend:
         names = self.option_names()
         unknown = [key for key in options if names is not None and key not in names]
         if unknown:
-            near = difflib.get_close_matches(unknown[0], sorted(names), n=1)
+            near = difflib.get_close_matches(unknown[0], sorted(names or ()), n=1)
             hint = f"did you mean {near[0]!r}?" if near else "see the solver's documentation for its options"
             raise OptionError(f"{unknown[0]}: not an option of backend {self.name} ({hint})")
 

@@ -56,7 +56,7 @@ class ConicLayout:
                 src.append(k)
                 sgn.append(sign)
         # The order of A.data in COO equals its CSC order (tocoo keeps stored entries in place).
-        ids = sp.csc_matrix((np.arange(1, len(dst) + 1, dtype=float), (dst, col)), shape=(self.rows, n))
+        ids = sp.csc_matrix((np.arange(1, len(dst) + 1, dtype=float), (dst, col)), shape=(self.rows, n))  # type: ignore[arg-type]
         order = ids.data.astype(int) - 1
         self.pattern = ids
         self.src = np.array(src, dtype=int)[order]

@@ -47,7 +47,7 @@ class InterpretedBuffer:
         if self.model is None:
             self.model = daqp.Model()
             self.model.setup(H, f, A, bu, bl)
-            attempts = [None]
+            attempts: list[dict[str, np.ndarray] | None] = [None]
         else:
             attempts = [dict(H=H, f=f, A=A, bupper=bu, blower=bl), dict(sense=np.zeros(len(bu), dtype=np.intc))]
         for update in attempts:

@@ -36,7 +36,11 @@ def condensed(graph) -> tuple[Any, dict]:
     nv = sum(nus)
     v = ca.SX.sym("v", nv)
     A = qp["a"]
-    xi, parts, gaps, controls, states = ca.SX.zeros(nxs[0]), [], [], [], []
+    xi = ca.SX.zeros(nxs[0])
+    parts: list[ca.SX] = []
+    gaps: list[int] = []
+    controls: list[int] = []
+    states: list[range] = []
     row = col = used = 0
     for k in range(N + 1):
         parts.append(xi)

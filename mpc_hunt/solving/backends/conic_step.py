@@ -68,7 +68,8 @@ class ConicStepBackend(Backend):
         # Every output requested: some plugins write their duals unconditionally.
         solution = solver(**dict(zip(QP_KEYS, linearise(*inputs))), lam_x0=lam_x0, lam_a0=lam_a0)
         plan, cost = read(*inputs, solution["x"])
-        residuals = certificate(*linearise(*inputs), solution["x"], solution["lam_x"], solution["lam_a"])
+        h, g, a, lba, uba, lbx, ubx = linearise(*inputs)
+        residuals = certificate(h, g, a, lba, uba, lbx, ubx, solution["x"], solution["lam_x"], solution["lam_a"])
         return ca.Function(
             "step",
             inputs + [lam_x0, lam_a0],
@@ -135,6 +136,7 @@ def call(step, data: StageQPData, warm: WarmStart) -> tuple:
 
 def as_solution(status: Status, message: str, iterations: int, outputs: tuple) -> Solution:
     plan, cost, lam_x, lam_a, residuals = outputs
+    primal, dual, gap = (float(v) for v in np.array(residuals).ravel())
     return Solution(
         status=status,
         message=message,
@@ -142,5 +144,5 @@ def as_solution(status: Status, message: str, iterations: int, outputs: tuple) -
         formulation_objective=float(cost),
         iterations=iterations,
         duals=WarmStart(None, np.array(lam_a).ravel(), np.array(lam_x).ravel()),
-        certificate=Certificate(*(float(v) for v in np.array(residuals).ravel())),
+        certificate=Certificate(primal, dual, gap),
     )

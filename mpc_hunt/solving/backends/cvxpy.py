@@ -15,6 +15,7 @@ from __future__ import annotations
 import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -25,19 +26,22 @@ from mpc_hunt.errors import OptionError
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.solving.backends.clarabel import ClarabelBackend
 
+if TYPE_CHECKING:
+    import cvxpy as cp
+
 
 @dataclass
 class _Problem:
     """The parametric CVXPY problem and its parameters."""
 
-    problem: object
-    x: object
-    J: object
-    c: object
-    lin: object
-    A: object
-    b: object  # u on upper and cone rows
-    bl: object  # l on lower rows
+    problem: cp.Problem
+    x: cp.Variable
+    J: cp.Parameter
+    c: cp.Parameter
+    lin: cp.Parameter
+    A: cp.Parameter
+    b: cp.Parameter  # u on upper and cone rows
+    bl: cp.Parameter  # l on lower rows
     rows: list  # (constraint, its rows of A, sign): how each constraint's duals map onto the rows' multipliers y
 
 

@@ -33,6 +33,8 @@ from mpc_hunt.solving.backends.daqp import EXIT_MESSAGE, EXIT_STATUS
 class CondensedStep:
     """A structure's condensed step: the condensing Function, its sizes, and the compiled library (or None)."""
 
+    default_buffer: CompiledBuffer | InterpretedBuffer  # the backend's, made on its first run
+
     def __init__(self, graph, flags: tuple = FLAGS):
         self.function, self.sizes = condensed(graph)
         self.library = compiled_library(self.function, self.sizes, flags)
@@ -76,9 +78,9 @@ class DaqpCondensedBackend(Backend):
         theta, reference = (np.array(a, dtype=float).ravel() for a in data.args)
         plan, objective = np.empty_like(reference), np.zeros(1)
         for i, a in enumerate((theta, reference)):
-            buffer.set_arg(i, memoryview(a))
+            buffer.set_arg(i, a.data)
         for i, a in enumerate((plan, objective)):
-            buffer.set_res(i, memoryview(a))
+            buffer.set_res(i, a.data)
         buffer.evaluate()
         status, iterations = self.loop_status(step, buffer)
         return Solution(

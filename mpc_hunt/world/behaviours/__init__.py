@@ -14,6 +14,7 @@ senses defenders within a radius, moves at most v_a, is repelled by obstacles
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -32,7 +33,7 @@ if TYPE_CHECKING:
     from mpc_hunt.world.behaviours.base import Behaviour
     from mpc_hunt.world.scenario import Scenario
 
-BEHAVIOURS = {
+BEHAVIOURS: dict[str, Callable[[Scenario, np.random.Generator], Behaviour]] = {
     "apf": ApfAttacker,
     "flee": FleeingAttacker,
     "gap": GapAttacker,
