@@ -157,8 +157,8 @@ class LinearisedCapture:
         self._outputs = [self.function.sparsity_out(i) for i in range(self.function.n_out())]
         self._csc_index = {i: tuple(np.array(v) for v in self._outputs[i].get_ccs()) for i in (0, 2)}
         self._places = {i: np.array(pattern.find()) for i, pattern in enumerate(self._outputs) if i not in (0, 2)}
-        rows = self._outputs[5].size1()
-        self.J_pattern = (self._places[5] % rows, self._places[5] // rows)  # J's structural nonzeros
+        j_rows = self._outputs[5].size1()
+        self.J_pattern = (self._places[5] % j_rows, self._places[5] // j_rows)  # J's structural nonzeros
 
     def data(self, key: tuple, theta: np.ndarray, Xref: np.ndarray) -> QPData:
         """The QP at reference X̄ in x = (δ, q, s)."""
@@ -167,18 +167,18 @@ class LinearisedCapture:
         local = self._local
         if not hasattr(local, "buffer"):
             local.buffer, local.evaluate = self.function.buffer()
-        local.buffer.set_arg(0, memoryview(theta))
-        local.buffer.set_arg(1, memoryview(Xref))
+        local.buffer.set_arg(0, theta.data)
+        local.buffer.set_arg(1, Xref.data)
         for i, values in enumerate(out):
-            local.buffer.set_res(i, memoryview(values))
+            local.buffer.set_res(i, values.data)
         local.evaluate()
         local.bound = theta, Xref, out  # the buffer keeps their addresses: kept alive until the next evaluation
-        P, q, A, l, u, J, c, lin = (self._csc(i, v) if i in (0, 2) else self._dense(i, v) for i, v in enumerate(out))
+        q, l, u, J, c, lin = (self._dense(i, out[i]) for i in (1, 3, 4, 5, 6, 7))
         return QPData(
             key,
-            P,
+            self._csc(0, out[0]),
             q.ravel(),
-            A,
+            self._csc(2, out[2]),
             l.ravel(),
             u.ravel(),
             J,

@@ -31,9 +31,9 @@ def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     if v.shape == (2,) and np.ndim(max_norm) == 0:  # one vector (the world's and the evaluator's steps): the same
         x, y = float(v[0]), float(v[1])  # operations on Python floats, a tenth of the time
-        n = math.sqrt(x * x + y * y)
-        if math.isfinite(n):
-            scale = max_norm / n if n > max_norm else 1.0
+        length = math.sqrt(x * x + y * y)
+        if math.isfinite(length):
+            scale = max_norm / length if length > max_norm else 1.0
             return np.array([x * scale, y * scale])
     with np.errstate(over="ignore"):
         n = norm(v)
