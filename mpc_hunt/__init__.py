@@ -29,6 +29,7 @@ from mpc_hunt.sim import HuntResult, simulate
 from mpc_hunt.solving import CaptureMPC, CaptureSolver, MPCStep, pairs, solve
 from mpc_hunt.world import (
     Attacker,
+    Belief,
     CircleStatus,
     Defender,
     HuntParameters,
@@ -49,6 +50,7 @@ except PackageNotFoundError:  # running from a source tree that was never instal
 
 __all__ = [
     "Attacker",
+    "Belief",
     "CaptureMPC",
     "CaptureProblem",
     "CaptureSolver",
