@@ -45,7 +45,8 @@ def main() -> None:
     recommended = ControllerSpec()
     hunt(scenario, "gap", recommended)
     hunt(scenario, "apf", ControllerSpec("enclose", horizon=5))
-    hunt(scenario, "apf", ControllerSpec("enclose", horizon=5), Belief(perception_radius=1.3))  # it perceives 30 % farther
+    wrong = Belief(perception_radius=1.3)  # the attacker perceives 30 % farther than the defenders believe
+    hunt(scenario, "apf", ControllerSpec("enclose", horizon=5), wrong)
     hunt(scenario, "ppo", recommended)
     hunt(scenario, "apf", ControllerSpec("ppo"))
 
@@ -63,8 +64,10 @@ def main() -> None:
         total += reward
         if terminated or truncated:
             break
-    print(f"DefenderEnv against gap, the voronoi controller as its policy: {args.steps} steps to t = "
-          f"{info['time']:.1f} s, reward {total:.3f}")
+    print(
+        f"DefenderEnv against gap, the voronoi controller as its policy: {args.steps} steps to t = "
+        f"{info['time']:.1f} s, reward {total:.3f}"
+    )
 
 
 if __name__ == "__main__":

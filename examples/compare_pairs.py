@@ -46,22 +46,27 @@ def main() -> None:
         times = [r.solve_time * 1e3 for r in mine]
         primal = max((r.primal_residual for r in mine if r.primal_residual is not None), default=float("nan"))
         dual = max((r.dual_residual for r in mine if r.dual_residual is not None), default=float("nan"))
-        print(f"  {formulation + ':' + backend:14s} {sum(r.success for r in mine):3d}/{len(mine):<3d}"
-              f" {statistics.median(times):9.2f} {max(times):8.2f}  {primal:.1e} / {dual:.1e}")
+        print(
+            f"  {formulation + ':' + backend:14s} {sum(r.success for r in mine):3d}/{len(mine):<3d}"
+            f" {statistics.median(times):9.2f} {max(times):8.2f}  {primal:.1e} / {dual:.1e}"
+        )
 
     hunts = capture_stage_hunts([builtin_scenario(args.scenario)], [], 0)
     own = run_own_loop(hunts, pairs, [args.horizon], controller=args.controller, deadline=args.deadline)
-    print(f"own loop, {args.controller} on {args.scenario} from its capture stage, deadline "
-          f"{args.deadline * 1e3:.0f} ms:")
+    print(
+        f"own loop, {args.controller} on {args.scenario} from its capture stage, deadline {args.deadline * 1e3:.0f} ms:"
+    )
     print("  pair           captured  at s   steps  p95 ms   max ms  misses T / deadline  fallbacks")
     for hunt in own.hunts:
         r = hunt.result
         stats = r.solve_time_stats()
         misses = stats["deadline_misses"]
-        print(f"  {hunt.formulation + ':' + hunt.backend:14s} {str(r.captured):8s} "
-              f"{r.capture_time if r.captured else float('nan'):5.1f} {r.steps:7d} {stats['p95_s'] * 1e3:7.2f} "
-              f"{stats['max_s'] * 1e3:8.2f}  {misses['over_time_step']:4d} / {misses['over_deadline']:<4d}"
-              f"          {r.fallbacks}")
+        print(
+            f"  {hunt.formulation + ':' + hunt.backend:14s} {str(r.captured):8s} "
+            f"{r.capture_time if r.captured else float('nan'):5.1f} {r.steps:7d} {stats['p95_s'] * 1e3:7.2f} "
+            f"{stats['max_s'] * 1e3:8.2f}  {misses['over_time_step']:4d} / {misses['over_deadline']:<4d}"
+            f"          {r.fallbacks}"
+        )
 
 
 if __name__ == "__main__":

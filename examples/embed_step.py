@@ -49,15 +49,21 @@ def main() -> None:
     hold_steps = round(hunt.hold_time / T)  # the success test must hold this many steps in a row
     held = misses = 0
     previous = None
-    print(f"{scenario.name}: {args.formulation} on {args.backend}, N = {args.horizon}, T = {T} s, "
-          f"deadline {args.deadline * 1e3:.0f} ms")
+    print(
+        f"{scenario.name}: {args.formulation} on {args.backend}, N = {args.horizon}, T = {T} s, "
+        f"deadline {args.deadline * 1e3:.0f} ms"
+    )
     print(" step      t   step ms  status      primal    dual      gap        misses  radius m")
     for k in range(round(hunt.time_limit / T)):
         observation = Observation(k * T, attacker, previous, defenders)
         started = time.perf_counter()
         problem = CaptureProblem.at_state(
-            scenario, attacker, defenders, args.horizon,
-            reference=places.reference(observation), enclose_weights=places.weights,
+            scenario,
+            attacker,
+            defenders,
+            args.horizon,
+            reference=places.reference(observation),
+            enclose_weights=places.weights,
         )
         step = mpc.step(problem)
         elapsed = time.perf_counter() - started  # what the loop waited: posing the problem and the solve
@@ -66,20 +72,33 @@ def main() -> None:
         previous = attacker
         attacker = problem.attacker_step(attacker, defenders)  # the world: the attacker reacts to where they were
         defenders = step.plan[0]  # the plan's first positions: where the defenders are one step on
-        status = success_test(attacker, defenders, scenario.obstacle_centres, scenario.obstacle_radii,
-                              hunt.hunt_radius, hunt.centre_tolerance)
+        status = success_test(
+            attacker,
+            defenders,
+            scenario.obstacle_centres,
+            scenario.obstacle_radii,
+            hunt.hunt_radius,
+            hunt.centre_tolerance,
+        )
         held = held + 1 if status.holds else 0
 
         c = step.solution.certificate
-        residuals = "   no certificate           " if c is None else (
-            f"{c.primal_residual:9.1e} {c.dual_residual:9.1e} {c.duality_gap:9.1e}")
+        residuals = (
+            "   no certificate           "
+            if c is None
+            else (f"{c.primal_residual:9.1e} {c.dual_residual:9.1e} {c.duality_gap:9.1e}")
+        )
         label = step.solution.status.value if step.fallback is None else f"fallback: {step.fallback}"
-        print(f"{k:5d} {(k + 1) * T:6.1f} {elapsed * 1e3:9.2f}  {label:10s} {residuals}  {misses:6d}"
-              f"  {status.radius:7.3f}")
+        print(
+            f"{k:5d} {(k + 1) * T:6.1f} {elapsed * 1e3:9.2f}  {label:10s} {residuals}  {misses:6d}"
+            f"  {status.radius:7.3f}"
+        )
         if held >= hold_steps:
-            print(f"captured at t = {(k + 1) * T:.1f} s after {k + 1} steps; "
-                  f"steps over the {args.deadline * 1e3:.0f} ms deadline: {misses} (the first builds the step); "
-                  f"fallbacks: {sum(mpc.fallbacks.values())}")
+            print(
+                f"captured at t = {(k + 1) * T:.1f} s after {k + 1} steps; "
+                f"steps over the {args.deadline * 1e3:.0f} ms deadline: {misses} (the first builds the step); "
+                f"fallbacks: {sum(mpc.fallbacks.values())}"
+            )
             return
     raise SystemExit(f"not captured within the scenario's time limit of {hunt.time_limit} s")
 

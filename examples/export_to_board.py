@@ -51,11 +51,14 @@ def main() -> None:
         flags = [] if args.cflags is None else [f"CFLAGS={args.cflags}"]
         subprocess.run(["make", "-s", "-C", str(folder), *flags], check=True, capture_output=True)
         with open(folder / "input.txt") as stdin:
-            run = subprocess.run([str(folder / "capture_step")], stdin=stdin, capture_output=True, text=True,
-                                 check=True)
+            run = subprocess.run(
+                [str(folder / "capture_step")], stdin=stdin, capture_output=True, text=True, check=True
+            )
         plan, expected = np.array(run.stdout.split(), dtype=float), np.loadtxt(folder / "expected.txt")
-        print(f"built and run: {plan.size} numbers, largest difference from Python's plan "
-              f"{np.abs(plan - expected.ravel()).max():.1e} m")
+        print(
+            f"built and run: {plan.size} numbers, largest difference from Python's plan "
+            f"{np.abs(plan - expected.ravel()).max():.1e} m"
+        )
 
 
 if __name__ == "__main__":

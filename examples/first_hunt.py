@@ -30,11 +30,15 @@ def main() -> None:
     print(f"termination: {result.termination}; captured: {result.captured}; capture time: {result.capture_time} s")
     print("path lengths (m):", ", ".join(f"{x:.2f}" for x in result.path_lengths))
     print(f"final hunting radius: {result.final_hunting_radius:.3f} m (R_hunt {scenario.hunt.hunt_radius} m)")
-    print(f"least defender separation: {result.min_defender_separation:.3f} m; "
-          f"least distance to the attacker: {result.min_attacker_distance:.3f} m; steps: {result.steps}")
+    print(
+        f"least defender separation: {result.min_defender_separation:.3f} m; "
+        f"least distance to the attacker: {result.min_attacker_distance:.3f} m; steps: {result.steps}"
+    )
     stats = result.solve_time_stats()
-    print(f"capture-stage solves: {stats['count']}, median {stats['median_s'] * 1e3:.2f} ms, "
-          f"max {stats['max_s'] * 1e3:.2f} ms; failed {result.failed_solves}, fallbacks {result.fallbacks}")
+    print(
+        f"capture-stage solves: {stats['count']}, median {stats['median_s'] * 1e3:.2f} ms, "
+        f"max {stats['max_s'] * 1e3:.2f} ms; failed {result.failed_solves}, fallbacks {result.fallbacks}"
+    )
     if args.plot:
         plot_hunt(result, scenario, args.plot)
         print(f"wrote {args.plot}")

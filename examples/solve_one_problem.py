@@ -25,17 +25,23 @@ from mpc_hunt.bench import builtin_problem_set
 
 
 def report(label: str, solution) -> None:
-    print(f"{label}: {solution.formulation} on {solution.backend}: {solution.status.value} "
-          f"in {solution.solve_time * 1e3:.2f} ms, {solution.iterations} iterations"
-          + (f" (set-up {solution.setup_time * 1e3:.0f} ms apart)" if solution.setup_time else ""))
+    print(
+        f"{label}: {solution.formulation} on {solution.backend}: {solution.status.value} "
+        f"in {solution.solve_time * 1e3:.2f} ms, {solution.iterations} iterations"
+        + (f" (set-up {solution.setup_time * 1e3:.0f} ms apart)" if solution.setup_time else "")
+    )
     c = solution.certificate
     if c is None:
         print("  certificate: none (the backend returns no multipliers)")
     else:
-        print(f"  certificate ({c.kind}): primal residual {c.primal_residual:.2e}, dual residual "
-              f"{c.dual_residual:.2e}, duality gap {c.duality_gap:.2e}; within 1e-6: {c.within(1e-6)}")
-    print(f"  objective (the evaluator's) {solution.objective:.6g}, the formulation's own "
-          f"{solution.formulation_objective:.6g}")
+        print(
+            f"  certificate ({c.kind}): primal residual {c.primal_residual:.2e}, dual residual "
+            f"{c.dual_residual:.2e}, duality gap {c.duality_gap:.2e}; within 1e-6: {c.within(1e-6)}"
+        )
+    print(
+        f"  objective (the evaluator's) {solution.objective:.6g}, the formulation's own "
+        f"{solution.formulation_objective:.6g}"
+    )
     print("  true violations (m): " + ", ".join(f"{k} {v:.1e}" for k, v in solution.violation.items()))
 
 
@@ -51,8 +57,10 @@ def main() -> None:
     scenario = builtin_scenario(args.scenario)
     state = builtin_problem_set("default").default_state(args.scenario)
     problem = CaptureProblem.at_state(scenario, state.attacker, state.defenders, horizon=args.horizon)
-    print(f"state at t = {state.time} s: attacker {state.attacker.tolist()}, "
-          f"{int(problem.controlled.sum())} of {len(state.defenders)} defenders in the capture stage")
+    print(
+        f"state at t = {state.time} s: attacker {state.attacker.tolist()}, "
+        f"{int(problem.controlled.sum())} of {len(state.defenders)} defenders in the capture stage"
+    )
 
     solver = CaptureSolver(args.formulation, args.backend, score=True)  # set up once; each solve one-shot
     first = solver.solve(problem)  # cold: every defender held

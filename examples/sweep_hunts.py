@@ -27,8 +27,10 @@ def show(where: str, rows: list[dict]) -> None:
     for s in summarise(rows):
         rate = "n/a" if s["success_rate"] is None else f"{s['success_rate']:.0%}"
         failures = {cause: n for cause, n in s["failures"].items() if n}
-        print(f"  {s['strategy']:22s} vs {s['attacker']:5s} ({s['belief']}): captured {s['captured']}/{s['hunts']} "
-              f"({rate}), failures {failures or 'none'}")
+        print(
+            f"  {s['strategy']:22s} vs {s['attacker']:5s} ({s['belief']}): captured {s['captured']}/{s['hunts']} "
+            f"({rate}), failures {failures or 'none'}"
+        )
 
 
 def main() -> None:
