@@ -9,7 +9,7 @@ a C compiler are found, the program is built for this machine and run, and its p
 ``--target aarch64-linux`` or ``--target cortex-m7`` writes a Makefile for an ARM core instead (built with its
 cross compiler; see the export guide).
 
-    python examples/export_to_board.py [--output robot1/] [--robot 1] [--horizon 10] [--cflags -O1]
+    python examples/export_to_board.py [--output robot1/] [--robot 1] [--horizon 10] [--cflags=-O1]
 """
 
 from __future__ import annotations

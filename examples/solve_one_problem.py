@@ -3,7 +3,8 @@
 One capture-stage problem (Eqs. 12-15) at one state, solved by a formulation on a backend, scored by the one
 evaluator of the true nonlinear problem. Three things come back, each answering another question:
 
-* ``status``: what the solver believes (``optimal``, ``time_limit``, ``max_iter``, ...);
+* ``status``: what the solver believes (``optimal``, ``optimal_inaccurate``, ``infeasible``, ``iteration_limit``,
+  ``time_limit``, ``error``; the first two are usable);
 * ``certificate``: how well the returned point solves the problem the solver was handed, computed from that
   problem's data (the primal and dual residuals and the duality gap; for IPOPT its own measures);
 * ``violation``: by how much the plan breaks the true constraints (for a linearised formulation, the

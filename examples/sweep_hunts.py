@@ -7,7 +7,7 @@ client, both yielding each hunt's row (plain data) as it finishes; ``summarise``
 strategy, attacker and belief. ``mpc-hunt sweep`` adds the results file (resume after an interruption) and
 ``mpc-hunt sweep-report`` the figures.
 
-Small by default: two hunts per strategy locally, then the first strategy's on a one-worker Dask cluster started here
+Small by default: one hunt per strategy locally, then the first strategy's on a one-worker Dask cluster started here
 (skipped, with the reason, without ``pip install "mpc-hunt[dask]"``), scenarios of four or five defenders and at
 most two obstacles.
 ``--scheduler tcp://HOST:8786`` uses a running cluster instead.
@@ -36,7 +36,7 @@ def show(where: str, rows: list[dict]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--strategy", action="append", help="a controller spec's label (repeatable)")
-    parser.add_argument("--hunts", type=int, default=2)
+    parser.add_argument("--hunts", type=int, default=1)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--workers", type=int, default=1, help="local worker processes")
     parser.add_argument("--scheduler", help="a running Dask scheduler's address (default: a local cluster)")
@@ -56,7 +56,8 @@ def main() -> None:
         except ImportError:
             print('Dask: skipped (pip install "mpc-hunt[dask]")')
             return
-        client = Client(LocalCluster(n_workers=1, threads_per_worker=1, dashboard_address=None))
+        # in this process, one thread: a cluster of machines is started with `dask scheduler` and `dask worker`
+        client = Client(LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None))
     again = [task for task in tasks if task.strategy == strategies[0]]
     on_dask = list(run_dask(again, client))  # closes the client when done
     show("Dask", on_dask)

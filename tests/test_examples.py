@@ -6,6 +6,7 @@ from __future__ import annotations
 import ast
 import importlib
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -27,7 +28,7 @@ RUNS = {
     "embed_step.py": ([], "captured at t = "),
     "sweep_hunts.py": ([], "hunts"),
     "attackers_and_agents.py": ([], "DefenderEnv against gap"),
-    "export_to_board.py": (["--cflags", "-O1"], "wrote "),
+    "export_to_board.py": (["--cflags=-O1"], "wrote "),
 }
 TIMEOUT = 180  # s: a hung example fails; each takes well under a minute on its own
 
@@ -52,6 +53,8 @@ def test_the_example_runs_to_its_end(name, tmp_path):
                          capture_output=True, text=True, timeout=TIMEOUT)
     assert run.returncode == 0, run.stderr[-2000:]
     assert said in run.stdout, run.stdout[-2000:]
+    if name == "export_to_board.py" and shutil.which("make") and shutil.which("cc"):
+        assert "built and run: " in run.stdout, run.stdout  # the C program's plan beside Python's
     print(f"{name}: {time.perf_counter() - started:.1f} s")
 
 
