@@ -30,7 +30,7 @@ RUNS = {
     "attackers_and_agents.py": ([], "DefenderEnv against gap"),
     "export_to_board.py": (["--cflags=-O1"], "wrote "),
 }
-TIMEOUT = 180  # s: a hung example fails; each takes well under a minute on its own
+TIMEOUT = 300  # s: a hung example fails; each takes a minute or less on two idle cores
 
 
 def scripts() -> list[Path]:
