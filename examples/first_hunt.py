@@ -26,6 +26,7 @@ def main() -> None:
     controller = spec.build(scenario)  # built on the defenders' belief about the attacker, never on the world
     result = simulate(scenario, controller)
 
+    print(f"scenario {result.scenario}: {len(scenario.defenders)} defenders, {len(scenario.obstacles)} obstacles")
     print(f"controller {spec.label}: {controller.describe()}")
     print(f"termination: {result.termination}; captured: {result.captured}; capture time: {result.capture_time} s")
     print("path lengths (m):", ", ".join(f"{x:.2f}" for x in result.path_lengths))
