@@ -9,6 +9,10 @@ site they are pages beside docs/'s own, so those links lose their ``../``. A rep
 
 ``formulations/README.md`` (each formulation, its module, kind and default backend; how to add one) is the page
 ``formulations-folder.md``; its links into docs/ become the pages', its link to the code the folder's path.
+
+The docstrings cross-reference in Sphinx's roles (``:class:`~mpc_hunt.capture.solution.Solution```), which Markdown
+renders as the role's name before the code; the reference shows the code alone, ``~`` keeping the last name only,
+as Sphinx does.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ SHOWN = (".md", ".png")  # the reports and their figures
 FORMULATIONS = ROOT / "formulations" / "README.md"
 FORMULATIONS_PAGE = "formulations-folder.md"
 CODE_LINK = re.compile(r"\[([^\]]+)\]\(\.\./(mpc_hunt/[^)]*)\)")
+ROLE = re.compile(r":(?:class|meth|func|mod|data|attr|exc|obj):<code>(~?)([^<]*)</code>")
 FILE_LINK = re.compile(r"\[([^\]]+)\]\((?!https?:)([^)#]+\.(?:py|json|db|toml))\)")
 
 
@@ -51,3 +56,7 @@ def on_page_markdown(markdown: str, page, config, files) -> str:
     if "/" not in uri:  # a page of docs/ itself
         return markdown.replace("](../studies/", "](studies/")
     return markdown
+
+
+def on_page_content(html: str, page, config, files) -> str:
+    return ROLE.sub(lambda m: f"<code>{m.group(2).rsplit('.', 1)[-1] if m.group(1) else m.group(2)}</code>", html)
