@@ -5,6 +5,7 @@ from importlib.metadata import PackageNotFoundError, version
 from mpc_hunt.capture import (
     CaptureProblem,
     CaptureWeights,
+    Certificate,
     Evaluation,
     Solution,
     Status,
@@ -18,6 +19,7 @@ from mpc_hunt.control import (
     Controller,
     ControllerSpec,
     EncirclingController,
+    Enclosure,
     HuntingStrategy,
     Observation,
     make_controller,
@@ -27,6 +29,8 @@ from mpc_hunt.sim import HuntResult, simulate
 from mpc_hunt.solving import CaptureMPC, CaptureSolver, MPCStep, pairs, solve
 from mpc_hunt.world import (
     Attacker,
+    Belief,
+    CircleStatus,
     Defender,
     HuntParameters,
     Obstacle,
@@ -36,6 +40,7 @@ from mpc_hunt.world import (
     load_scenario,
     resolve_scenario,
     save_scenario,
+    success_test,
 )
 
 try:
@@ -45,15 +50,19 @@ except PackageNotFoundError:  # running from a source tree that was never instal
 
 __all__ = [
     "Attacker",
+    "Belief",
     "CaptureMPC",
     "CaptureProblem",
     "CaptureSolver",
     "CaptureWeights",
+    "Certificate",
+    "CircleStatus",
     "Command",
     "Controller",
     "ControllerSpec",
     "Defender",
     "EncirclingController",
+    "Enclosure",
     "Evaluation",
     "HuntParameters",
     "HuntResult",
@@ -82,5 +91,6 @@ __all__ = [
     "shift_plan",
     "simulate",
     "solve",
+    "success_test",
     "__version__",
 ]

@@ -39,7 +39,8 @@ def test_the_trap_table_of_e16_is_the_attackers_studys_summary():
 
 
 def test_the_baselines_and_the_defaults_shares_quoted_are_the_attackers_studys():
-    assert f"{_share('voronoi')} of the comfortable hunts\nto its {_share('trap')}" in (ROOT / "README.md").read_text()
+    assert f"{_share('voronoi')} of the comfortable hunts\nto its {_share('trap')}" in (
+        ROOT / "docs" / "getting-started.md").read_text()
     assert f"{_share('voronoi')} to its {_share('trap')}" in (ROOT / "mpc_hunt" / "control"
                                                              / "recommended.py").read_text()
 

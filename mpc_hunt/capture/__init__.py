@@ -5,16 +5,20 @@ The formulations (:mod:`mpc_hunt.formulations`) build on it; the solving machine
 (:mod:`mpc_hunt.solving`: registry, backends, solver, export) on both.
 """
 
+from mpc_hunt.capture.certificate import Certificate
 from mpc_hunt.capture.evaluator import Evaluation, evaluate
 from mpc_hunt.capture.plan import shift_plan
-from mpc_hunt.capture.problem import CaptureProblem, CaptureWeights
+from mpc_hunt.capture.problem import CaptureProblem, CaptureWeights, EncloseWeights, Reference
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.capture.structure import Structure
 
 __all__ = [
     "CaptureProblem",
     "CaptureWeights",
+    "Certificate",
+    "EncloseWeights",
     "Evaluation",
+    "Reference",
     "Solution",
     "Status",
     "Structure",

@@ -1028,6 +1028,10 @@ def _build_problems(args) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run ``mpc-hunt`` with the arguments ``argv`` (default: the process's) and return its exit status: 0 when
+    the command succeeded; an error of the toolkit's or of a file is one line on stderr and status 2, and so is
+    Ctrl-C, after what finished was kept. ``mpc_hunt.cli.main(["simulate", "--json"])`` runs a command from
+    Python as the shell would."""
     args = build_parser().parse_args(argv)
     args.argv = sys.argv[1:] if argv is None else list(argv)
     command = {

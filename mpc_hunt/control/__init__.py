@@ -3,6 +3,7 @@ hunting strategy with its capture stage (either objective), the two baselines, a
 
 from mpc_hunt.control.controller import Command, Controller, Observation
 from mpc_hunt.control.encircling import EncirclingController
+from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.recommended import PAPER, RECOMMENDED, RECOMMENDED_CONTROLLER
 from mpc_hunt.control.spec import ControllerSpec, make_controller
 from mpc_hunt.control.strategy import HuntingStrategy
@@ -12,6 +13,7 @@ __all__ = [
     "Controller",
     "ControllerSpec",
     "EncirclingController",
+    "Enclosure",
     "HuntingStrategy",
     "Observation",
     "PAPER",

@@ -23,6 +23,10 @@ default backend over OTHER_HORIZON steps.
 """
 
 RECOMMENDED_CONTROLLER = "trap"
+"""The recommended controller's name (the module's docstring): what ``mpc-hunt simulate`` runs by default."""
 RECOMMENDED = {"formulation": "rti", "backend": "hpipm", "horizon": 10}
+"""The recommended capture stage: the formulation, its backend and the horizon a solving controller runs with
+unless told otherwise."""
 PAPER = {"formulation": "nlp", "backend": "ipopt", "horizon": 1}
+"""The paper's capture stage as published: the one-step NLP on IPOPT."""
 OTHER_HORIZON = 1  # the horizon of a formulation other than the default's, unless one is given

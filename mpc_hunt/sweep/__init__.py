@@ -2,8 +2,18 @@
 the failure taxonomy and the summary."""
 
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
-from mpc_hunt.sweep.runner import Hunt, run_hunt, run_local
+from mpc_hunt.sweep.runner import Hunt, connect_dask, run_dask, run_hunt, run_local
 from mpc_hunt.sweep.store import SweepStore
 from mpc_hunt.sweep.summary import summarise
 
-__all__ = ["Hunt", "ScenarioRanges", "SweepStore", "run_hunt", "run_local", "summarise", "sweep_scenario"]
+__all__ = [
+    "Hunt",
+    "ScenarioRanges",
+    "SweepStore",
+    "connect_dask",
+    "run_dask",
+    "run_hunt",
+    "run_local",
+    "summarise",
+    "sweep_scenario",
+]

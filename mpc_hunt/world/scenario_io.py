@@ -170,6 +170,8 @@ def builtin_names() -> list[str]:
 
 
 def builtin_scenario(name: str) -> Scenario:
+    """The built-in scenario ``name`` (one of :func:`builtin_names`), read from its TOML file shipped with the
+    package; an :class:`~mpc_hunt.errors.UnknownNameError` listing the built-in names for any other name."""
     names = builtin_names()
     if name not in names:
         raise UnknownNameError(f"unknown scenario {name!r} (built-in: {', '.join(names)})")
