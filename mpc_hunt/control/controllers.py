@@ -7,6 +7,7 @@ from __future__ import annotations
 import inspect
 from dataclasses import dataclass
 
+from mpc_hunt import markdown
 from mpc_hunt.control.containment import Containment
 from mpc_hunt.control.encircling import EncirclingController
 from mpc_hunt.control.enclosure import Enclosure
@@ -62,12 +63,11 @@ def described() -> str:
 
 def table() -> str:
     """The registry as a Markdown table (docs/architecture.md holds it; a test compares)."""
-    rows = [
-        f"| `{name}` | {'the ' + entry.OBJECTIVE + ' objective' if name in SOLVING else 'no optimisation'} "
-        f"| {entry.SUMMARY} |"
+    rows = (
+        [f"`{name}`", f"the {entry.OBJECTIVE} objective" if name in SOLVING else "no optimisation", entry.SUMMARY]
         for name, entry in CONTROLLERS.items()
-    ]
-    return "\n".join(["| controller | capture stage | what it does |", "| --- | --- | --- |", *rows]) + "\n"
+    )
+    return "\n".join(markdown.table(["controller", "capture stage", "what it does"], "lll", rows)) + "\n"
 
 
 def controller_objective(name: str) -> str:
