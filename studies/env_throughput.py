@@ -136,7 +136,8 @@ def headline(results: dict) -> str:
                  f"{d['async_steps_per_s']:.0f}"])
     lines = [f"`{COMMAND}` ({s['steps']} steps a run, best of {s['repeats']}; {s['vector']} environments "
              "vectorised):", "",
-             *markdown.table(["environment", "steps/s, one env", "controller's ms a step", "environment's own ms a step",
+             *markdown.table(["environment", "steps/s, one env", "controller's ms a step",
+                              "environment's own ms a step",
                               f"steps/s, {s['vector']} envs in one process (`SyncVectorEnv`)",
                               f"steps/s, {s['vector']} processes (`AsyncVectorEnv`)"], "lrrrrr", rows)]
     return "\n".join(lines) + "\n"
