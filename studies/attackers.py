@@ -28,6 +28,7 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
@@ -124,18 +125,15 @@ def headline(summaries: list[dict]) -> list[str]:
     lines = []
     for kind in ("comfortable", "reachable"):
         lines += [f"Captured / {kind} hunts (95 % interval), exact belief:", "",
-                  "| attacker | " + " | ".join(f"`{s}`" for s in strategies) + " |",
-                  "| --- |" + " ---: |" * len(strategies)]
-        lines += [f"| {a} | " + " | ".join(cell(by[(s, a, EXACT)], kind) if (s, a, EXACT) in by else "–"
-                                          for s in strategies) + " |" for a in BEHAVIOURS]
-        lines.append("")
+                  *markdown.table(["attacker", *(f"`{s}`" for s in strategies)], "l" + "r" * len(strategies),
+                                  ([a, *(cell(by[(s, a, EXACT)], kind) if (s, a, EXACT) in by else "–"
+                                         for s in strategies)] for a in BEHAVIOURS)), ""]
     beliefs = [b for b in dict.fromkeys(s["belief"] for s in summaries) if b != EXACT]
     for strategy in BELIEF_STRATEGIES:
         lines += [f"`{strategy}`, captured / comfortable hunts per belief error:", "",
-                  "| attacker | " + " | ".join(beliefs) + " |", "| --- |" + " ---: |" * len(beliefs)]
-        lines += [f"| {a} | " + " | ".join(cell(by[(strategy, a, b)], "comfortable") if (strategy, a, b) in by
-                                          else "–" for b in beliefs) + " |" for a in BEHAVIOURS]
-        lines.append("")
+                  *markdown.table(["attacker", *beliefs], "l" + "r" * len(beliefs),
+                                  ([a, *(cell(by[(strategy, a, b)], "comfortable") if (strategy, a, b) in by
+                                         else "–" for b in beliefs)] for a in BEHAVIOURS)), ""]
     return lines
 
 
@@ -251,9 +249,7 @@ def verdicts(rows: list[dict]) -> list[str]:
         return {r["index"]: r[column] for r in exact if r["strategy"] == ControllerSpec.parse(strategy).label
                 and r["attacker"] == attacker and r["outcome"] == "captured"}
 
-    lines = [f"| attacker | comfortable | `{FOCUS}` captured | `{BASELINE}` captured | at least as many | median "
-             f"capture time on the hunts both capture, `{FOCUS}` / `{BASELINE}` | median path length there (all "
-             "defenders) |", "| --- | ---: | ---: | ---: | --- | --- | --- |"]
+    body = []
     for attacker in BEHAVIOURS:
         total = len({r["index"] for r in exact if r["attacker"] == attacker})
         mine, theirs = won(FOCUS, attacker), won(BASELINE, attacker)
@@ -264,8 +260,11 @@ def verdicts(rows: list[dict]) -> list[str]:
                      f"{statistics.median(theirs[i] for i in both):.1f} s ({len(both)} hunts)")
             walked = [won(k, attacker, "path_length_m") for k in (FOCUS, BASELINE)]
             paths = " / ".join(f"{statistics.median(w[i] for i in both):.1f} m" for w in walked)
-        lines.append(f"| {attacker} | {total} | {len(mine)} | {len(theirs)} | "
-                     f"{'yes' if len(mine) >= len(theirs) else 'no'} | {times} | {paths} |")
+        body.append([attacker, total, len(mine), len(theirs), "yes" if len(mine) >= len(theirs) else "no", times,
+                         paths])
+    lines = markdown.table(["attacker", "comfortable", f"`{FOCUS}` captured", f"`{BASELINE}` captured",
+                            "at least as many", f"median capture time on the hunts both capture, `{FOCUS}` / "
+                            f"`{BASELINE}`", "median path length there (all defenders)"], "lrrrlll", body)
     gap, minimax = len(won(BASELINE, "gap")), len(won(BASELINE, "minimax"))
     verdict = "at least as hard for the Voronoi baseline as" if minimax <= gap else "easier for the Voronoi baseline than"
     lines += ["", f"The minimax attacker is {verdict} the gap-seeker: the baseline captures {minimax} comfortable "
@@ -292,9 +291,8 @@ def league(rows: list[dict]) -> list[str]:
     against the PPO team's and the Voronoi baseline's, paired on the same hunts."""
     lines = [f"Per attacker, comfortable hunts captured (exact belief); the difference is `{FOCUS}`'s minus the "
              "other's on the same hunts, with its 95 % interval (normal approximation on the paired differences): "
-             "an interval holding 0 does not tell the two apart.", "",
-             f"| attacker | `{FOCUS}` | `{LEARNED_TEAM}` team | `{BASELINE}` | `{FOCUS}` − `{LEARNED_TEAM}` | "
-             f"`{FOCUS}` − `{BASELINE}` |", "| --- | ---: | ---: | ---: | --- | --- |"]
+             "an interval holding 0 does not tell the two apart.", ""]
+    body = []
     for attacker in BEHAVIOURS:
         counts = []
         for strategy in (FOCUS, LEARNED_TEAM, BASELINE):
@@ -306,8 +304,10 @@ def league(rows: list[dict]) -> list[str]:
             n, mean, lo, hi = paired_difference(rows, attacker, other)
             verdict = "ahead" if lo > 0 else "behind" if hi < 0 else "not told apart"
             cells.append(f"{100 * mean:+.0f} points ({100 * lo:+.0f} to {100 * hi:+.0f}): {verdict}" if n else "–")
-        lines.append(f"| {attacker} | {' | '.join(counts)} | {' | '.join(cells)} |")
-    return lines + [""]
+        body.append([attacker, *counts, *cells])
+    return lines + markdown.table(["attacker", f"`{FOCUS}`", f"`{LEARNED_TEAM}` team", f"`{BASELINE}`",
+                                   f"`{FOCUS}` − `{LEARNED_TEAM}`", f"`{FOCUS}` − `{BASELINE}`"], "lrrrll",
+                                  body) + [""]
 
 
 def learned_figure(rows: list[dict], folder: Path) -> list[Path]:
@@ -377,8 +377,8 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         "stage, is the next section's.", "",
         *headline(summaries),
         f"## `{FOCUS}` against the Voronoi baseline", "",
-        "| bar | measured | |", "| --- | --- | --- |",
-        *[f"| {what} | {measured} | {'met' if met else 'missed'} |" for what, measured, met in bars(rows, summaries)],
+        *markdown.table(["bar", "measured", ""], "lll", ([what, measured, "met" if met else "missed"]
+                                                         for what, measured, met in bars(rows, summaries))),
         "", "Per attacker, comfortable hunts, exact belief:", "", *verdicts(rows),
         "![success by attacker](success_by_attacker.png)", "",
         f"A typical lost hunt of `{FOCUS}` per attacker (`mpc_hunt/sweep/typical.py`), rerun:", "",

@@ -24,6 +24,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 import numpy as np
 from tqdm import tqdm
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser
 from mpc_hunt.solving import registry
 from mpc_hunt.bench.compare import MODES, planned_solves, run_compare
@@ -100,13 +101,10 @@ def headline(results: dict) -> str:
     """The docs' table: per pair and mode, at each horizon, success rate · median all-in time · median gap."""
     horizons = results["settings"]["horizons"]
     by = {(r["formulation"], r["backend"], r["mode"], r["horizon"]): r for r in results["rows"]}
-    lines = ["| pair | mode | " + " | ".join(f"N = {n}" for n in horizons) + " |",
-             "| --- | --- | " + " | ".join("---" for _ in horizons) + " |"]
-    for mode in results["settings"]["modes"]:
-        for pair in results["settings"]["pairs"]:
-            f, b = pair.split(":")
-            lines.append(f"| {f}/{b} | {mode} | " + " | ".join(_cell(by.get((f, b, mode, n))) for n in horizons)
-                         + " |")
+    pairs = [pair.split(":") for pair in results["settings"]["pairs"]]
+    lines = markdown.table(["pair", "mode", *(f"N = {n}" for n in horizons)], "l" * (2 + len(horizons)),
+                           ([f"{f}/{b}", mode, *(_cell(by.get((f, b, mode, n))) for n in horizons)]
+                            for mode in results["settings"]["modes"] for f, b in pairs))
     m = results["machine"]
     return "\n".join(lines) + (f"\n\nMachine: {m['cpu']}, {m['cores']} cores, Python {m['python']}; load average "
                                f"{m['load_average'][0]} at the start, {m['load_average_end'][0]} at the end.\n")

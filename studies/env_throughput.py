@@ -26,6 +26,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
@@ -126,20 +127,19 @@ def measure(steps: int, repeats: int) -> dict:
 
 
 def headline(results: dict) -> str:
-    s = results["settings"]
+    s, d = results["settings"], results["defender_env"]
+    rows = [[f"`AttackerEnv`, defenders `{r['controller']}`", f"{r['steps_per_s']:.0f}",
+             f"{r['controller_ms']:.3f} ({100 * r['controller_ms'] / r['step_ms']:.0f} %)",
+             f"{r['step_ms'] - r['controller_ms']:.3f}", f"{r['sync_steps_per_s']:.0f}",
+             f"{r['async_steps_per_s']:.0f}"] for r in results["attacker_env"]]
+    rows.append(["`DefenderEnv`, attacker `apf`", f"{d['steps_per_s']:.0f}", "–", f"{1e3 / d['steps_per_s']:.3f}", "–",
+                 f"{d['async_steps_per_s']:.0f}"])
     lines = [f"`{COMMAND}` ({s['steps']} steps a run, best of {s['repeats']}; {s['vector']} environments "
              "vectorised):", "",
-             "| environment | steps/s, one env | controller's ms a step | environment's own ms a step | steps/s, "
-             f"{s['vector']} envs in one process (`SyncVectorEnv`) | steps/s, {s['vector']} processes "
-             "(`AsyncVectorEnv`) |", "| --- | ---: | ---: | ---: | ---: | ---: |"]
-    for r in results["attacker_env"]:
-        lines.append(f"| `AttackerEnv`, defenders `{r['controller']}` | {r['steps_per_s']:.0f} | "
-                     f"{r['controller_ms']:.3f} ({100 * r['controller_ms'] / r['step_ms']:.0f} %) | "
-                     f"{r['step_ms'] - r['controller_ms']:.3f} | {r['sync_steps_per_s']:.0f} | "
-                     f"{r['async_steps_per_s']:.0f} |")
-    d = results["defender_env"]
-    lines.append(f"| `DefenderEnv`, attacker `apf` | {d['steps_per_s']:.0f} | – | {1e3 / d['steps_per_s']:.3f} | – | "
-                 f"{d['async_steps_per_s']:.0f} |")
+             *markdown.table(["environment", "steps/s, one env", "controller's ms a step",
+                              "environment's own ms a step",
+                              f"steps/s, {s['vector']} envs in one process (`SyncVectorEnv`)",
+                              f"steps/s, {s['vector']} processes (`AsyncVectorEnv`)"], "lrrrrr", rows)]
     return "\n".join(lines) + "\n"
 
 

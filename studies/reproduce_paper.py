@@ -34,7 +34,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 import numpy as np
 
 from mpc_hunt.arguments import CommandParser, output_folder
-from mpc_hunt import builtin_scenario, simulate
+from mpc_hunt import builtin_scenario, markdown, simulate
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, perturbed, widened
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
@@ -101,28 +101,27 @@ def within(b: dict, paper: float) -> str:
 
 
 def path_table(runs: dict) -> list[str]:
-    lines = [f"| run | paper | robot | ours, median (range) | paper | difference of the median "
-             f"| within {TOLERANCE:.0%} |", "| --- | --- | --- | ---: | ---: | ---: | --- |"]
+    rows = []
     for key in KEYS:
         paper, bands = PAPER[key], runs[run_name(*key)]["band"]["path_lengths_m"]
-        for i, (b, theirs) in enumerate(zip(bands, paper.path_lengths)):
-            lines.append(f"| {run_name(*key)} | {paper.figure} | {i + 1} | {spread(b)} | {theirs:.2f} m "
-                         f"| {relative(b['median'], theirs):+.1f} % | {within(b, theirs)} |")
-    return lines
+        rows += [[run_name(*key), paper.figure, i + 1, spread(b), f"{theirs:.2f} m",
+                  f"{relative(b['median'], theirs):+.1f} %", within(b, theirs)]
+                 for i, (b, theirs) in enumerate(zip(bands, paper.path_lengths))]
+    return markdown.table(["run", "paper", "robot", "ours, median (range)", "paper", "difference of the median",
+                           f"within {TOLERANCE:.0%}"], "lllrrrl", rows)
 
 
 def run_table(runs: dict) -> list[str]:
-    lines = ["| run | final hunting radius, ours | paper | captured | capture time | min obstacle clearance "
-             "| capture-stage fallbacks |", "| --- | ---: | ---: | --- | ---: | ---: | ---: |"]
+    rows = []
     for key in KEYS:
         run = runs[run_name(*key)]
         b, captured = run["band"], run["robust"]["captured"]
-        lines.append(f"| {run_name(*key)} | {spread(b['final_hunting_radius_m'], 3)} "
-                     f"| {PAPER[key].final_hunting_radius:.2f} m "
-                     f"| {'every member' if captured else 'no member' if captured is False else 'some members'} "
-                     f"| {spread(b['capture_time_s'], 1, ' s')} | {spread(b['min_obstacle_clearance_m'])} "
-                     f"| {spread(b['fallbacks'], 0, '')} |")
-    return lines
+        rows.append([run_name(*key), spread(b["final_hunting_radius_m"], 3), f"{PAPER[key].final_hunting_radius:.2f} m",
+                     "every member" if captured else "no member" if captured is False else "some members",
+                     spread(b["capture_time_s"], 1, " s"), spread(b["min_obstacle_clearance_m"]),
+                     spread(b["fallbacks"], 0, "")])
+    return markdown.table(["run", "final hunting radius, ours", "paper", "captured", "capture time",
+                           "min obstacle clearance", "capture-stage fallbacks"], "lrrlrrr", rows)
 
 
 def claims(runs: dict) -> list[str]:

@@ -26,7 +26,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 import numpy as np
 
 from mpc_hunt.arguments import CommandParser, output_folder
-from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, simulate
+from mpc_hunt import CaptureProblem, CaptureSolver, builtin_scenario, markdown, simulate
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.attacker import perceives
 from studies.study_check import run_study
@@ -87,16 +87,13 @@ def run() -> list[dict]:
 
 
 def table(rows: list[dict]) -> str:
-    lines = ["| scenario | N | formulation | w (mm) | failed / solves | median iterations | median solve (ms) "
-             "| objective gap to nlp, median | worst | max violation (m) |",
-             "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
-    for r in rows:
-        width = "–" if r["smoothing_m"] is None else f"{r['smoothing_m'] * 1e3:g}"
-        lines.append(f"| {r['scenario']} | {r['horizon']} | {r['formulation']} | {width} "
-                     f"| {r['failed']} / {r['solves']} "
-                     f"| {r['median_iterations']:.0f} | {r['median_solve_ms']:.1f} | {100 * r['median_gap']:+.3f} % "
-                     f"| {100 * r['worst_gap']:+.3f} % | {r['max_violation']:.1e} |")
-    return "\n".join(lines)
+    return "\n".join(markdown.table(
+        ["scenario", "N", "formulation", "w (mm)", "failed / solves", "median iterations", "median solve (ms)",
+         "objective gap to nlp, median", "worst", "max violation (m)"], "lrlrrrrrrr",
+        ([r["scenario"], r["horizon"], r["formulation"],
+          "–" if r["smoothing_m"] is None else f"{r['smoothing_m'] * 1e3:g}", f"{r['failed']} / {r['solves']}",
+          f"{r['median_iterations']:.0f}", f"{r['median_solve_ms']:.1f}", f"{100 * r['median_gap']:+.3f} %",
+          f"{100 * r['worst_gap']:+.3f} %", f"{r['max_violation']:.1e}"] for r in rows)))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mpc_hunt import CaptureSolver
+from mpc_hunt import CaptureSolver, markdown
 from studies.step_loop import reference_run
 
 EXPORTED = ("rti", "stage-sqp")
@@ -73,19 +73,18 @@ def exported_lines(exported: list[dict] | None, rows: list[dict], baseline: tupl
              f"`--blasfeo DIR`, one built for this CPU: `make BLASFEO=DIR`), on the {first['states']} states of the "
              "first one's structure, each from the reference Python run of the same formulation and mode on "
              "`hpipm`: median time a step in pure C (the first excluded), ratios to the latency table's steps, and "
-             "the largest difference from Python's plans.", "",
-             "| exported step | HPIPM mode | BLASFEO | median step (ms) | speed-up over the step of "
-             "| plans within (m) | exit |",
-             "| --- | --- | --- | ---: | --- | ---: | ---: |"]
+             "the largest difference from Python's plans.", ""]
+    rows = []
     for e in exported:
         f, c = e["formulation"], e["median_step_ms"]
         compared = ((f, "hpipm"), (f, "hpipm-codegen"), ("rti", "hpipm"), baseline)
         ratios = "; ".join(_compared(by_pair[p]["median_step_ms"] / c, "/".join(p))
                            for p in dict.fromkeys(compared) if p in by_pair)
         library = "the wheel's" if "wheel" in e["variant"] else "for this CPU"
-        lines.append(f"| `{f}` | `{e['mode']}` | {library} | {c:.3f} | {ratios} | "
-                     f"{e['max_plan_difference_m']:.1e} | {e['exit']} |")
-    return lines + [""]
+        rows.append([f"`{f}`", f"`{e['mode']}`", library, f"{c:.3f}", ratios, f"{e['max_plan_difference_m']:.1e}",
+                     e["exit"]])
+    return lines + markdown.table(["exported step", "HPIPM mode", "BLASFEO", "median step (ms)",
+                                   "speed-up over the step of", "plans within (m)", "exit"], "lllrlrr", rows) + [""]
 
 
 def _compared(ratio: float, pair: str) -> str:

@@ -22,6 +22,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.formulations.capture_model import parameter_vector
 from mpc_hunt.formulations.qp import linearised_capture
 from mpc_hunt import CaptureMPC, CaptureProblem
@@ -90,15 +91,14 @@ def floor_lines(floor: dict, profile: dict, interpreted_ms: float, obstacles: in
              f"{profile['repeats']} per state, then the median), as posed and with the scenario's {obstacles} "
              "obstacles removed (their rows and their pull on the attacker: the most that dropping the obstacle rows "
              "out of reach could save).", "",
-             "| QP | solver | start | median solve (ms) | median iterations |",
-             "| --- | --- | --- | ---: | ---: |",
-             f"| `qp`, condensed | DAQP | cold | {d['cold_ms']:.3f} | {d['cold_iterations']:.0f} |",
-             f"| `qp`, condensed | DAQP | its own optimal working set | {d['warm_ms']:.3f} | "
-             f"{d['warm_iterations']:.0f} |",
-             f"| `rti`, stage form | HPIPM | as posed | {profile['hpipm_ms']:.3f} | "
-             f"{profile['hpipm_iterations']:.0f} |",
-             f"| `rti`, stage form | HPIPM | obstacles removed | {bare['hpipm_ms']:.3f} | "
-             f"{bare['hpipm_iterations']:.0f} |", ""]
+             *markdown.table(["QP", "solver", "start", "median solve (ms)", "median iterations"], "lllrr", [
+                 ["`qp`, condensed", "DAQP", "cold", f"{d['cold_ms']:.3f}", f"{d['cold_iterations']:.0f}"],
+                 ["`qp`, condensed", "DAQP", "its own optimal working set", f"{d['warm_ms']:.3f}",
+                  f"{d['warm_iterations']:.0f}"],
+                 ["`rti`, stage form", "HPIPM", "as posed", f"{profile['hpipm_ms']:.3f}",
+                  f"{profile['hpipm_iterations']:.0f}"],
+                 ["`rti`, stage form", "HPIPM", "obstacles removed", f"{bare['hpipm_ms']:.3f}",
+                  f"{bare['hpipm_iterations']:.0f}"]]), ""]
     best = min(d["warm_ms"], profile["hpipm_ms"], bare["hpipm_ms"])
     lines.append(f"The compiled step's target (10× the interpreted `rti` step's {interpreted_ms:.3f} ms) leaves "
                  f"{interpreted_ms / 10:.3f} ms for the whole step and the exported C target (20×) "

@@ -48,13 +48,14 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
-from mpc_hunt import CaptureMPC, CaptureProblem, builtin_scenario, evaluate
+from mpc_hunt import CaptureMPC, CaptureProblem, Status, builtin_scenario, evaluate, markdown
 
 from mpc_hunt.solving import registry
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.bench.machine import describe_machine, load_average
+from mpc_hunt.bench.compare import timed_step
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet, load_problem_set, save_problem_set
 from mpc_hunt.world.scenario import Defender
 
@@ -93,7 +94,8 @@ def closed_loop_states(size: int) -> ProblemSet:
 
 
 class Sequence:
-    """One pair's run over consecutive states, a state at a time, warm-started as the controller does."""
+    """One pair's run over consecutive states, a state at a time, warm-started as the controller does: each step
+    timed by ``mpc-hunt compare``'s replayed mode (:func:`~mpc_hunt.bench.compare.timed_step`)."""
 
     def __init__(self, formulation: str, backend: str):
         # The formulation's own path (posing θ, the backend's solve, the read-back), as the latency table has
@@ -101,17 +103,16 @@ class Sequence:
         self.mpc, self.rows = CaptureMPC(formulation, backend, loop=False), []
 
     def step(self, make) -> None:
-        """Pose the state (``make()``), solve it, and keep its times and figures."""
-        t0 = time.perf_counter()
-        solution = self.mpc.step(make()).solution
-        all_in = time.perf_counter() - t0
-        self.rows.append({"step_s": all_in - solution.score_time, "all_in_s": all_in,
-                          "solver_s": solution.solver_time, "setup_s": solution.setup_time,
-                          "iterations": solution.iterations, "success": solution.success,
-                          "objective": solution.objective,
-                          "obstacle_violation": None if solution.violation is None
-                          else solution.violation["obstacle_safety"],
-                          "max_violation": solution.max_violation})
+        """Pose the state (``make()``), solve it, and keep its times and figures: *step* with any set-up, the
+        evaluator's scoring apart; a failure is a status with no usable plan."""
+        record = timed_step(self.mpc, make, self.mpc.tolerance)
+        step = record.solve_time + record.setup_time
+        violation = record.violation
+        self.rows.append({"step_s": step, "all_in_s": step + record.score_time, "solver_s": record.solver_time,
+                          "setup_s": record.setup_time, "iterations": record.iterations,
+                          "success": Status(record.status).usable, "objective": record.objective,
+                          "obstacle_violation": None if violation is None else violation["obstacle_safety"],
+                          "max_violation": None if violation is None else max(violation.values())})
 
 
 class PeerSequence:
@@ -230,16 +231,17 @@ def _team_sequence(scenario, attacker, defenders) -> list:
 
 
 def latency_table(rows: list[dict]) -> str:
-    lines = ["| formulation | backend | step (ms) | × faster than nlp/ipopt | all-in (ms) | × | solver call (ms) "
-             "| iterations | failed / solves | set-up (ms) | max obstacle violation (m) | median objective |",
-             "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
-    for r in rows:
-        ratio = lambda v: "–" if v is None else f"{v:.1f}"  # noqa: E731
-        lines.append(f"| {r['formulation']} | {r['backend']} | {r['median_step_ms']:.3f} | {ratio(r['step_ratio'])} "
-                     f"| {r['median_all_in_ms']:.3f} | {ratio(r['all_in_ratio'])} | {r['median_solver_ms']:.3f} "
-                     f"| {r['median_iterations']:.0f} | {r['failed']} / {r['solves']} | {r['setup_ms']:.0f} "
-                     f"| {r['max_obstacle_violation']:.1e} | {r['median_objective']:.4g} |")
-    return "\n".join(lines)
+    def ratio(v: float | None) -> str:
+        return "–" if v is None else f"{v:.1f}"
+
+    return "\n".join(markdown.table(
+        ["formulation", "backend", "step (ms)", "× faster than nlp/ipopt", "all-in (ms)", "×", "solver call (ms)",
+         "iterations", "failed / solves", "set-up (ms)", "max obstacle violation (m)", "median objective"],
+        "ll" + "r" * 10,
+        ([r["formulation"], r["backend"], f"{r['median_step_ms']:.3f}", ratio(r["step_ratio"]),
+          f"{r['median_all_in_ms']:.3f}", ratio(r["all_in_ratio"]), f"{r['median_solver_ms']:.3f}",
+          f"{r['median_iterations']:.0f}", f"{r['failed']} / {r['solves']}", f"{r['setup_ms']:.0f}",
+          f"{r['max_obstacle_violation']:.1e}", f"{r['median_objective']:.4g}"] for r in rows)))
 
 
 def peer_note(ran: bool, skipped: bool) -> str:
@@ -254,20 +256,17 @@ def peer_note(ran: bool, skipped: bool) -> str:
 
 
 def growth_tables(result: dict) -> str:
+    """The step of each pair against N, then against N_d, with the fitted exponents."""
     pairs = list(result["horizon_exponent"])
-    lines = ["| pair | " + " | ".join(f"N = {N}" for N in HORIZONS) + " | exponent b (step ∝ N^b) |",
-             "| --- | " + " | ".join("---:" for _ in HORIZONS) + " | ---: |"]
-    for pair in pairs:
-        times = [r["median_step_ms"] for r in result["horizon"] if f"{r['formulation']}/{r['backend']}" == pair]
-        lines.append(f"| {pair} | " + " | ".join(f"{t:.3f}" for t in times)
-                     + f" | {result['horizon_exponent'][pair]:.2f} |")
-    lines += ["", "| pair | " + " | ".join(f"N_d = {n}" for n in TEAM_SIZES) + " | exponent b (step ∝ N_d^b) |",
-              "| --- | " + " | ".join("---:" for _ in TEAM_SIZES) + " | ---: |"]
-    for pair in pairs:
-        times = [r["median_step_ms"] for r in result["team"] if f"{r['formulation']}/{r['backend']}" == pair]
-        lines.append(f"| {pair} | " + " | ".join(f"{t:.3f}" for t in times)
-                     + f" | {result['team_exponent'][pair]:.2f} |")
-    return "\n".join(lines)
+
+    def growth_table(table: str, key: str, values: tuple[int, ...]) -> list[str]:
+        steps = {pair: [f"{r['median_step_ms']:.3f}" for r in result[table]
+                        if f"{r['formulation']}/{r['backend']}" == pair] for pair in pairs}
+        return markdown.table(["pair", *(f"{key} = {v}" for v in values), f"exponent b (step ∝ {key}^b)"],
+                              "l" + "r" * (len(values) + 1),
+                              ([pair, *steps[pair], f"{result[f'{table}_exponent'][pair]:.2f}"] for pair in pairs))
+
+    return "\n".join([*growth_table("horizon", "N", HORIZONS), "", *growth_table("team", "N_d", TEAM_SIZES)])
 
 
 CHECK_BELOW_MS = 100      # --check reruns the pairs whose committed step is below this (the rest take minutes)

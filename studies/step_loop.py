@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from mpc_hunt import CaptureMPC, CaptureSolver
+from mpc_hunt import CaptureMPC, CaptureSolver, markdown
 from mpc_hunt.solving import registry
 
 LOOP_PAIRS = (("rti", "hpipm"), ("rti", "hpipm-codegen"), ("stage-sqp", "hpipm"), ("stage-sqp", "hpipm-codegen"))
@@ -70,15 +70,16 @@ def loop_lines(loop: list[dict], rows: list[dict]) -> list[str]:
              "into the loop's arrays, one `step()`, the plan read from its array; no problem posed, no evaluator, "
              "no solution object. *× rti/hpipm*: the interpreted `rti`/`hpipm` step of the latency table (state in "
              "→ plan out, evaluator excluded) over this row's step; *same pair*: this pair's step in the latency "
-             "table over this row's.", "",
-             "| formulation | backend | loop step (ms) | × rti/hpipm | × same pair | plans differ by at most (m) |",
-             "| --- | --- | ---: | ---: | ---: | ---: |"]
-    for r in loop:
-        same = by_pair.get((r["formulation"], r["backend"]))
-        ratio = lambda base: "–" if base is None else f"{base['median_step_ms'] / r['median_step_ms']:.1f}"  # noqa: E731
-        lines.append(f"| {r['formulation']} | {r['backend']} | {r['median_step_ms']:.3f} | {ratio(interpreted)} "
-                     f"| {ratio(same)} | {r['max_plan_difference_m']:.1e} |")
-    return lines + [""]
+             "table over this row's.", ""]
+
+    def ratio(base: dict | None, r: dict) -> str:
+        return "–" if base is None else f"{base['median_step_ms'] / r['median_step_ms']:.1f}"
+
+    return lines + markdown.table(
+        ["formulation", "backend", "loop step (ms)", "× rti/hpipm", "× same pair", "plans differ by at most (m)"],
+        "llrrrr", ([r["formulation"], r["backend"], f"{r['median_step_ms']:.3f}", ratio(interpreted, r),
+                    ratio(by_pair.get((r["formulation"], r["backend"])), r), f"{r['max_plan_difference_m']:.1e}"]
+                   for r in loop)) + [""]
 
 
 COMPILED_RATIO, EXPORTED_RATIO, SQP_RATIO = 10.0, 20.0, 20.0     # the compiled step's targets

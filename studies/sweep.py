@@ -28,6 +28,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.errors import MpcHuntError
@@ -131,11 +132,11 @@ def report(summaries: list[dict], walls: dict, machine: dict, rows: list[dict], 
              "closest approach is nearest their median), rerun and zoomed on the last 60 s:", "",
              "![typical hunts](typical_hunts.png)", "",
              "## What a nanometre changes", "", *ensemble_lines(ensemble), "",
-             "## Cost", "", "| strategy | wall time, all hunts | per hunt, median | longest hunt |",
-             "| --- | ---: | ---: | ---: |"]
-    lines += [f"| {s} | {w['total_s'] / 3600:.2f} h | {w['median_s']:.1f} s | {w['max_s']:.0f} s |"
-              for s, w in walls.items()]
-    lines += ["", "## Machine", "", *machine_lines(machine), ""]
+             "## Cost", "",
+             *markdown.table(["strategy", "wall time, all hunts", "per hunt, median", "longest hunt"], "lrrr",
+                             ([s, f"{w['total_s'] / 3600:.2f} h", f"{w['median_s']:.1f} s", f"{w['max_s']:.0f} s"]
+                              for s, w in walls.items())),
+             "", "## Machine", "", *machine_lines(machine), ""]
     return "\n".join(lines)
 
 

@@ -55,7 +55,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 import numpy as np
 
 from mpc_hunt.formulations.rti import linearised_stages
-from mpc_hunt import CaptureMPC, CaptureSolver, ControllerSpec, builtin_scenario, evaluate, simulate
+from mpc_hunt import CaptureMPC, CaptureSolver, ControllerSpec, builtin_scenario, evaluate, markdown, simulate
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.control.posing import posed_problem
@@ -372,17 +372,16 @@ def readme(results: dict) -> str:
              "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
              "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
              "`step()`.", "",
-             "| N_d | centralised (ms) | its HPIPM alone (ms) | ratio | a robot (ms) | on HPIPM (ms) | its HPIPM alone "
-             "(ms) | on HPIPM / a robot | plans within (m) | broadcast (ms) | team (ms) | centralised / team | "
-             "neighbour slots | unseen neighbours | failed robot QPs |",
-             "|" + " ---: |" * 15]
-    for r in rows:
-        lines.append(f"| {r['size']} | {r['central_ms']:.3f} | {r['central_hpipm_ms']:.3f} | "
-                     f"{r['central_ms'] / r['central_hpipm_ms']:.2f} | {r['robot_ms']:.3f} | "
-                     f"{r['robot_hpipm_loop_ms']:.3f} | {r['robot_hpipm_ms']:.3f} | "
-                     f"{r['robot_hpipm_loop_ms'] / r['robot_ms']:.2f} | {r['robot_plan_difference_m']:.1e} | "
-                     f"{r['broadcast_ms']:.3f} | {r['team_ms']:.3f} | {r['central_ms'] / r['team_ms']:.1f} | "
-                     f"{r['neighbour_slots']} | {r['unseen_neighbours']} | {r['failed_robot_qps']} |")
+             *markdown.table(
+                 ["N_d", "centralised (ms)", "its HPIPM alone (ms)", "ratio", "a robot (ms)", "on HPIPM (ms)",
+                  "its HPIPM alone (ms)", "on HPIPM / a robot", "plans within (m)", "broadcast (ms)", "team (ms)",
+                  "centralised / team", "neighbour slots", "unseen neighbours", "failed robot QPs"], "r" * 15,
+                 ([r["size"], f"{r['central_ms']:.3f}", f"{r['central_hpipm_ms']:.3f}",
+                   f"{r['central_ms'] / r['central_hpipm_ms']:.2f}", f"{r['robot_ms']:.3f}",
+                   f"{r['robot_hpipm_loop_ms']:.3f}", f"{r['robot_hpipm_ms']:.3f}",
+                   f"{r['robot_hpipm_loop_ms'] / r['robot_ms']:.2f}", f"{r['robot_plan_difference_m']:.1e}",
+                   f"{r['broadcast_ms']:.3f}", f"{r['team_ms']:.3f}", f"{r['central_ms'] / r['team_ms']:.1f}",
+                   r["neighbour_slots"], r["unseen_neighbours"], r["failed_robot_qps"]] for r in rows))]
     lines += ["", "Exponents b of time ∝ N_d^b over N_d = " + ", ".join(map(str, sizes)) + ": centralised "
               f"{exponent(sizes, [r['central_ms'] for r in rows]):.2f}; a robot "
               f"{exponent(sizes, [r['robot_ms'] for r in rows]):.2f}; team "
@@ -396,11 +395,11 @@ def readme(results: dict) -> str:
                   "sources, on `hpipm-codegen` against CasADi's HPIPM and BLASFEO, the wheel's generic build), run on "
                   "every robot's inputs of every state: median time of one robot's step in pure C, and the largest "
                   "difference from Python's plans on the same backend.", "",
-                  "| N_d | DAQP condensed (ms) | plans within (m) | exit | HPIPM (ms) | plans within (m) | exit | "
-                  "HPIPM / DAQP |", "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
-        lines += [f"| {r['size']} | {r['daqp_c_ms']:.4f} | {r['daqp_plan_difference_m']:.1e} | {r['daqp_exit']} | "
-                  f"{r['hpipm_c_ms']:.4f} | {r['hpipm_plan_difference_m']:.1e} | {r['hpipm_exit']} | "
-                  f"{r['hpipm_c_ms'] / r['daqp_c_ms']:.1f} |" for r in c]
+                  *markdown.table(["N_d", "DAQP condensed (ms)", "plans within (m)", "exit", "HPIPM (ms)",
+                                   "plans within (m)", "exit", "HPIPM / DAQP"], "r" * 8,
+                                  ([r["size"], f"{r['daqp_c_ms']:.4f}", f"{r['daqp_plan_difference_m']:.1e}",
+                                    r["daqp_exit"], f"{r['hpipm_c_ms']:.4f}", f"{r['hpipm_plan_difference_m']:.1e}",
+                                    r["hpipm_exit"], f"{r['hpipm_c_ms'] / r['daqp_c_ms']:.1f}"] for r in c))]
         slope = exponent([r["size"] for r in c], [r["daqp_c_ms"] for r in c])
         lines += ["", f"Exponent of a robot's C step (DAQP): {slope:.2f}.", ""]
     lines += on_the_board(results)
@@ -413,10 +412,10 @@ def readme(results: dict) -> str:
               "optimum's, which the linearised steps can reach where their plans break no constraint the "
               "evaluator scores), and the largest distance between the plans. `rti`: one centralised QP. Each "
               "on `hpipm`, on the same states.", "",
-              "| N_d | scheme | rounds | median gap | largest gap | largest distance (m) | failed |",
-              "| ---: | --- | ---: | ---: | ---: | ---: | ---: |"]
-    lines += [f"| {r['size']} | {r['scheme']} | {r['rounds']} | {r['median_gap']:.2e} | {r['max_gap']:.2e} | "
-              f"{r['max_distance_m']:.1e} | {r['failed']} |" for r in results["rounds"]]
+              *markdown.table(["N_d", "scheme", "rounds", "median gap", "largest gap", "largest distance (m)",
+                               "failed"], "rlrrrrr",
+                              ([r["size"], r["scheme"], r["rounds"], f"{r['median_gap']:.2e}", f"{r['max_gap']:.2e}",
+                                f"{r['max_distance_m']:.1e}", r["failed"]] for r in results["rounds"]))]
     return "\n".join(lines) + "\n"
 
 
@@ -424,11 +423,11 @@ def _kib(n: float) -> str:
     return f"{n / 1024:.0f} KiB"
 
 
-def _memory(footprint: dict | None) -> str:
+def _memory(footprint: dict | None) -> list[str]:
     """A program's size (text + data) and memory (data + bss) cells; the heap is not in a program's sizes."""
     if footprint is None:
-        return "— | —"
-    return f"{_kib(footprint['text'] + footprint['data'])} | {_kib(footprint['data'] + footprint['bss'])} + heap"
+        return ["—", "—"]
+    return [_kib(footprint["text"] + footprint["data"]), f"{_kib(footprint['data'] + footprint['bss'])} + heap"]
 
 
 def on_the_board(results: dict) -> list[str]:
@@ -446,47 +445,42 @@ def on_the_board(results: dict) -> list[str]:
                   "instruction a cycle: an estimate, as an emulator counts instructions, not cycles (the M7 issues "
                   "up to two a cycle; a double division or square root takes several, a cache miss or a flash wait "
                   "state more).", "",
-                  f"| N_d | robot steps | instructions a step (median) | largest | at {M7_CLOCK_HZ / 1e6:.0f} MHz (ms, "
-                  "median) | largest (ms) | plans within the host's (m) | exit |",
-                  "| ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
-        lines += [f"| {r['size']} | {r['steps']} | {r['instructions_median']:.0f} | {r['instructions_max']:.0f} | "
-                  f"{r['instructions_median'] / M7_CLOCK_HZ * 1e3:.3f} | "
-                  f"{r['instructions_max'] / M7_CLOCK_HZ * 1e3:.3f} | "
-                  f"{r['plan_difference_m']:.1e} | {r['exit']} |" for r in m7]
-        lines += [""]
+                  *markdown.table(["N_d", "robot steps", "instructions a step (median)", "largest",
+                                   f"at {M7_CLOCK_HZ / 1e6:.0f} MHz (ms, median)", "largest (ms)",
+                                   "plans within the host's (m)", "exit"], "r" * 8,
+                                  ([r["size"], r["steps"], f"{r['instructions_median']:.0f}",
+                                    f"{r['instructions_max']:.0f}",
+                                    f"{r['instructions_median'] / M7_CLOCK_HZ * 1e3:.3f}",
+                                    f"{r['instructions_max'] / M7_CLOCK_HZ * 1e3:.3f}", f"{r['plan_difference_m']:.1e}",
+                                    r["exit"]] for r in m7)), ""]
     lines += ["## On the board: the 50 Hz budget", "",
               f"A robot's step on each target, the slowest team size's median (and the largest step of any size), "
               f"its share of a {CYCLE_S * 1e3:.0f} ms cycle, its program's size (text + data) and memory (data + bss; "
               "on the Cortex-M7 also the heap DAQP allocates and the stack's high-water mark, measured on the "
-              "board), and its plans' largest difference from the host's (Python's on the host).", "",
-              "| target | measured as | a robot's step | largest | share of 20 ms | program | memory | "
-              "plans within (m) |",
-              "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
+              "board), and its plans' largest difference from the host's (Python's on the host).", ""]
+    budget = []
     if c is not None:
         worst = max(r["daqp_c_ms"] for r in c)
-        fp = c[0].get("daqp_footprint")
-        lines.append(f"| x86-64 (this machine), C | wall time | {worst:.4f} ms | "
-                     f"{max(r['daqp_c_max_ms'] for r in c):.4f} ms | {worst / (CYCLE_S * 1e3):.2%} | "
-                     + _memory(fp)
-                     + f" | {max(r['daqp_plan_difference_m'] for r in c):.1e} |")
+        budget.append(["x86-64 (this machine), C", "wall time", f"{worst:.4f} ms",
+                       f"{max(r['daqp_c_max_ms'] for r in c):.4f} ms", f"{worst / (CYCLE_S * 1e3):.2%}",
+                       *_memory(c[0].get("daqp_footprint")), f"{max(r['daqp_plan_difference_m'] for r in c):.1e}"])
     a64 = arm and arm.get("aarch64")
     if a64:
-        fp = a64[0].get("footprint")
-        lines.append("| aarch64 Linux, qemu-aarch64 | plans only (an emulator's time is not the core's) | — | — | — | "
-                     + _memory(fp)
-                     + f" | {max(r['plan_difference_m'] for r in a64):.1e} |")
+        budget.append(["aarch64 Linux, qemu-aarch64", "plans only (an emulator's time is not the core's)", "—", "—",
+                       "—", *_memory(a64[0].get("footprint")), f"{max(r['plan_difference_m'] for r in a64):.1e}"])
     if m7:
         worst = max(r["instructions_median"] for r in m7) / M7_CLOCK_HZ
         largest = max(r["instructions_max"] for r in m7) / M7_CLOCK_HZ
-        lines.append(f"| Cortex-M7 bare metal, qemu mps2-an500 | instructions at {M7_CLOCK_HZ / 1e6:.0f} MHz, one a "
-                     "cycle | "
-                     f"{worst * 1e3:.3f} ms | {largest * 1e3:.3f} ms | {worst / CYCLE_S:.2%} | "
-                     f"{_kib(max(x['text'] + x['data'] for x in m7))} flash | "
-                     f"{_kib(max(x['data'] + x['bss'] + x['heap'] + x['stack'] for x in m7))} RAM | "
-                     f"{max(x['plan_difference_m'] for x in m7):.1e} |")
+        budget.append(["Cortex-M7 bare metal, qemu mps2-an500",
+                       f"instructions at {M7_CLOCK_HZ / 1e6:.0f} MHz, one a cycle", f"{worst * 1e3:.3f} ms",
+                       f"{largest * 1e3:.3f} ms", f"{worst / CYCLE_S:.2%}",
+                       f"{_kib(max(x['text'] + x['data'] for x in m7))} flash",
+                       f"{_kib(max(x['data'] + x['bss'] + x['heap'] + x['stack'] for x in m7))} RAM",
+                       f"{max(x['plan_difference_m'] for x in m7):.1e}"])
     if not (a64 or m7):
-        lines.append("| ARM | not run: no cross compiler or qemu here | — | — | — | — | — | — |")
-    return lines + [""]
+        budget.append(["ARM", "not run: no cross compiler or qemu here", *["—"] * 6])
+    return lines + markdown.table(["target", "measured as", "a robot's step", "largest", "share of 20 ms", "program",
+                                   "memory", "plans within (m)"], "ll" + "r" * 6, budget) + [""]
 
 
 # The capture stage's targets for teams (N = 10): a robot's step through the loop API, a robot's step in C, the
@@ -502,9 +496,9 @@ def targets(results: dict) -> list[str]:
 
     def line(what: str, value: float, limit: float, unit: str = " ms") -> str:
         verdict = "met" if value <= limit else f"missed by {value / limit:.3g}×"
-        return f"| {what} | ≤ {limit:g}{unit} | {value:.3f}{unit} | {verdict} |"
+        return markdown.row([what, f"≤ {limit:g}{unit}", f"{value:.3f}{unit}", verdict])
 
-    out = ["## Targets", "", "| target | bound | measured | |", "| --- | ---: | ---: | --- |",
+    out = ["## Targets", "", *markdown.table(["target", "bound", "measured", ""], "lrrl"),
            line("a robot's step through the loop API, the slowest team size", max(r["robot_ms"] for r in rows),
                 ROBOT_MS),
            line("exponent of a robot's step in N_d", exponent(sizes, [r["robot_ms"] for r in rows]),

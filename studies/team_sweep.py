@@ -30,6 +30,7 @@ from pathlib import Path
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
@@ -108,33 +109,31 @@ def headline(attackers: list[dict], teams: list[dict]) -> list[str]:
         by = {(s["strategy"], s["attacker"]): s for s in attackers}
         lines += [f"Captured / {'' if kind == 'all' else 'comfortable '}hunts (95 % interval), exact belief; "
                   "*inside*: the distributed rate within the centralised one's interval:", "",
-                  f"| attacker | `{CENTRAL}` | `{DISTRIBUTED}` | inside |", "| --- | ---: | ---: | --- |"]
-        lines += [f"| {a} | {_cell(by[(CENTRAL, a)], kind)} | {_cell(by[(DISTRIBUTED, a)], kind)} | "
-                  f"{ {True: 'yes', False: 'no', None: '–'}[inside.get(a)]} |" for a in BEHAVIOURS
-                  if (CENTRAL, a) in by and (DISTRIBUTED, a) in by]
-        lines.append("")
+                  *markdown.table(["attacker", f"`{CENTRAL}`", f"`{DISTRIBUTED}`", "inside"], "lrrl",
+                                  ([a, _cell(by[(CENTRAL, a)], kind), _cell(by[(DISTRIBUTED, a)], kind),
+                                    {True: "yes", False: "no", None: "–"}[inside.get(a)]] for a in BEHAVIOURS
+                                   if (CENTRAL, a) in by and (DISTRIBUTED, a) in by)), ""]
     lines += ["Safety over every hunt of both sweeps (obstacle collisions, defender contacts, arena exits; the "
-              "least obstacle clearance and defender separation):", "",
-              "| sweep | strategy | collisions and contacts | arena exits | least clearance (m) | "
-              "least separation (m) |",
-              "| --- | --- | ---: | ---: | ---: | ---: |"]
+              "least obstacle clearance and defender separation):", ""]
+    safety = []
     for sweep, summaries in (("attackers", attackers), ("teams", teams)):
         for strategy in STRATEGIES:
             mine = [s for s in summaries if s["strategy"] == strategy]
             clear = [s["min_obstacle_clearance_m"] for s in mine if s["min_obstacle_clearance_m"] is not None]
             apart = [s["min_defender_separation_m"] for s in mine if s["min_defender_separation_m"] is not None]
-            lines.append(f"| {sweep} | `{strategy}` | {sum(s['collisions'] for s in mine)} | "
-                         f"{sum(s['failures'].get('outside_arena', 0) for s in mine)} | "
-                         f"{min(clear, default=float('nan')):.3f} | {min(apart, default=float('nan')):.3f} |")
+            safety.append([sweep, f"`{strategy}`", sum(s["collisions"] for s in mine),
+                           sum(s["failures"].get("outside_arena", 0) for s in mine),
+                           f"{min(clear, default=float('nan')):.3f}", f"{min(apart, default=float('nan')):.3f}"])
+    lines += markdown.table(["sweep", "strategy", "collisions and contacts", "arena exits", "least clearance (m)",
+                             "least separation (m)"], "llrrrr", safety)
     lines += ["", f"Teams of {TEAMS[0]} to {TEAMS[1]} defenders ({TEAM_ATTACKER} attacker): the solve times per "
-              "control step (the distributed stage's: every robot's QP one after another here):", "",
-              "| strategy | captured / hunts | median of the hunts' median solve (ms) | largest solve (ms) | "
-              "solves over the time step |", "| --- | ---: | ---: | ---: | ---: |"]
-    for s in teams:
-        over = s["over_time_step_share"]
-        lines.append(f"| `{s['strategy']}` | {_cell(s, 'all')} | {1e3 * (s['solve_time_p50_median_s'] or 0):.2f} | "
-                     f"{1e3 * (s['solve_time_max_s'] or 0):.1f} | "
-                     f"{'–' if over is None else f'{100 * over:.2f} %'} |")
+              "control step (the distributed stage's: every robot's QP one after another here):", ""]
+    lines += markdown.table(
+        ["strategy", "captured / hunts", "median of the hunts' median solve (ms)", "largest solve (ms)",
+         "solves over the time step"], "lrrrr",
+        ([f"`{s['strategy']}`", _cell(s, "all"), f"{1e3 * (s['solve_time_p50_median_s'] or 0):.2f}",
+          f"{1e3 * (s['solve_time_max_s'] or 0):.1f}",
+          "–" if s["over_time_step_share"] is None else f"{100 * s['over_time_step_share']:.2f} %"] for s in teams))
     return lines + [""]
 
 

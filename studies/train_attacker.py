@@ -36,6 +36,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count, output_file, output_folder
 from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.control.spec import ControllerSpec
@@ -207,11 +208,11 @@ def write(result: dict, settings: dict, machine: dict, out: Path, weights: Path)
              "candidate's is its mean over the generation's hunts. "
              "Each generation's hunts are new draws, so the curve is noisy: its trend, not a value, is the result. "
              "How the trained attacker fares on hunts it never saw: studies/attackers/README.md.", "",
-             "| generation | μ | elite mean | best | population mean | mean σ |",
-             "| ---: | ---: | ---: | ---: | ---: | ---: |"]
-    lines += [f"| {c['generation'] + 1} | {c['mean_candidate']:.3f} | {c['elite']:.3f} | {c['best']:.3f} | "
-              f"{c['population']:.3f} | {c['spread']:.3f} |" for c in result["curve"]]
-    lines += ["", *machine_lines(machine)]
+             *markdown.table(["generation", "μ", "elite mean", "best", "population mean", "mean σ"], "rrrrrr",
+                             ([c["generation"] + 1, *(f"{c[k]:.3f}" for k in ("mean_candidate", "elite", "best",
+                                                                               "population", "spread"))]
+                              for c in result["curve"])),
+             "", *machine_lines(machine)]
     (out / "README.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 

@@ -44,6 +44,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.control.ppo_team import RESIDUAL, policy_file as team_file
@@ -288,15 +289,16 @@ def write_readme(out: Path) -> None:
         s = r["settings"]
         what = (f"against `{s['against']}`, teams of {s['teams'][0]} to {s['teams'][-1]}" if side == "attacker"
                 else f"a team of {s['team']} against {', '.join(s['attackers'])}")
-        lines += ["", f"## {side} ({what}; {s['minutes']:g} min; shipped as `{r['policy']}`)", "",
-                  "| wall time (min) | steps | hunts ended | won by the learner |", "| ---: | ---: | ---: | ---: |"]
+        body = []
         for chunk in np.array_split(np.arange(len(r["curve"])), min(BINS, len(r["curve"]))) if r["curve"] else []:
             rows = [r["curve"][i] for i in chunk]
             hunts = sum(c["hunts"] for c in rows)
             won = sum(c["captured"] if side == "team" else c["hunts"] - c["captured"] for c in rows)
             share = f"{won} / {hunts} ({100 * won / hunts:.0f} %)" if hunts else "–"
-            lines.append(f"| {rows[-1]['wall_time_s'] / 60:.1f} | {rows[-1]['timesteps']} | {hunts} | {share} |")
-        lines += ["", *machine_lines(r["machine"])]
+            body.append([f"{rows[-1]['wall_time_s'] / 60:.1f}", rows[-1]["timesteps"], hunts, share])
+        lines += ["", f"## {side} ({what}; {s['minutes']:g} min; shipped as `{r['policy']}`)", "",
+                  *markdown.table(["wall time (min)", "steps", "hunts ended", "won by the learner"], "rrrr", body),
+                  "", *machine_lines(r["machine"])]
     (out / "README.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 

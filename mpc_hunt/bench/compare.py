@@ -25,7 +25,7 @@ import numpy as np
 from mpc_hunt.bench.best_known import MultiStartNLP
 from mpc_hunt.bench.metrics import is_success
 from mpc_hunt.bench.problem_set import ProblemEntry, ProblemSet
-from mpc_hunt.capture.problem import OBJECTIVES
+from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
 from mpc_hunt.errors import BenchmarkError, field_name
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
@@ -116,20 +116,26 @@ def check_pairs(pairs: list[str] | None, objective: str = "paper") -> list[tuple
     return out
 
 
-def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, horizon: int) -> SolveRecord:
+def timed_step(
+    mpc: CaptureMPC, pose: Callable[[], CaptureProblem], tolerance: float, mode: str = "replayed", problem: str = ""
+) -> SolveRecord:
+    """One step of ``mpc`` on the problem ``pose()`` makes, timed as a controller waits for it: from the state
+    handed over (the problem posed) to the plan returned, with any set-up and the evaluator's scoring taken out
+    and reported apart; a success is a usable plan within ``tolerance`` (m,
+    :func:`~mpc_hunt.bench.metrics.is_success`). ``mode`` and ``problem`` (an id) label the record."""
     t0 = time.perf_counter()
-    problem = run.problem_set.problem(entry, horizon, run.objective)
-    solution = mpc.step(problem).solution
+    posed = pose()
+    solution = mpc.step(posed).solution
     elapsed = time.perf_counter() - t0
     all_in = max(elapsed - solution.setup_time - solution.score_time, 0.0)
     return SolveRecord(
         mpc.solver.formulation.name,
         mpc.solver.backend.name,
         mode,
-        horizon,
-        entry.id,
+        posed.horizon,
+        problem,
         solution.status.value,
-        is_success(solution.success, solution.violation, run.tolerance),
+        is_success(solution.success, solution.violation, tolerance),
         solution.objective,
         solution.violation,
         all_in,
@@ -148,6 +154,12 @@ def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, hor
                 solution.certificate.duality_gap,
             )
         ),
+    )
+
+
+def _solve(run: CompareRun, mpc: CaptureMPC, mode: str, entry: ProblemEntry, horizon: int) -> SolveRecord:
+    return timed_step(
+        mpc, lambda: run.problem_set.problem(entry, horizon, run.objective), run.tolerance, mode, entry.id
     )
 
 

@@ -7,6 +7,7 @@ import json
 import math
 from pathlib import Path
 
+from mpc_hunt import markdown
 from mpc_hunt.bench.compare import CompareRun
 from mpc_hunt.bench.compare_rows import best_known, gap
 from mpc_hunt.bench.machine import machine_lines
@@ -127,22 +128,24 @@ def table(rows: list[dict]) -> str:
 
 
 def markdown_table(rows: list[dict]) -> list[str]:
-    lines = ["| " + " | ".join(COLUMNS) + " |", "| --- | --- | " + " | ".join("---:" for _ in COLUMNS[2:]) + " |"]
-    return lines + ["| " + " | ".join(_cells(r)) + " |" for r in rows]
+    return markdown.table(COLUMNS, "ll" + "r" * (len(COLUMNS) - 2), map(_cells, rows))
 
 
 def violation_table(rows: list[dict]) -> list[str]:
-    lines = [
-        "| pair | mode | N | statuses | " + " | ".join(VIOLATION_NAMES) + " |",
-        "| --- | --- | ---: | --- | " + " | ".join("---:" for _ in VIOLATION_NAMES) + " |",
-    ]
-    for r in rows:
-        lines.append(
-            f"| {r['formulation']}/{r['backend']} | {r['mode']} | {r['horizon']} | {r['statuses']} | "
-            + " | ".join(_g(r[f"max_violation_{n}"], ".1e") for n in VIOLATION_NAMES)
-            + " |"
-        )
-    return lines
+    return markdown.table(
+        ["pair", "mode", "N", "statuses", *VIOLATION_NAMES],
+        "llrl" + "r" * len(VIOLATION_NAMES),
+        (
+            [
+                f"{r['formulation']}/{r['backend']}",
+                r["mode"],
+                r["horizon"],
+                r["statuses"],
+                *(_g(r[f"max_violation_{n}"], ".1e") for n in VIOLATION_NAMES),
+            ]
+            for r in rows
+        ),
+    )
 
 
 def unsolved(run: CompareRun) -> list[str]:

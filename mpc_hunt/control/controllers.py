@@ -8,6 +8,7 @@ import inspect
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from mpc_hunt import markdown
 from mpc_hunt.control.containment import Containment
 from mpc_hunt.control.controller import Controller
 from mpc_hunt.control.encircling import EncirclingController
@@ -74,12 +75,15 @@ def described() -> str:
 
 def table() -> str:
     """The registry as a Markdown table (docs/architecture.md holds it; a test compares)."""
-    rows = [
-        f"| `{name}` | {'the ' + getattr(entry, 'OBJECTIVE') + ' objective' if name in SOLVING else 'no optimisation'} "
-        f"| {entry.SUMMARY} |"
+    rows = (
+        [
+            f"`{name}`",
+            f"the {getattr(entry, 'OBJECTIVE')} objective" if name in SOLVING else "no optimisation",
+            entry.SUMMARY,
+        ]
         for name, entry in CONTROLLERS.items()
-    ]
-    return "\n".join(["| controller | capture stage | what it does |", "| --- | --- | --- |", *rows]) + "\n"
+    )
+    return "\n".join(markdown.table(["controller", "capture stage", "what it does"], "lll", rows)) + "\n"
 
 
 def controller_objective(name: str) -> str:

@@ -23,6 +23,7 @@ from collections import Counter
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.sweep.outcome import CAUSES
 from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
 from mpc_hunt.world.belief import Belief
@@ -160,39 +161,61 @@ def table(summaries: list[dict]) -> str:
         lo, hi = s[f"{key}_ci95"]
         return f"{pct(s[key])} ({pct(lo)}–{pct(hi)})"
 
-    lines = [
-        "| strategy | attacker | belief | hunts | success (95 % CI) | of reachable hunts | of comfortable hunts | "
-        "of comfortable hunts without an edge race | "
-        "failures by cause | capture time median (IQR) | min clearance / separation | "
-        "inside R_safe approaching / capturing | solve p50 / p95 | failed solves | solves over T |",
-        "| --- | --- | --- | ---: | --- | --- | --- | --- | --- | --- | --- | ---: | --- | ---: | ---: |",
-    ]
-    for s in summaries:
-        causes = ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none"
-        lines.append(
-            f"| {s['strategy']} | {s['attacker']} | {s['belief']} | {s['hunts']} "
-            f"({s['uncapturable_by_definition']} uncapturable, "
-            f"{s['unreachable']} unreachable, {s['comfortable']} comfortable) | {rate(s, 'success_rate')} | "
-            f"{rate(s, 'success_rate_reachable')} | {rate(s, 'success_rate_comfortable')} | "
-            f"{rate(s, 'success_rate_comfortable_without_edge_race')} | {causes} | "
-            f"{num(s['capture_time_median_s'], unit=' s')} ({num(s['capture_time_iqr_s'], unit=' s')}) | "
-            f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')} | "
-            f"{s['safety_breaches_approach']} / {s['safety_breaches_capture']} hunts | "
-            f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')} | "
-            f"{pct(s['failed_solve_share'])} | {pct(s['over_time_step_share'])} |"
-        )
+    lines = markdown.table(
+        [
+            "strategy",
+            "attacker",
+            "belief",
+            "hunts",
+            "success (95 % CI)",
+            "of reachable hunts",
+            "of comfortable hunts",
+            "of comfortable hunts without an edge race",
+            "failures by cause",
+            "capture time median (IQR)",
+            "min clearance / separation",
+            "inside R_safe approaching / capturing",
+            "solve p50 / p95",
+            "failed solves",
+            "solves over T",
+        ],
+        "lllrlllllllrlrr",
+        (
+            [
+                s["strategy"],
+                s["attacker"],
+                s["belief"],
+                f"{s['hunts']} ({s['uncapturable_by_definition']} uncapturable, "
+                f"{s['unreachable']} unreachable, {s['comfortable']} comfortable)",
+                rate(s, "success_rate"),
+                rate(s, "success_rate_reachable"),
+                rate(s, "success_rate_comfortable"),
+                rate(s, "success_rate_comfortable_without_edge_race"),
+                ", ".join(f"{k} {v}" for k, v in s["failures"].items() if v) or "none",
+                f"{num(s['capture_time_median_s'], unit=' s')} ({num(s['capture_time_iqr_s'], unit=' s')})",
+                f"{num(s['min_obstacle_clearance_m'], unit=' m')} / {num(s['min_defender_separation_m'], unit=' m')}",
+                f"{s['safety_breaches_approach']} / {s['safety_breaches_capture']} hunts",
+                f"{num(s['solve_time_p50_median_s'], 1e3, ' ms')} / {num(s['solve_time_p95_median_s'], 1e3, ' ms')}",
+                pct(s["failed_solve_share"]),
+                pct(s["over_time_step_share"]),
+            ]
+            for s in summaries
+        ),
+    )
     groups = sorted({n for s in summaries for n in s["reachable_by_defenders"]}, key=int)
+
+    def by_defenders(s: dict, n: str) -> str:
+        g = s["reachable_by_defenders"].get(n)
+        return "–" if g is None else f"{g['captured']} / {g['hunts']}, {rate(g, 'success_rate')}"
+
     lines += [
         "",
         "Of the reachable hunts, by number of defenders (captured / hunts, success, 95 % CI):",
         "",
-        "| strategy | attacker | belief | " + " | ".join(f"{n} defenders" for n in groups) + " |",
-        "| --- | --- | --- |" + " --- |" * len(groups),
+        *markdown.table(
+            ["strategy", "attacker", "belief", *(f"{n} defenders" for n in groups)],
+            "l" * (3 + len(groups)),
+            ([s["strategy"], s["attacker"], s["belief"], *(by_defenders(s, n) for n in groups)] for s in summaries),
+        ),
     ]
-    for s in summaries:
-        cells = []
-        for n in groups:
-            g = s["reachable_by_defenders"].get(n)
-            cells.append("–" if g is None else f"{g['captured']} / {g['hunts']}, {rate(g, 'success_rate')}")
-        lines.append(f"| {s['strategy']} | {s['attacker']} | {s['belief']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
