@@ -124,10 +124,7 @@ def fit(row: dict) -> bool:
 
 
 def table(rows: list[dict]) -> list[str]:
-    lines = markdown_table(rows)
-    lines[0] += " fit to embed |"
-    lines[1] += " --- |"
-    return lines[:2] + [line + f" {'yes' if fit(r) else 'no'} |" for line, r in zip(lines[2:], rows)]
+    return markdown_table(rows, ("fit to embed", lambda r: "yes" if fit(r) else "no"))
 
 
 def settings() -> dict:

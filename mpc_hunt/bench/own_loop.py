@@ -32,6 +32,7 @@ from typing import Callable, Iterable, Iterator
 
 import numpy as np
 
+from mpc_hunt import markdown
 from mpc_hunt.capture.evaluator import HARD_CONSTRAINTS as HARD
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
 from mpc_hunt.capture.solution import Status
@@ -426,7 +427,8 @@ COLUMNS = (
 )
 
 
-def _cells(r: dict) -> list[str]:
+def cells(r: dict) -> list[str]:
+    """A row's cells, in :data:`COLUMNS`' order."""
     hard = [r[f"max_violation_{n}"] for n in HARD if r[f"max_violation_{n}"] is not None]
     return [
         f"{r['formulation']}/{r['backend']}",
@@ -455,15 +457,16 @@ def _cells(r: dict) -> list[str]:
 
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table."""
-    body = [list(COLUMNS)] + [_cells(r) for r in rows]
+    body = [list(COLUMNS)] + [cells(r) for r in rows]
     widths = [max(len(line[i]) for line in body) for i in range(len(COLUMNS))]
     return "\n".join(
         "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))) for line in body
     )
 
 
-def markdown_table(rows: list[dict]) -> list[str]:
-    """The rows as a Markdown table."""
-    return ["| " + " | ".join(COLUMNS) + " |", "| --- | " + " | ".join("---:" for _ in COLUMNS[1:]) + " |"] + [
-        "| " + " | ".join(_cells(r)) + " |" for r in rows
-    ]
+def markdown_table(rows: list[dict], extra: tuple[str, Callable[[dict], str]] | None = None) -> list[str]:
+    """The rows as a Markdown table; ``extra``, (its name, its cell of a row): a last column, left-aligned."""
+    header, align = list(COLUMNS), "l" + "r" * (len(COLUMNS) - 1)
+    if extra is None:
+        return markdown.table(header, align, map(cells, rows))
+    return markdown.table([*header, extra[0]], align + "l", ([*cells(r), extra[1](r)] for r in rows))
