@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+PACE_MARGIN = 1.5  # a cost budgeted ahead (a further QP, an iteration): this many times the one measured
+
 
 @dataclass(frozen=True)
 class QPIteration:
@@ -28,3 +30,11 @@ class QPIteration:
 
 
 ONE_QP = QPIteration(1, 0.0)
+
+
+def another_fits(time_left: float | None, spent: float, count: int) -> bool:
+    """Whether a step under a time limit starts a further QP: when ``time_left`` (s; None: no limit) covers
+    :data:`PACE_MARGIN` × the mean time of the ``count`` QPs it has run in ``spent`` seconds (the first QP always
+    runs). A QP that reads no clock (HPIPM's step) runs to its cap once started, so the limit is kept by not
+    starting one that would not fit."""
+    return time_left is None or count == 0 or time_left > PACE_MARGIN * spent / count

@@ -9,11 +9,12 @@ shows what a single linearisation costs, and what the polygon of Eq. 13 costs.
 
 from __future__ import annotations
 
+import time
 from dataclasses import replace
 
 import numpy as np
 
-from mpc_hunt.capture.iteration import QPIteration
+from mpc_hunt.capture.iteration import QPIteration, another_fits
 from mpc_hunt.capture.solution import Solution, Status
 from mpc_hunt.formulations.capture_model import parameter_vector
 from mpc_hunt.formulations.qp import QPFormulation
@@ -40,13 +41,14 @@ def iterate(step, reference: np.ndarray, duals, iteration: QPIteration, time_lef
     """``step(reference, duals)`` (one QP linearised at ``reference``) repeated at its own plan until ``iteration``
     says it has settled; times and iterations summed. ``time_left()`` is what is left of the step's time limit (s,
     the backend's, :meth:`~mpc_hunt.solving.backends.base.Backend.time_left`; None: no limit), each QP handed it:
-    no QP is started once it is spent, the step then ending ``time_limit`` with the last usable plan."""
+    no QP is started once what is left would not fit one (:func:`~mpc_hunt.capture.iteration.another_fits`), the
+    step then ending ``time_limit`` with the last usable plan."""
     solver_time = setup_time = 0.0
     iterations = 0
     last = None
+    start = time.perf_counter()
     for count in range(iteration.max_qps):
-        left = time_left()
-        if last is not None and left is not None and left <= 0:
+        if last is not None and not another_fits(time_left(), time.perf_counter() - start, count):
             return replace(
                 last,
                 status=Status.TIME_LIMIT,

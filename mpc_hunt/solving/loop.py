@@ -31,6 +31,7 @@ import time
 
 import numpy as np
 
+from mpc_hunt.capture.iteration import another_fits
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Status
 from mpc_hunt.errors import MpcHuntError
@@ -90,7 +91,8 @@ class CaptureLoop:
     def step(self) -> Status:
         """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan
         of this step (the reference it started from, if none) and returns its status. A step that ran past the
-        backend's time limit returns ``time_limit`` (its plan kept), and no further QP is started after it."""
+        backend's time limit returns ``time_limit`` (its plan kept); no further QP is started once what is left of
+        the limit would not fit one (:func:`~mpc_hunt.capture.iteration.another_fits`)."""
         t0 = time.perf_counter()
         with self.backend.step_within(t0):
             status = self._step()
@@ -109,9 +111,9 @@ class CaptureLoop:
         self.iterations = 0
         np.copyto(self._previous, self.reference)
         self.message = ""
+        start = time.perf_counter()
         for count in range(iteration.max_qps):
-            left = self.backend.time_left()
-            if count and left is not None and left <= 0:
+            if not another_fits(self.backend.time_left(), time.perf_counter() - start, count):
                 np.copyto(self.plan, self._previous)
                 return Status.TIME_LIMIT
             self.qps = count + 1

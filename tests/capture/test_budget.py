@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import problem_at, small_scenario
+
 from mpc_hunt import CaptureSolver, Status, make_controller
+from mpc_hunt.capture.iteration import PACE_MARGIN, another_fits
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.solving import registry
-from mpc_hunt.solving.backends.base import MIN_SLICE, PACE_MARGIN
+from mpc_hunt.solving.backends.base import MIN_SLICE
 from mpc_hunt.solving.backends.daqp import DaqpBackend
 
 INSTALLED = [b for b in registry.BACKENDS if registry.installed(b)]
@@ -158,3 +159,39 @@ def test_the_time_outside_a_solvers_clock_is_measured_against_the_time_it_report
         outside.append(s.solver_time - s.extras["reported_solve_time_s"])
     assert min(outside) > 0
     assert solver.backend.outside_clock() == pytest.approx(PACE_MARGIN * np.median(outside))
+
+
+@pytest.mark.parametrize("left,spent,count,starts", [
+    (None, 9.0, 3, True),       # no limit
+    (1e-9, 5.0, 0, True),       # the first QP always runs
+    (0.016, 0.010, 1, True),    # 16 ms left, QPs of 10 ms: 1.5 × 10 = 15 fits
+    (0.014, 0.010, 1, False),   # 14 ms does not
+    (0.016, 0.030, 3, True),
+    (-1.0, 0.001, 2, False),
+])
+def test_a_further_qp_starts_only_when_the_time_left_covers_the_margin_times_the_mean_qp(left, spent, count, starts):
+    assert another_fits(left, spent, count) is starts
+
+
+def test_a_stage_step_starts_no_qp_that_would_not_fit(scenario, monkeypatch):
+    """HPIPM's step reads no clock: once started a QP runs to its cap, so the loop starts one only if it fits."""
+    solver = CaptureSolver("stage-sqp", "hpipm", time_limit=5.0)
+    problem = problem_at(scenario, 5)
+    solver.solve(problem)
+    loop = solver.loop(problem)
+    monkeypatch.setattr(solver.backend, "time_left", lambda: 1e-9)   # never enough for a second QP
+    loop.load(problem)
+    assert loop.step() is Status.TIME_LIMIT and loop.qps == 1
+
+
+def test_ipopt_stops_when_the_time_left_would_not_fit_another_iteration(scenario):
+    """IPOPT's own max_wall_time is fixed when CasADi builds it and read once an iteration: under a step's limit
+    its iteration callback stops it first, as a time_limit, when what is left would not fit another iteration."""
+    import time
+
+    solver = CaptureSolver("nlp", "ipopt", time_limit=5.0)
+    problem = problem_at(scenario, 5)
+    assert solver.solve(problem).status is Status.OPTIMAL       # 5 s: the callback lets it converge
+    with solver.backend.step_within(time.perf_counter() - 5.0 + 1e-4):   # 0.1 ms left of the step
+        late = solver.formulation.solve(problem, solver.backend, None, None)
+    assert late.status is Status.TIME_LIMIT and late.message == "User_Requested_Stop" and late.iterations <= 1

@@ -43,6 +43,7 @@ import numpy as np
 
 from mpc_hunt.capture.certificate import qp_certificate
 from mpc_hunt.capture.data import QPData
+from mpc_hunt.capture.iteration import PACE_MARGIN
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError, SolverError, UnknownNameError, field_name
 
@@ -53,7 +54,6 @@ CACHE_SIZE = 16  # structures kept set up per backend (the controlled set change
 MAX_ITERATIONS = 1_000_000  # the largest iteration cap taken
 FIRST_CAP = 100  # a clockless solver's cap under a time limit before any time per iteration is measured
 PACE_SOLVES = 32  # the last solves a clockless solver's cost (fixed + per iteration) is fitted to
-PACE_MARGIN = 1.5  # the cost per iteration budgeted: this many times the fitted one
 MIN_SLICE = 1e-6  # s: the clock limit a solver is handed when its step's time is already spent (it stops at once)
 BUDGET = ("time_limit", "max_iter")
 

@@ -5,8 +5,9 @@ constraint rows, never ``P`` or ``q``, so an assembly mistake in those shows up
 as a disagreement. The problem is built once per structure (DPP), then only
 parameter values change. ``A`` and ``J`` are sparse parameters on their
 structural nonzeros (CVXPY's ``sparsity``): as dense parameters every entry,
-zero or not, reached the solver's matrices, many times the work at N = 10. ``solver`` reaches any solver CVXPY has installed; the
-default, Clarabel, is an accurate interior-point method, which a reference needs.
+zero or not, reached the solver's matrices, many times the work at N = 10.
+``solver`` reaches any solver CVXPY has installed; the default, Clarabel, is an
+accurate interior-point method, which a reference needs.
 """
 
 from __future__ import annotations

@@ -1,11 +1,20 @@
-"""IPOPT through CasADi's ``nlpsol``: created once per NLP structure, then reused."""
+"""IPOPT through CasADi's ``nlpsol``: created once per NLP structure, then reused.
+
+Under a time limit IPOPT gets ``max_wall_time``, fixed when CasADi builds the solver and checked once an
+iteration, so a step could end an iteration past its limit. An iteration callback therefore stops it when what is
+left of the step's limit would not fit another iteration (:data:`~mpc_hunt.capture.iteration.PACE_MARGIN` × the
+longest of this solve's so far): IPOPT returns ``User_Requested_Stop``, a ``time_limit``.
+"""
 
 from __future__ import annotations
+
+import time
 
 import numpy as np
 
 from mpc_hunt.capture.certificate import Certificate, bound_violation, complementarity
 from mpc_hunt.capture.data import NLPData
+from mpc_hunt.capture.iteration import PACE_MARGIN
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
 from mpc_hunt.solving.backends.base import Backend
@@ -17,6 +26,7 @@ _STATUS = {
     "Maximum_Iterations_Exceeded": Status.ITERATION_LIMIT,
     "Maximum_WallTime_Exceeded": Status.TIME_LIMIT,
     "Maximum_CpuTime_Exceeded": Status.TIME_LIMIT,
+    "User_Requested_Stop": Status.TIME_LIMIT,  # the deadline's callback (the module's docstring)
 }
 
 
@@ -77,16 +87,23 @@ class IpoptBackend(Backend):
         import casadi as ca
 
         options = self._settings({**self.KIND.get(data.kind, {}), **self.options, "max_iter": self.iteration_cap()})
+        deadline = None
         if self.time_limit is not None:
             options["ipopt.max_wall_time"] = self.time_limit
-        return ca.nlpsol("capture", "ipopt", data.build(), options)
+            deadline = _Deadline(len(data.lbx), len(data.lbg), len(data.p))
+            options["iteration_callback"] = deadline
+        return ca.nlpsol("capture", "ipopt", data.build(), options), deadline
 
-    def run(self, solver, data: NLPData, warm: WarmStart) -> Solution:
+    def run(self, state, data: NLPData, warm: WarmStart) -> Solution:
+        solver, deadline = state
         args = dict(p=data.p, lbx=data.lbx, ubx=data.ubx, lbg=data.lbg, ubg=data.ubg)
         if warm.x is not None:
             args["x0"] = warm.x
         if warm.y is not None and warm.z is not None:
             args["lam_g0"], args["lam_x0"] = warm.y, warm.z
+        left = self.time_left()
+        if deadline is not None and left is not None:
+            deadline.start(left)
         out = solver(**args)  # CasADi raises RuntimeError on evaluation errors (NaN, …)
         stats = solver.stats()
         raw = stats.get("return_status", "unknown")
@@ -113,3 +130,50 @@ def certificate(
     primal = max(bound_violation(g, data.lbg, data.ubg), bound_violation(x, data.lbx, data.ubx))
     gap = max(complementarity(g, data.lbg, data.ubg, lam_g), complementarity(x, data.lbx, data.ubx, lam_x))
     return Certificate(primal, float(inf_du[-1]), gap, kind="nlp")
+
+
+class _Deadline:
+    """IPOPT's iteration callback under a time limit (the module's docstring): stops it when the time left would
+    not fit another iteration. Made lazily as a CasADi ``Callback`` (listing backends loads no solver)."""
+
+    def __new__(cls, nx: int, ng: int, np_: int):
+        import casadi as ca
+
+        class Deadline(ca.Callback):
+            def __init__(self):
+                ca.Callback.__init__(self)
+                self.sizes = {"x": nx, "f": 1, "g": ng, "lam_x": nx, "lam_g": ng, "lam_p": np_}
+                self.until = float("inf")
+                self.last = self.longest = 0.0
+                self.construct("deadline", {})
+
+            def get_n_in(self):
+                return ca.nlpsol_n_out()
+
+            def get_n_out(self):
+                return 1
+
+            def get_name_in(self, i):
+                return ca.nlpsol_out(i)
+
+            def get_name_out(self, i):
+                return "stop"
+
+            def get_sparsity_in(self, i):
+                return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)])
+
+            def start(self, left: float) -> None:
+                """A solve starts with ``left`` seconds of its step's limit."""
+                self.last = time.perf_counter()
+                self.until, self.longest = self.last + left, 0.0
+
+            def has_eval_buffer(self):
+                return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate
+
+            def eval_buffer(self, arg, res):
+                now = time.perf_counter()
+                self.longest, self.last = max(self.longest, now - self.last), now
+                memoryview(res[0]).cast("d")[0] = 1.0 if self.until - now < PACE_MARGIN * self.longest else 0.0
+                return 0
+
+        return Deadline()
