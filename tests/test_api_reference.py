@@ -78,7 +78,7 @@ def test_the_examples_public_api_is_the_references():
 
 
 def test_every_public_name_has_a_docstring_the_site_shows():
-    griffe = pytest.importorskip("griffe")  # the docs extra: pip install ".[docs]"
+    griffe = pytest.importorskip("griffe")  # griffelib, in the test extra (and the docs one, through mkdocstrings)
     loader = griffe.GriffeLoader(search_paths=[str(ROOT)])
     package = loader.load("mpc_hunt")
     loader.resolve_aliases(implicit=True, external=False)
