@@ -90,7 +90,7 @@ class IpoptBackend(Backend):
         deadline = None
         if self.time_limit is not None:
             options["ipopt.max_wall_time"] = self.time_limit
-            deadline = _Deadline(len(data.lbx), len(data.lbg), len(data.p))
+            deadline = _deadline(len(data.lbx), len(data.lbg), len(data.p))
             options["iteration_callback"] = deadline
         return ca.nlpsol("capture", "ipopt", data.build(), options), deadline
 
@@ -132,48 +132,47 @@ def certificate(
     return Certificate(primal, float(inf_du[-1]), gap, kind="nlp")
 
 
-class _Deadline:
-    """IPOPT's iteration callback under a time limit (the module's docstring): stops it when the time left would
-    not fit another iteration. Made lazily as a CasADi ``Callback`` (listing backends loads no solver)."""
+def _deadline(nx: int, ng: int, np_: int):
+    """IPOPT's iteration callback under a time limit (the module's docstring), for an NLP of ``nx`` variables,
+    ``ng`` rows and ``np_`` parameters: stops it when the time left would not fit another iteration. A CasADi
+    ``Callback``, its class made here so that listing the backends loads no solver."""
+    import casadi as ca
 
-    def __new__(cls, nx: int, ng: int, np_: int):
-        import casadi as ca
+    class Deadline(ca.Callback):
+        def __init__(self):
+            ca.Callback.__init__(self)
+            self.sizes = {"x": nx, "f": 1, "g": ng, "lam_x": nx, "lam_g": ng, "lam_p": np_}
+            self.until = float("inf")
+            self.last = self.longest = 0.0
+            self.construct("deadline", {})
 
-        class Deadline(ca.Callback):
-            def __init__(self):
-                ca.Callback.__init__(self)
-                self.sizes = {"x": nx, "f": 1, "g": ng, "lam_x": nx, "lam_g": ng, "lam_p": np_}
-                self.until = float("inf")
-                self.last = self.longest = 0.0
-                self.construct("deadline", {})
+        def get_n_in(self):
+            return ca.nlpsol_n_out()
 
-            def get_n_in(self):
-                return ca.nlpsol_n_out()
+        def get_n_out(self):
+            return 1
 
-            def get_n_out(self):
-                return 1
+        def get_name_in(self, i):
+            return ca.nlpsol_out(i)
 
-            def get_name_in(self, i):
-                return ca.nlpsol_out(i)
+        def get_name_out(self, i):
+            return "stop"
 
-            def get_name_out(self, i):
-                return "stop"
+        def get_sparsity_in(self, i):
+            return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)])
 
-            def get_sparsity_in(self, i):
-                return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)])
+        def start(self, left: float) -> None:
+            """A solve starts with ``left`` seconds of its step's limit."""
+            self.last = time.perf_counter()
+            self.until, self.longest = self.last + left, 0.0
 
-            def start(self, left: float) -> None:
-                """A solve starts with ``left`` seconds of its step's limit."""
-                self.last = time.perf_counter()
-                self.until, self.longest = self.last + left, 0.0
+        def has_eval_buffer(self):
+            return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate
 
-            def has_eval_buffer(self):
-                return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate
+        def eval_buffer(self, arg, res):
+            now = time.perf_counter()
+            self.longest, self.last = max(self.longest, now - self.last), now
+            memoryview(res[0]).cast("d")[0] = 1.0 if self.until - now < PACE_MARGIN * self.longest else 0.0
+            return 0
 
-            def eval_buffer(self, arg, res):
-                now = time.perf_counter()
-                self.longest, self.last = max(self.longest, now - self.last), now
-                memoryview(res[0]).cast("d")[0] = 1.0 if self.until - now < PACE_MARGIN * self.longest else 0.0
-                return 0
-
-        return Deadline()
+    return Deadline()
