@@ -83,6 +83,9 @@ def task_key(task) -> str:
     return key(task.horizon, task.scenario.name, (task.formulation, task.backend))
 
 
+SUMMARY_KEYS = {"formulation", "backend", "horizon", "scenario", "past_limit_and_overhead"}   # of a kept hunt
+
+
 def finished() -> dict[str, dict]:
     if not PROGRESS.exists():
         return {}
@@ -91,6 +94,8 @@ def finished() -> dict[str, dict]:
         try:
             h = json.loads(line)
         except json.JSONDecodeError:      # a line cut short by a stop: that hunt runs again
+            continue
+        if not isinstance(h, dict) or not SUMMARY_KEYS <= h.keys():   # another file's, or an older version's
             continue
         done[key(h["horizon"], h["scenario"], (h["formulation"], h["backend"]))] = h
     return done

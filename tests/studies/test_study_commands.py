@@ -218,10 +218,13 @@ def test_train_ppo_refuses_a_damaged_checkpoint_in_one_line(content, tmp_path):
 def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch, capsys):
     module = study("realtime")
     progress = tmp_path / "hunts.jsonl"
-    hunt = {"formulation": "qp", "backend": "osqp", "horizon": 5, "scenario": "paper-open"}
-    progress.write_text(json.dumps(hunt) + "\n" + json.dumps(hunt | {"horizon": 10})[:25], encoding="utf-8")
+    hunt = {"formulation": "qp", "backend": "osqp", "horizon": 5, "scenario": "paper-open",
+            "past_limit_and_overhead": 0}
+    older = {k: v for k, v in hunt.items() if k != "past_limit_and_overhead"} | {"horizon": 1}
+    progress.write_text("\n".join([json.dumps(hunt), json.dumps(older), "[1, 2]", json.dumps(hunt | {"horizon": 10})[:25]]),
+                        encoding="utf-8")
     monkeypatch.setattr(module, "PROGRESS", progress)
-    assert list(module.finished()) == ["qp:osqp N=5 paper-open"]    # the line a stop cut short runs again
+    assert list(module.finished()) == ["qp:osqp N=5 paper-open"]    # an older version's, another's, a cut line: rerun
     usage_error(capsys, "realtime", ["--workers", "3"])
 
 
