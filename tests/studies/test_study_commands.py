@@ -221,8 +221,8 @@ def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch,
     hunt = {"formulation": "qp", "backend": "osqp", "horizon": 5, "scenario": "paper-open",
             "past_limit_and_overhead": 0}
     older = {k: v for k, v in hunt.items() if k != "past_limit_and_overhead"} | {"horizon": 1}
-    progress.write_text("\n".join([json.dumps(hunt), json.dumps(older), "[1, 2]", json.dumps(hunt | {"horizon": 10})[:25]]),
-                        encoding="utf-8")
+    lines = [json.dumps(hunt), json.dumps(older), "[1, 2]", json.dumps(hunt | {"horizon": 10})[:25]]
+    progress.write_text("\n".join(lines), encoding="utf-8")
     monkeypatch.setattr(module, "PROGRESS", progress)
     assert list(module.finished()) == ["qp:osqp N=5 paper-open"]    # an older version's, another's, a cut line: rerun
     usage_error(capsys, "realtime", ["--workers", "3"])
