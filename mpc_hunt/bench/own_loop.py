@@ -80,6 +80,20 @@ class OwnLoopRun:
     def tolerance(self) -> float:
         return VIOLATION_TOLERANCE[self.accuracy]
 
+    def tasks(self) -> list[LoopTask]:
+        """Its hunts, every pair × horizon through every scenario (:func:`loop_tasks`, which checks the settings)."""
+        return loop_tasks(
+            self.scenarios,
+            self.pairs,
+            self.horizons,
+            controller=self.controller,
+            accuracy=self.accuracy,
+            time_limit=self.time_limit,
+            max_iter=self.max_iter,
+            deadline=self.deadline,
+            abandon_after=self.abandon_after,
+        )
+
 
 def from_capture_stage(scenario: Scenario, window: float) -> Scenario | None:
     """``scenario`` started where its hunt under the paper's strategy (one-step NLP, prediction on) first has a
@@ -243,17 +257,6 @@ def run_own_loop(
 ) -> OwnLoopRun:
     """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one), on ``workers``
     processes (:func:`run_tasks`); ``progress(hunt)`` is called with each hunt as it finishes."""
-    tasks = loop_tasks(
-        scenarios,
-        pairs,
-        horizons,
-        controller=controller,
-        accuracy=accuracy,
-        time_limit=time_limit,
-        max_iter=max_iter,
-        deadline=deadline,
-        abandon_after=abandon_after,
-    )
     run = OwnLoopRun(
         list(scenarios),
         list(pairs),
@@ -265,6 +268,7 @@ def run_own_loop(
         deadline,
         abandon_after,
     )
+    tasks = run.tasks()  # checked before any hunt
     tick = progress or (lambda hunt: None)
     try:
         for hunt in run_tasks(tasks, workers):

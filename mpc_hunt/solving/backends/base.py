@@ -113,6 +113,7 @@ class Backend:
         self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
         self._outside: deque[float] = deque(maxlen=PACE_SOLVES)  # s of each solve outside the solver's own clock
+        self._outside_fit: float | None = None  # outside_clock(), of the solves recorded so far
         self._fit: tuple[float, float] | None = None  # cost(), fitted to the solves recorded so far
         self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
 
@@ -188,9 +189,9 @@ class Backend:
         """Seconds a solve spends outside the solver's own clock (handing it the data, CVXPY's canonicalisation,
         reading the answer back): :data:`PACE_MARGIN` × the median, over the last solves, of each one's time less
         the solve time its solver reported (0 before any, or for a solver that reports none)."""
-        if not self._outside:
-            return 0.0
-        return PACE_MARGIN * float(np.median(self._outside))
+        if self._outside_fit is None:
+            self._outside_fit = PACE_MARGIN * float(np.median(self._outside)) if self._outside else 0.0
+        return self._outside_fit
 
     def clock_limit(self) -> float | None:
         """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less what
@@ -272,6 +273,7 @@ class Backend:
             reported = result.extras.get("reported_solve_time_s")
             if reported is not None:
                 self._outside.append(max(solver_time - float(reported), 0.0))
+                self._outside_fit = None
         if result.x is not None and not np.all(np.isfinite(result.x)):
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
         if result.x is None and result.status.usable:

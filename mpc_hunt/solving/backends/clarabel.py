@@ -115,7 +115,7 @@ class ClarabelBackend(Backend):
             setattr(settings, key, value)
         settings.max_iter = self.iteration_cap()
         if self.time_limit is not None:
-            settings.time_limit = self.time_limit
+            settings.time_limit = self.clock_limit()
         layout = ConicLayout(data)
         cones = ([clarabel.NonnegativeConeT(layout.nonnegative)] if layout.nonnegative else []) + [
             clarabel.SecondOrderConeT(k) for k in layout.cone_sizes
@@ -124,14 +124,15 @@ class ClarabelBackend(Backend):
         return solver, layout, settings
 
     def update(self, state, data: QPData) -> None:
-        solver, layout, _ = state
-        solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
+        solver, layout, settings = state
+        if self.time_limit is None:
+            solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
+            return
+        settings.time_limit = self.clock_limit()  # what is left of the step's limit, with the numbers in one call
+        solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data), settings=settings)
 
     def run(self, state, data: QPData, warm: WarmStart) -> Solution:
-        solver, layout, settings = state
-        if self.time_limit is not None:  # what is left of the step's limit (Backend.clock_limit)
-            settings.time_limit = self.clock_limit()
-            solver.update(settings=settings)
+        solver, layout, _ = state
         sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)
