@@ -53,7 +53,9 @@ class Solution:
     solver, ``overhead_time`` our own work around it for this solve (building
     data, reading back), ``score_time`` the evaluator's (a benchmark's work,
     not the step's), ``setup_time`` a one-off set-up done by this call (0 when
-    the persistent solver was reused). ``warm_started``: a plan seeded this
+    the persistent solver was reused), ``off_cpu_time`` how much of the step's wall time (its solves and our work
+    between them) this process was not running (the machine gave its core to another process, or it waited):
+    the wall time less the process's CPU time over the step, at least 0. ``warm_started``: a plan seeded this
     solve (as the starting point and, for the QP family, the linearisation
     point). ``duals`` are what the next warm start may reuse; ``extras`` holds
     solver-specific figures (plain numbers and strings). ``certificate``: the
@@ -75,6 +77,7 @@ class Solution:
     overhead_time: float = 0.0
     score_time: float = 0.0
     setup_time: float = 0.0
+    off_cpu_time: float = 0.0
     iterations: int = 0
     warm_started: bool = False
     attacker_path: np.ndarray | None = field(default=None, repr=False)
@@ -116,6 +119,7 @@ class Solution:
             "overhead_time_s": self.overhead_time,
             "score_time_s": self.score_time,
             "setup_time_s": self.setup_time,
+            "off_cpu_time_s": self.off_cpu_time,
             "iterations": self.iterations,
             "warm_started": self.warm_started,
             "extras": self.extras,

@@ -49,6 +49,9 @@ class HuntResult:
     # Of each solve's time, our own work around the solver (building its data, reading its answer, the certificate):
     # what a step may take past its time limit (the solver's share of the step is bounded by what is left of it).
     overhead_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # Of each solve's step, the time the process was off the CPU: the machine's, not the step's
+    # (mpc_hunt.solving.step_timing).
+    off_cpu_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solve_statuses: tuple[str, ...] = ()
     certificates: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     applied_violations: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))

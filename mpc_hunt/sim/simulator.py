@@ -140,13 +140,15 @@ class _SolveRecord:
     """Per capture-stage solve: its set-up, the status, the certificate, the applied plan's true violations."""
 
     def __init__(self):
-        self.setups, self.overheads, self.statuses, self.certificates, self.violations = [], [], [], [], []
+        self.setups, self.overheads, self.off_cpu, self.statuses = [], [], [], []
+        self.certificates, self.violations = [], []
         self.violating = 0
 
     def add(self, solution, fallback: bool) -> None:
         self.violating += solution.success and fallback  # usable, yet not applied: beyond the tolerance
         self.setups.append(solution.setup_time)
         self.overheads.append(solution.overhead_time)
+        self.off_cpu.append(solution.off_cpu_time)
         self.statuses.append(solution.status.value)
         c = solution.certificate
         self.certificates.append((np.nan,) * 3 if c is None else (c.primal_residual, c.dual_residual, c.duality_gap))
@@ -160,6 +162,7 @@ class _SolveRecord:
             result,
             setup_times=np.array(self.setups),
             overhead_times=np.array(self.overheads),
+            off_cpu_times=np.array(self.off_cpu),
             solve_statuses=tuple(self.statuses),
             certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
             applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),

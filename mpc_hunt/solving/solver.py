@@ -36,6 +36,7 @@ from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.loop import CaptureLoop
+from mpc_hunt.solving.step_timing import timed_step
 from mpc_hunt.solving.team_loop import TeamLoop
 
 
@@ -123,7 +124,7 @@ class CaptureSolver:
                 self.formulation.prepare(problem.structure)
                 self._prepared.add(problem.structure)
                 build_time = time.perf_counter() - t0
-            with self.backend.step_within(time.perf_counter()):  # the time limit is the step's, all its QPs'
+            with self.backend.step_within(time.perf_counter()), timed_step() as timing:  # the limit: all its QPs'
                 result = self.formulation.solve(problem, self.backend, warm_plan, duals)
         except (RuntimeError, ValueError, ArithmeticError) as exc:
             message = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
@@ -141,6 +142,7 @@ class CaptureSolver:
                 **scores,
                 setup_time=setup_time,
                 overhead_time=max(overhead, 0.0),
+                off_cpu_time=timing.off_cpu,
                 warm_started=warm_plan is not None,
             )
         )
@@ -154,7 +156,8 @@ class CaptureSolver:
         setup_time = 0.0 if built else time.perf_counter() - t0
         loop.load(problem, warm_plan)
         t1 = time.perf_counter()
-        status = loop.step()
+        with timed_step() as timing:
+            status = loop.step()
         solver_time = time.perf_counter() - t1
         plan = problem.plan_with(loop.plan)
         scores = solve_scores(problem, plan, status, self.score)
@@ -172,6 +175,7 @@ class CaptureSolver:
             solver_time=solver_time,
             overhead_time=max(overhead, 0.0),
             setup_time=setup_time,
+            off_cpu_time=timing.off_cpu,
             iterations=loop.iterations,
             warm_started=warm_plan is not None,
             extras=loop.extras,

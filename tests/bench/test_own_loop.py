@@ -126,5 +126,10 @@ def test_a_step_past_its_limit_beyond_its_own_overhead_is_counted():
     assert row["past_limit_and_overhead"] == int(np.sum(over > 0))
     assert row["largest_overrun_s"] == pytest.approx(over.max())
     assert row["overhead_max_s"] == pytest.approx(r.overhead_times.max())
+    assert len(r.off_cpu_times) == len(r.solve_times) and np.all(r.off_cpu_times >= 0)
+    on_cpu = over - r.off_cpu_times
+    assert row["past_limit_on_cpu"] == int(np.sum(on_cpu > 0)) <= row["past_limit_and_overhead"]
+    assert row["largest_overrun_on_cpu_s"] == pytest.approx(on_cpu.max())
     unlimited = rows(run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [1]))[0]
     assert unlimited["past_limit_and_overhead"] is None and unlimited["largest_overrun_s"] is None
+    assert unlimited["past_limit_on_cpu"] is None and unlimited["largest_overrun_on_cpu_s"] is None

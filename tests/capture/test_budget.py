@@ -138,8 +138,9 @@ def test_a_solver_with_a_clock_is_handed_the_time_left_and_stops_when_there_is_n
     for _ in range(3):
         solver.solve(problem)
     backend = solver.backend
-    outside = backend.outside_clock()
-    assert 0 < outside < 0.01 and backend.clock_limit() == pytest.approx(0.5 - outside)
+    outside, per_iteration = backend.outside_clock(), backend.cost()[1]
+    assert 0 < outside < 0.01 and 0 < per_iteration < 1e-3  # (OSQP's iteration: microseconds)
+    assert backend.clock_limit() == pytest.approx(0.5 - outside - PACE_MARGIN * per_iteration)
     with backend.step_within(time.perf_counter() - 1.0):   # a step whose time is spent before its QP starts
         assert backend.clock_limit() == MIN_SLICE
         late = solver.formulation.solve(problem, backend, None, None)
@@ -195,3 +196,30 @@ def test_ipopt_stops_when_the_time_left_would_not_fit_another_iteration(scenario
     with solver.backend.step_within(time.perf_counter() - 5.0 + 1e-4):   # 0.1 ms left of the step
         late = solver.formulation.solve(problem, solver.backend, None, None)
     assert late.status is Status.TIME_LIMIT and late.message == "User_Requested_Stop" and late.iterations <= 1
+
+
+def test_ipopt_budgets_a_solves_first_iteration_as_the_recent_solves_longest():
+    """Before its first iteration a solve has measured none: the callback budgets it as the longest iteration of the
+    recent solves, so a solve whose time left would not fit that one stops at once; one solve's own longest does not
+    carry past RECENT_SOLVES solves."""
+    import time
+
+    from mpc_hunt.solving.backends.ipopt import RECENT_SOLVES, _deadline
+
+    deadline = _deadline(1, 1, 1)
+    stop = bytearray(8)
+
+    def iteration(after: float = 0.0) -> float:
+        time.sleep(after)
+        deadline.eval_buffer(None, [stop])
+        return memoryview(stop).cast("d")[0]
+
+    deadline.start(10.0)
+    assert iteration(0.05) == 0.0                           # 10 s left: on it goes; its iteration took 50 ms
+    deadline.start(0.06)                                    # 60 ms left < 1.5 × 50 ms: no iteration started
+    assert iteration() == 1.0
+    for _ in range(RECENT_SOLVES):                          # solves of short iterations push the long one out
+        deadline.start(10.0)
+        iteration(0.001)
+    deadline.start(0.06)
+    assert iteration() == 0.0

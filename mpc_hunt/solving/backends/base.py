@@ -41,7 +41,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from mpc_hunt.capture.certificate import qp_certificate
+from mpc_hunt.capture.certificate import Certificate, qp_certificate
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.iteration import PACE_MARGIN
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
@@ -195,12 +195,13 @@ class Backend:
 
     def clock_limit(self) -> float | None:
         """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less what
-        the solve will spend outside the solver's clock (:meth:`outside_clock`), at least :data:`MIN_SLICE` (None:
-        no limit)."""
+        the solve will spend outside the solver's clock (:meth:`outside_clock`) and less :data:`PACE_MARGIN` × its
+        cost per iteration (:meth:`cost`: a solver reads its clock once an iteration, so it stops up to one
+        iteration past its limit), at least :data:`MIN_SLICE` (None: no limit)."""
         left = self.time_left()
         if left is None:
             return None
-        return max(left - self.outside_clock(), MIN_SLICE)
+        return max(left - self.outside_clock() - PACE_MARGIN * self.cost()[1], MIN_SLICE)
 
     def iteration_cap(self) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
@@ -226,6 +227,14 @@ class Backend:
     def run(self, state: Any, data, warm: WarmStart) -> Solution:
         """Solve; a :class:`Solution` with status, message, x, formulation_objective, iterations, duals."""
         raise NotImplementedError
+
+    def certify(self, state: Any, data, result: Solution) -> Certificate | None:
+        """The certificate of ``result`` (a solution with an x), computed after the solve's time is taken: our work,
+        not the solver's. Here a QP's, from its data and the returned multipliers (None without them)."""
+        y = result.duals.y
+        if result.x is None or y is None or not isinstance(data, QPData) or len(y) != data.A.shape[0]:
+            return result.certificate
+        return qp_certificate(data.P, data.q, data.A, data.l, data.u, result.x, y, data.cones)
 
     # The shared lifecycle.
     def prepared(self, data) -> tuple[Any, bool]:
@@ -278,18 +287,8 @@ class Backend:
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
         if result.x is None and result.status.usable:
             result = replace(result, status=Status.ERROR, message=f"{result.message} (no solution returned)")
-        if (
-            result.x is not None
-            and result.duals.y is not None
-            and isinstance(data, QPData)
-            and len(result.duals.y) == data.A.shape[0]
-        ):
-            result = replace(
-                result,
-                certificate=qp_certificate(
-                    data.P, data.q, data.A, data.l, data.u, result.x, result.duals.y, data.cones
-                ),
-            )
+        if result.x is not None:
+            result = replace(result, certificate=self.certify(state, data, result))
         if overran and result.status.usable:
             result = replace(
                 result,

@@ -3,12 +3,16 @@
 Under a time limit IPOPT gets ``max_wall_time``, fixed when CasADi builds the solver and checked once an
 iteration, so a step could end an iteration past its limit. An iteration callback therefore stops it when what is
 left of the step's limit would not fit another iteration (:data:`~mpc_hunt.capture.iteration.PACE_MARGIN` × the
-longest of this solve's so far): IPOPT returns ``User_Requested_Stop``, a ``time_limit``.
+longest of this solve's so far and of the recent solves'): IPOPT returns ``User_Requested_Stop``, a ``time_limit``.
+The certificate is computed once the solve's time is taken (:meth:`IpoptBackend.certify`).
 """
 
 from __future__ import annotations
 
 import time
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -18,6 +22,8 @@ from mpc_hunt.capture.iteration import PACE_MARGIN
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
 from mpc_hunt.solving.backends.base import Backend
+
+RECENT_SOLVES = 8  # the solves whose longest iteration budgets a new solve's first (under a time limit)
 
 _STATUS = {
     "Solve_Succeeded": Status.OPTIMAL,
@@ -92,10 +98,10 @@ class IpoptBackend(Backend):
             options["ipopt.max_wall_time"] = self.time_limit
             deadline = _deadline(len(data.lbx), len(data.lbg), len(data.p))
             options["iteration_callback"] = deadline
-        return ca.nlpsol("capture", "ipopt", data.build(), options), deadline
+        return _Ipopt(ca.nlpsol("capture", "ipopt", data.build(), options), deadline)
 
-    def run(self, state, data: NLPData, warm: WarmStart) -> Solution:
-        solver, deadline = state
+    def run(self, state: _Ipopt, data: NLPData, warm: WarmStart) -> Solution:
+        solver, deadline = state.solver, state.deadline
         args = dict(p=data.p, lbx=data.lbx, ubx=data.ubx, lbg=data.lbg, ubg=data.ubg)
         if warm.x is not None:
             args["x0"] = warm.x
@@ -109,6 +115,7 @@ class IpoptBackend(Backend):
         raw = stats.get("return_status", "unknown")
         x = np.array(out["x"]).ravel()
         lam_g, lam_x = np.array(out["lam_g"]).ravel(), np.array(out["lam_x"]).ravel()
+        state.g, state.stats = out["g"], stats
         return Solution(
             status=_STATUS.get(raw, Status.ERROR),
             message=raw,
@@ -116,8 +123,24 @@ class IpoptBackend(Backend):
             formulation_objective=float(out["f"]),
             iterations=int(stats.get("iter_count", 0)),
             duals=WarmStart(x, lam_g, lam_x),
-            certificate=certificate(data, x, np.array(out["g"]).ravel(), lam_g, lam_x, stats),
         )
+
+    def certify(self, state: _Ipopt, data: NLPData, result: Solution) -> Certificate:
+        """IPOPT's measures of the answer :meth:`run` returned last (:func:`certificate`)."""
+        duals = result.duals
+        assert result.x is not None and duals.y is not None and duals.z is not None  # run() returns all three
+        return certificate(data, result.x, np.array(state.g).ravel(), duals.y, duals.z, state.stats)
+
+
+@dataclass
+class _Ipopt:
+    """A structure's IPOPT: the solver, its deadline callback (None without a time limit), and of its last solve
+    the constraint values and statistics the certificate is computed from once the solve's time is taken."""
+
+    solver: Any
+    deadline: Any
+    g: Any = None
+    stats: dict = field(default_factory=dict)
 
 
 def certificate(
@@ -139,11 +162,12 @@ def _deadline(nx: int, ng: int, np_: int):
     import casadi as ca
 
     class Deadline(ca.Callback):
-        def __init__(self):
+        def __init__(self) -> None:
             ca.Callback.__init__(self)
             self.sizes = {"x": nx, "f": 1, "g": ng, "lam_x": nx, "lam_g": ng, "lam_p": np_}
             self.until = float("inf")
-            self.last = self.longest = 0.0
+            self.last = self.longest = self.carried = 0.0
+            self.earlier: deque[float] = deque(maxlen=RECENT_SOLVES)  # the longest iteration of each recent solve
             self.construct("deadline", {})
 
         def get_n_in(self):
@@ -162,9 +186,12 @@ def _deadline(nx: int, ng: int, np_: int):
             return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)])
 
         def start(self, left: float) -> None:
-            """A solve starts with ``left`` seconds of its step's limit."""
+            """A solve starts with ``left`` seconds of its step's limit; its first iteration is budgeted as the
+            longest of the recent solves' (the one before it ended on that iteration's clock)."""
+            if self.longest > 0:
+                self.earlier.append(self.longest)
             self.last = time.perf_counter()
-            self.until, self.longest = self.last + left, 0.0
+            self.until, self.longest, self.carried = self.last + left, 0.0, max(self.earlier, default=0.0)
 
         def has_eval_buffer(self):
             return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate
@@ -172,7 +199,8 @@ def _deadline(nx: int, ng: int, np_: int):
         def eval_buffer(self, arg, res):
             now = time.perf_counter()
             self.longest, self.last = max(self.longest, now - self.last), now
-            memoryview(res[0]).cast("d")[0] = 1.0 if self.until - now < PACE_MARGIN * self.longest else 0.0
+            ahead = PACE_MARGIN * max(self.longest, self.carried)
+            memoryview(res[0]).cast("d")[0] = 1.0 if self.until - now < ahead else 0.0
             return 0
 
     return Deadline()
