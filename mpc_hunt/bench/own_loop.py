@@ -23,7 +23,8 @@ violations (how many exceed the tolerance: none, by that rule; the largest of ea
 largest residuals over the usable solves (:mod:`mpc_hunt.capture.certificate`): the solver's inaccuracy and the
 linearisation's error side by side. Under a time limit, the steps that took longer than it plus their own overhead,
 counted twice: on the wall clock, and on the time the process ran (:mod:`mpc_hunt.solving.step_timing`), which
-tells a step whose code ran long from one whose core the machine gave to another process. Ctrl-C stops the run and keeps every hunt finished.
+tells a step whose code ran long from one whose core the machine gave to another process. Ctrl-C stops the run
+and keeps every hunt finished.
 """
 
 from __future__ import annotations
@@ -424,6 +425,8 @@ COLUMNS = (
     "max ms",
     "> T",
     "> deadline",
+    "> limit",
+    "> limit on CPU",
     "set-ups",
     "max set-up ms",
     "budget hits",
@@ -452,6 +455,8 @@ def cells(r: dict) -> list[str]:
         _ms(r["step_time_max_s"]),
         str(r["deadline_misses_T"]),
         "–" if r["deadline_misses"] is None else str(r["deadline_misses"]),
+        "–" if r["past_limit_and_overhead"] is None else str(r["past_limit_and_overhead"]),
+        "–" if r["past_limit_on_cpu"] is None else str(r["past_limit_on_cpu"]),
         str(r["setups"]),
         _ms(r["setup_max_s"]),
         str(r["budget_hits"]),
