@@ -36,6 +36,7 @@ from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.envs.actions import checked_action
 from mpc_hunt.envs.attacker_env import AttackerEnv
+from mpc_hunt.envs.base import checked_seed
 from mpc_hunt.envs.defender_env import DefenderEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
@@ -92,7 +93,7 @@ class AttackerViewEnv(gym.Env):
                 return total, terminated, truncated, info
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        super().reset(seed=seed)
+        super().reset(seed=checked_seed(seed))
         given = (options or {}).get("scenario") is not None if isinstance(options, dict) else False
         for _ in range(1 if given else MAX_REDRAWS):
             self.env = self.envs[int(self.np_random.integers(len(self.envs)))]
@@ -108,6 +109,7 @@ class AttackerViewEnv(gym.Env):
         )
 
     def step(self, action):
+        self.env.started()  # refused before the first reset, or after the hunt ended
         a = np.clip(checked_action(action, self.action_space, "action"), -1.0, 1.0)  # before anything moves
         total, terminated, truncated, info = self._run(a)
         return self._view(), total, terminated, truncated, info
@@ -117,9 +119,10 @@ class TeamHunts:
     """``hunts`` hunts of a team of ``defenders`` sharing one policy (the module's docstring)."""
 
     def __init__(
-        self, hunts: int, attackers: tuple[str, ...], defenders: int = 3, decision_steps: int = 5, seed: int = 0
+        self, hunts: int, attackers: tuple[str, ...], defenders: int = 3, decision_steps: int = 5, seed: int | None = 0
     ):
         self.decision_steps = _decision_steps(decision_steps)
+        seed = checked_seed(seed)  # before any hunt is built
         self.defenders = defenders
         self.envs = [
             {name: DefenderEnv(defenders=defenders, attacker=name) for name in attackers} for _ in range(hunts)
@@ -183,6 +186,8 @@ class TeamHunts:
         """One decision of every agent (``actions``: a correction in [−1, 1]² each): the views after it, each
         agent's reward (its team's), whether its hunt ended, and an info per hunt (``termination``, ``truncated``,
         and ``behaviour``, the attacker's) for a hunt that ended, else {}."""
+        if self.playing[0] is None:
+            raise MpcHuntError("step: call reset() first")
         actions = np.clip(
             checked_action(
                 actions,
