@@ -17,7 +17,10 @@
   the attacker's behaviour from ``attackers``. A finished
   hunt starts the next at once; its last views are kept for the learner
   (``terminal_views``). Stable-Baselines3 steps it through a ``VecEnv`` of one slot per
-  defender (studies/train_ppo.py).
+  defender (studies/train_ppo.py). Its arguments are checked when it is built, each refusal an
+  :class:`~mpc_hunt.errors.OptionError` naming the argument: ``hunts`` a whole number from 1 to
+  MAX_TEAM_HUNTS, ``attackers`` a tuple of distinct behaviour names, ``seed`` a whole number
+  from 0 or None.
 
 Playing a trained network through :mod:`mpc_hunt.world.behaviours.ppo` or
 :mod:`mpc_hunt.control.ppo_team` gives the hunts these environments give it (a test checks).
@@ -31,6 +34,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from mpc_hunt.arguments import out_of_range
 from mpc_hunt.control.ppo_team import corrected, team_view
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.voronoi import VoronoiController
@@ -40,17 +44,52 @@ from mpc_hunt.envs.base import checked_seed
 from mpc_hunt.envs.defender_env import DefenderEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
+from mpc_hunt.world.behaviours import BEHAVIOURS
 from mpc_hunt.world.behaviours.base import sensed, sensing_radius, undisturbed
 from mpc_hunt.world.mlp import MAX_DECISION_STEPS
 
 BOUND = 1e3  # a view's numbers are within a few REACH; the Box says so loosely
 MAX_REDRAWS = 100  # hunts a reset may draw before one reaches its first decision
+# TeamHunts' hunts side by side: each holds a DefenderEnv per attacker (with the seven the training plays, about
+# 30 kB and 12 ms to build and reset) and one process steps them all in turn: 10 000 take two minutes and 300 MB
+# before the first step, far beyond the 4 the training plays (studies/train_ppo.py, TEAM_HUNTS).
+MAX_TEAM_HUNTS = 10_000
 
 
 def _decision_steps(value) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_DECISION_STEPS:
         raise OptionError(f"decision_steps: a whole number from 1 to {MAX_DECISION_STEPS}, got {value!r}")
     return int(value)
+
+
+def _hunts(value) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise OptionError(
+            f"hunts: a whole number from 1 to {MAX_TEAM_HUNTS}, got {type(value).__name__} {repr(value)[:40]}"
+        )
+    why = out_of_range(int(value), 1, MAX_TEAM_HUNTS)
+    if why:
+        raise OptionError(f"hunts: {why}")
+    return int(value)
+
+
+def _attackers(value) -> tuple[str, ...]:
+    """``attackers``: a tuple (or list) of distinct behaviour names, at least one."""
+    known = f"behaviour names ({', '.join(BEHAVIOURS)})"
+    if not isinstance(value, (tuple, list)):
+        hint = f"; for one, give ({value!r},)" if isinstance(value, str) else ""
+        raise OptionError(f"attackers: a tuple of {known}, got {type(value).__name__} {str(value)[:40]!r}{hint}")
+    if not value:
+        raise OptionError(f"attackers: empty; give at least one of the {known} (one is drawn per hunt)")
+    unknown = [repr(name) for name in value if not isinstance(name, str) or name not in BEHAVIOURS]
+    if unknown:
+        raise OptionError(f"attackers: unknown behaviour {', '.join(unknown)[:200]}; give {known}")
+    twice = sorted({name for name in value if value.count(name) > 1})
+    if twice:
+        raise OptionError(
+            f"attackers: {', '.join(twice)} more than once; name each once (each hunt draws one, all alike)"
+        )
+    return tuple(value)
 
 
 class AttackerViewEnv(gym.Env):
@@ -122,7 +161,7 @@ class TeamHunts:
         self, hunts: int, attackers: tuple[str, ...], defenders: int = 3, decision_steps: int = 5, seed: int | None = 0
     ):
         self.decision_steps = _decision_steps(decision_steps)
-        seed = checked_seed(seed)  # before any hunt is built
+        hunts, attackers, seed = _hunts(hunts), _attackers(attackers), checked_seed(seed)  # before any is built
         self.defenders = defenders
         self.envs = [
             {name: DefenderEnv(defenders=defenders, attacker=name) for name in attackers} for _ in range(hunts)

@@ -10,7 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mpc_hunt.envs import AttackerEnv, DefenderEnv
-from mpc_hunt.envs.learning import AttackerViewEnv, TeamHunts
+from mpc_hunt.envs import learning
+from mpc_hunt.envs.learning import MAX_TEAM_HUNTS, AttackerViewEnv, TeamHunts
 from mpc_hunt.envs.parallel import ATTACKER, HuntParallelEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
 
@@ -21,6 +22,59 @@ def one_line(exc: pytest.ExceptionInfo, start: str, *words: str) -> str:
     assert isinstance(exc.value, MpcHuntError) and "\n" not in message, message
     assert message.startswith(start) and all(w in message for w in words), message
     return message
+
+
+@pytest.fixture
+def nothing_built(monkeypatch):
+    """TeamHunts may build no hunt before its arguments are checked (10**7 of them would take hours)."""
+    monkeypatch.setattr(learning, "DefenderEnv", lambda *a, **k: pytest.fail("a hunt was built"))
+
+
+# --- TeamHunts' arguments --------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("hunts, words", [
+    (0, "must be at least 1, got 0"),
+    (-1, "must be at least 1, got -1"),
+    (2.5, f"a whole number from 1 to {MAX_TEAM_HUNTS}, got float 2.5"),
+    (True, "got bool True"),                   # not 1
+    ("3", "got str '3'"),
+    (MAX_TEAM_HUNTS + 1, f"at most {MAX_TEAM_HUNTS} (docs/robustness.md, Limits), got {MAX_TEAM_HUNTS + 1}"),
+    (10**7, f"at most {MAX_TEAM_HUNTS}"),
+])
+def test_team_hunts_refuse_a_bad_count_of_hunts_naming_it(nothing_built, hunts, words):
+    with pytest.raises(OptionError) as exc:
+        TeamHunts(hunts, ("gap",))
+    one_line(exc, "hunts: ", words)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.one_of(st.integers(max_value=0), st.integers(min_value=MAX_TEAM_HUNTS + 1), st.floats(), st.booleans(),
+                 st.none(), st.text(max_size=5)))
+def test_team_hunts_take_no_count_outside_one_to_the_bound(hunts):
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(learning, "DefenderEnv", lambda *a, **k: pytest.fail("a hunt was built"))
+        with pytest.raises(OptionError) as exc:
+            TeamHunts(hunts, ("gap",))
+    one_line(exc, "hunts: ")
+
+
+@pytest.mark.parametrize("attackers, words", [
+    ("gap", "got str 'gap'; for one, give ('gap',)"),                 # not 'g', 'a', 'p'
+    ((), "empty; give at least one of the behaviour names (apf, flee, gap"),
+    (["gap", "apf", "gap"], "gap more than once"),
+    (("gapp",), "unknown behaviour 'gapp'"),
+    (("gap", None), "unknown behaviour None"),
+    (7, "got int '7'"),
+])
+def test_team_hunts_refuse_bad_attackers_naming_them(nothing_built, attackers, words):
+    with pytest.raises(OptionError) as exc:
+        TeamHunts(2, attackers)
+    one_line(exc, "attackers: ", words)
+
+
+def test_team_hunts_take_a_list_or_a_tuple_of_attackers():
+    assert list(TeamHunts(2, ["gap", "apf"]).envs[1]) == list(TeamHunts(2, ("gap", "apf")).envs[1]) == ["gap", "apf"]
+    assert len(TeamHunts(np.int64(2), ("gap",)).envs) == 2
 
 
 # --- seeds -----------------------------------------------------------------------------------------------------
