@@ -9,6 +9,10 @@
   world's steps between summed. Each reset draws the team's size from ``teams`` (one
   AttackerEnv per size), so the policy meets every size the sweeps play, and plays the
   hunt to its first decision (a hunt that ends before it is replaced by another).
+  ``reset(options={"scenario": s})`` plays ``s`` with its own team, whatever ``teams`` holds:
+  the agent's view and action are the same for any team (``ATTACKER_VIEW`` numbers, a
+  velocity), so no team size is drawn for it; one of a size not in ``teams`` gets an
+  AttackerEnv of its own, built once.
 - :class:`TeamHunts`: ``hunts`` hunts of :class:`~mpc_hunt.envs.DefenderEnv`, each defender an
   agent sharing one policy, as :mod:`mpc_hunt.control.ppo_team` plays it: the agent reads
   :func:`~mpc_hunt.control.ppo_team.team_view` and its action is a correction of the Voronoi
@@ -47,6 +51,7 @@ from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
 from mpc_hunt.world.behaviours import BEHAVIOURS
 from mpc_hunt.world.behaviours.base import sensed, sensing_radius, undisturbed
 from mpc_hunt.world.mlp import MAX_DECISION_STEPS
+from mpc_hunt.world.scenario import Scenario
 
 BOUND = 1e3  # a view's numbers are within a few REACH; the Box says so loosely
 MAX_REDRAWS = 100  # hunts a reset may draw before one reaches its first decision
@@ -102,6 +107,7 @@ class AttackerViewEnv(gym.Env):
         if not teams or any(isinstance(t, bool) or not isinstance(t, (int, np.integer)) for t in teams):
             raise OptionError(f"teams: team sizes (whole numbers), got {teams!r}")
         self.envs = [AttackerEnv(defenders=int(t), controller=controller) for t in teams]
+        self._controller, self.others = controller, dict[int, AttackerEnv]()  # for a given hunt of another team
         self.env = self.envs[0]
         self.observation_space = spaces.Box(-BOUND, BOUND, shape=(ATTACKER_VIEW,), dtype=np.float64)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
@@ -133,9 +139,13 @@ class AttackerViewEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=checked_seed(seed))
-        given = (options or {}).get("scenario") is not None if isinstance(options, dict) else False
+        scenario = options.get("scenario") if isinstance(options, dict) else None
+        given = scenario is not None
         for _ in range(1 if given else MAX_REDRAWS):
-            self.env = self.envs[int(self.np_random.integers(len(self.envs)))]
+            if not given:
+                self.env = self.envs[int(self.np_random.integers(len(self.envs)))]
+            else:  # its own team (the module's docstring); anything but a Scenario refused by the env's reset
+                self.env = self._team_of(scenario) if isinstance(scenario, Scenario) else self.envs[0]
             _, info = self.env.reset(seed=int(self.np_random.integers(2**31)), options=options)
             _, terminated, truncated, info = self._run(None)
             if not (terminated or truncated):
@@ -146,6 +156,14 @@ class AttackerViewEnv(gym.Env):
             if given
             else f"reset: {MAX_REDRAWS} hunts ended before the attacker sensed a defender"
         )
+
+    def _team_of(self, scenario: Scenario) -> AttackerEnv:
+        """The AttackerEnv of ``scenario``'s team: ``teams``' one, else its own, built once."""
+        team = len(scenario.defenders)
+        env = next((e for e in self.envs if e.hunts.team == team), None) or self.others.get(team)
+        if env is None:
+            env = self.others[team] = AttackerEnv(defenders=team, controller=self._controller)
+        return env
 
     def step(self, action):
         self.env.started()  # refused before the first reset, or after the hunt ended

@@ -14,6 +14,8 @@ from mpc_hunt.envs import learning
 from mpc_hunt.envs.learning import MAX_TEAM_HUNTS, AttackerViewEnv, TeamHunts
 from mpc_hunt.envs.parallel import ATTACKER, HuntParallelEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
+from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
+from mpc_hunt.world.behaviours.base import sensed, sensing_radius
 
 
 def one_line(exc: pytest.ExceptionInfo, start: str, *words: str) -> str:
@@ -138,3 +140,39 @@ def test_a_step_before_the_first_reset_is_one_line_saying_so(where):
     with pytest.raises(MpcHuntError) as exc:
         STEPS[where]()
     assert one_line(exc, "step: ") == "step: call reset() first"
+
+
+# --- a hunt given to AttackerViewEnv's reset ---------------------------------------------------------------------
+
+def _sensed_at_once(defenders: int):
+    """A random hunt of ``defenders`` whose attacker senses one at its start: its first decision is its first step."""
+    for seed in range(1000):
+        s = random_scenario(np.random.default_rng(seed), ScenarioRanges(n_defenders=(defenders, defenders)), name="env")
+        if len(sensed(np.array(s.attacker.start), s.defender_starts, sensing_radius(s))):
+            return s
+    raise AssertionError("no such hunt")
+
+
+@pytest.mark.parametrize("teams", [(2, 3, 4, 5), (3,), (2, 4)])
+@pytest.mark.parametrize("defenders", [2, 3, 6])
+def test_a_given_hunt_is_played_with_its_own_team_at_every_seed(teams, defenders):
+    """The agent's view and action are the same for any team, so a given hunt is played as it is: no team size is
+    drawn for it (one not in ``teams`` too), whatever the seed."""
+    scenario = _sensed_at_once(defenders)
+    env = AttackerViewEnv(controller="voronoi", teams=teams)
+    for seed in range(8):
+        view, _ = env.reset(seed=seed, options={"scenario": scenario})
+        assert env.env.scenario is scenario and env.env.hunts.team == defenders
+        assert env.observation_space.contains(view)
+        env.step(np.zeros(2))
+    env.reset(seed=0)                                   # a random hunt again: one of teams' sizes
+    assert env.env.hunts.team in teams
+
+
+@pytest.mark.parametrize("bad", ["hunt", 3, [None]])
+def test_a_given_hunt_that_is_no_scenario_is_one_line_at_every_seed(bad):
+    env = AttackerViewEnv(controller="voronoi")
+    for seed in range(4):
+        with pytest.raises(OptionError) as exc:
+            env.reset(seed=seed, options={"scenario": bad})
+        one_line(exc, "options['scenario']: a Scenario")
