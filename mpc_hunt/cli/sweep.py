@@ -118,7 +118,7 @@ def _ranges(args):
 
 def sweep(args) -> int:
     from mpc_hunt.sweep.random_scenario import ranges_to_dict
-    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, connect_dask, tasks, total_tasks
+    from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, check_buildable, connect_dask, tasks, total_tasks
     from mpc_hunt.sweep.store import SweepStore
     from mpc_hunt.sweep.stored_run import run_into
 
@@ -127,6 +127,7 @@ def sweep(args) -> int:
     beliefs = list(dict.fromkeys(b.label() for b in (args.belief or [Belief()])))  # eta=3 and eta=3x are one
     total_tasks(strategies, args.hunts, attackers, beliefs)  # bounded, before any file is written
     ranges = _ranges(args)
+    check_buildable(strategies, attackers, args.seed, ranges)  # each built once, before any file is written
     if args.output.is_dir() or not args.output.parent.is_dir():
         raise MpcHuntError(f"--output {args.output}: not a file in an existing folder")
     check_writable(args.output.parent, "--output", args.output)

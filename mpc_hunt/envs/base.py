@@ -20,6 +20,21 @@ def check_render_mode(render_mode: object) -> None:
         raise OptionError(f"render_mode: one of {RENDER_MODES} or None, not {render_mode!r}")
 
 
+def checked_seed(seed: object, where: str = "seed") -> int | None:
+    """A seed of the environments (a reset's, :class:`~mpc_hunt.envs.learning.TeamHunts`'): None (fresh entropy) or
+    a whole number of any size from 0, as NumPy's generators take; anything else an :class:`OptionError` naming
+    ``where``, before anything changes."""
+    if seed is None:
+        return None
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
+        raise OptionError(f"{where}: a whole number from 0, or None, got {type(seed).__name__} {str(seed)[:40]!r}")
+    value = int(seed)
+    if value < 0:
+        got = value if value.bit_length() <= 64 else "a negative number"
+        raise OptionError(f"{where}: must not be negative (a whole number from 0, or None), got {got}")
+    return value
+
+
 class HuntEnv(gym.Env):
     """One side of a hunt as a Gymnasium environment; the other side is scripted (the subclass's)."""
 
@@ -38,7 +53,7 @@ class HuntEnv(gym.Env):
         """Seed (Gymnasium's ``np_random``), draw the hunt, start its episode; the generator for what else the
         reset draws (the other side's randomness)."""
         given = self.hunts.given(options)  # before anything changes
-        super().reset(seed=seed)
+        super().reset(seed=checked_seed(seed))
         world, other = self.np_random.spawn(2)
         self.episode = Episode(self.hunts.draw(world, given), self.hunts.max_obstacles)
         return other

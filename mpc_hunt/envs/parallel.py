@@ -22,7 +22,7 @@ from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
 from mpc_hunt.envs.actions import checked_action
-from mpc_hunt.envs.base import RENDER_MODES, check_render_mode
+from mpc_hunt.envs.base import RENDER_MODES, check_render_mode, checked_seed
 from mpc_hunt.envs.episode import Episode
 from mpc_hunt.envs.hunts import Hunts
 from mpc_hunt.envs.observation import observation_space
@@ -68,7 +68,7 @@ class HuntParallelEnv(ParallelEnv):
         return spaces.Box(-speed, speed, shape=(2,), dtype=np.float64)
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        given = self.hunts.given(options)  # before anything changes
+        given, seed = self.hunts.given(options), checked_seed(seed)  # before anything changes
         if seed is not None or self.rng is None:  # as Gymnasium's: an unseeded reset goes on with the stream
             self.rng = np.random.default_rng(seed)
         self.episode = Episode(self.hunts.draw(self.rng, given), self.hunts.max_obstacles)

@@ -38,7 +38,7 @@ from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
 from mpc_hunt.workers import run_local as workers_run_local
-from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, with_behaviour
+from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR, make_behaviour, with_behaviour
 from mpc_hunt.world.belief import WORLD, Belief, belief_rng, parse_belief
 from mpc_hunt.world.ensemble import perturbed
 
@@ -197,6 +197,23 @@ def total_tasks(strategies: Sequence[str], hunts: int, attackers: Sequence[str],
             "(docs/robustness.md, Limits); give fewer hunts, or split the sweep",
         )
     return total
+
+
+def check_buildable(strategies: Sequence[str], attackers: Sequence[str], seed: int, ranges: ScenarioRanges) -> None:
+    """Each strategy's controller and each attacker's behaviour built once, on the sweep's first hunt, before any
+    hunt runs: one that cannot be built (a damaged policy file, ...) would fail every hunt alike, so it is refused
+    (:class:`SettingError` naming ``strategies`` or ``attackers``) rather than stored as every hunt's error, and not
+    loaded once per hunt to find out."""
+    scenario = sweep_scenario(seed, 0, ranges)
+    for field, names, build in (
+        ("strategies", strategies, lambda name: ControllerSpec.parse(name).build(scenario)),
+        ("attackers", attackers, lambda name: make_behaviour(with_behaviour(scenario, name), np.random.default_rng(0))),
+    ):
+        for name in names:
+            try:
+                build(name)
+            except MpcHuntError as exc:
+                raise SettingError(field, f"{name} cannot be built: {exc}") from None
 
 
 def tasks(
