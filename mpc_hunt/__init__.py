@@ -1,17 +1,18 @@
 """mpc-hunt: multi-robot cooperative hunting as optimisation and model-predictive control.
 
 The package root imports nothing of its own: each public name is imported from its subpackage on first use (PEP
-562), so ``import mpc_hunt`` (and the command line's start) loads no solver and is over at once; ``from mpc_hunt
-import simulate`` and ``mpc_hunt.simulate`` work as they always did, and ``mpc_hunt.sim`` imports the subpackage.
+562), and ``__version__`` read from the installed metadata on first use, so ``import mpc_hunt`` (and the command
+line's start) loads no solver and is over at once; ``from mpc_hunt import simulate`` and ``mpc_hunt.simulate``
+work as they always did, and ``mpc_hunt.sim`` imports the subpackage.
 """
 
 from __future__ import annotations
 
 import importlib
-from importlib.metadata import PackageNotFoundError, version
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # the names as the type checker and editors see them; at run time, ``__getattr__`` below
+    __version__: str
     from mpc_hunt.capture import (
         CaptureProblem,
         CaptureWeights,
@@ -52,11 +53,6 @@ if TYPE_CHECKING:  # the names as the type checker and editors see them; at run 
         save_scenario,
         success_test,
     )
-
-try:
-    __version__ = version("mpc-hunt")
-except PackageNotFoundError:  # running from a source tree that was never installed
-    __version__ = "0+unknown"
 
 __all__ = [
     "Attacker",
@@ -150,8 +146,20 @@ _HOMES = {  # the subpackage each public name is imported from (the same as the 
 _HOME = {name: module for module, names in _HOMES.items() for name in names}
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version  # (it imports email, zipfile, …: not at start)
+
+    try:
+        return version("mpc-hunt")
+    except PackageNotFoundError:  # running from a source tree that was never installed
+        return "0+unknown"
+
+
 def __getattr__(name: str) -> Any:
     """A public name, imported from its subpackage on first use and kept; else a subpackage, imported."""
+    if name == "__version__":
+        globals()[name] = value = _version()
+        return value
     home = _HOME.get(name)
     if home is not None:
         value = getattr(importlib.import_module(home), name)
