@@ -1,9 +1,9 @@
-"""The control loop's step (``CaptureSolver.loop``) timed on the latency states, beside the formulation's path.
+"""The control loop's step (``CaptureSolver.step_for``) timed on the latency states, beside the formulation's path.
 
 For each stage-form pair, ``CaptureMPC(..., loop=False)`` (the formulation's
 own path) runs the warm-started sequence as the latency table does; the inputs it
 used at each state (θ and the reference) are kept. The pair's control-loop step
-(:class:`~mpc_hunt.solving.loop.CaptureLoop`, from ``CaptureSolver.loop``) then
+(:class:`~mpc_hunt.solving.step.CaptureStep`, from ``CaptureSolver.step_for``) then
 takes the same states as a control loop would: the inputs written into its
 arrays, one ``step()``, the plan read from its array. Its median time (the first
 state excluded, as in the table) and the largest difference from the
@@ -44,7 +44,7 @@ def loop_latency(problems: list) -> list[dict]:
         if (formulation, backend) not in registry.pairs():
             continue
         inputs, plans = reference_run(formulation, backend, problems)
-        loop = CaptureSolver(formulation, backend).loop(problems[0])
+        loop = CaptureSolver(formulation, backend).step_for(problems[0])
         times, differences = [], []
         for (theta, reference), expected in zip(inputs, plans):
             start = time.perf_counter()
@@ -65,8 +65,8 @@ def loop_lines(loop: list[dict], rows: list[dict]) -> list[str]:
     """The README's section: the loop's table, with each row's ratio to the interpreted ``rti`` step."""
     by_pair = {(r["formulation"], r["backend"]): r for r in rows}
     interpreted = by_pair.get(("rti", "hpipm"))
-    lines = ["## The control loop's step (`CaptureLoop`)", "",
-             "The same states through `mpc_hunt.solving.loop.CaptureLoop`: the inputs `CaptureSolver` used written "
+    lines = ["## The control loop's step (`CaptureStep`)", "",
+             "The same states through `mpc_hunt.solving.step.CaptureStep`: the inputs `CaptureSolver` used written "
              "into the loop's arrays, one `step()`, the plan read from its array; no problem posed, no evaluator, "
              "no solution object. *× rti/hpipm*: the interpreted `rti`/`hpipm` step of the latency table (state in "
              "→ plan out, evaluator excluded) over this row's step; *same pair*: this pair's step in the latency "
@@ -105,7 +105,7 @@ def loop_targets(loop: list[dict], rows: list[dict], exported: list[dict] | None
         return "met" if ratio >= target else f"missed by {target / ratio:.1f}×"
 
     if rti is not None:
-        for what, source in (("`CaptureSolver`", by_pair), ("`CaptureLoop`", in_loop)):
+        for what, source in (("`CaptureSolver`", by_pair), ("`CaptureStep`", in_loop)):
             if ("rti", "hpipm-codegen") in source:
                 ratio = rti["median_step_ms"] / source[("rti", "hpipm-codegen")]["median_step_ms"]
                 lines.append(f"- **Compiled `rti` step from Python ≥ {COMPILED_RATIO:.0f}× faster than the "
@@ -116,7 +116,7 @@ def loop_targets(loop: list[dict], rows: list[dict], exported: list[dict] | None
             lines.append(f"- **Exported C `rti` step ≥ {EXPORTED_RATIO:.0f}× faster than the interpreted one** "
                          f"(its fastest build, {c['variant']}): {ratio:.1f}×, {verdict(ratio, EXPORTED_RATIO)}.")
     c = fastest_exported(exported, "stage-sqp")
-    sqp = {"`CaptureLoop`": in_loop.get(("stage-sqp", "hpipm-codegen")),
+    sqp = {"`CaptureStep`": in_loop.get(("stage-sqp", "hpipm-codegen")),
            f"the exported C, {c['variant'] if c else ''}": c}
     for what, row in sqp.items():
         if nlp is not None and row is not None:

@@ -9,12 +9,12 @@ the ``enclose`` capture problem (``posed_problem``). One run, side
 by side on one machine, the steps taking turns on each state:
 
 * **centralised**: ``CaptureMPC("rti", "hpipm-codegen").loop_step(problem)`` on its
-  :class:`~mpc_hunt.solving.loop.CaptureLoop`, the state loaded and one step: the team's QP, one call;
+  :class:`~mpc_hunt.solving.step.CaptureStep`, the state loaded and one step: the team's QP, one call;
 * **distributed** (one Jacobi round): ``CaptureMPC("distributed").loop_step(problem)`` (on a
-  :class:`~mpc_hunt.solving.team_loop.TeamLoop`, on the formulation's default backend ``daqp-condensed``: each
+  :class:`~mpc_hunt.solving.team_step.TeamStep`, on the formulation's default backend ``daqp-condensed``: each
   robot's QP condensed to its 2N controls, DAQP from its last active set): the state loaded, the round's
   broadcast, and each robot's step (its inputs from the broadcast, its QP on its own loop) timed apart by the
-  loop (``TeamLoop.robot_times``), as each robot would run it on its own board; *team*: load + broadcast + the
+  loop (``TeamStep.robot_times``), as each robot would run it on its own board; *team*: load + broadcast + the
   slowest robot (the robots in parallel); beside it the same on ``hpipm-codegen`` (HPIPM on the stage form)
   from the same plans, and the largest difference between the two backends' plans;
 * **exported C**: one robot's step exported on each backend (``CaptureSolver.export``, built with its Makefile
@@ -144,9 +144,9 @@ def timed_sizes(states: dict[int, list[HuntState]]) -> tuple[list[dict], dict]:
     for size, hunt in states.items():
         problems = problems_of(size, hunt)
         central = CaptureMPC("rti", "hpipm-codegen", score=False)
-        c_loop = central.solver.loop(problems[0])
+        c_loop = central.solver.step_for(problems[0])
         d_mpcs = {b: CaptureMPC("distributed", b, score=False) for b in ROBOT_BACKENDS}
-        d_loops = {b: mpc.solver.loop(problems[0]) for b, mpc in d_mpcs.items()}
+        d_loops = {b: mpc.solver.step_for(problems[0]) for b, mpc in d_mpcs.items()}
         leader, d_loop = d_mpcs[ROBOT_BACKENDS[0]], d_loops[ROBOT_BACKENDS[0]]
         alone = {"central": HpipmAlone(problems[0].structure), "robot": HpipmAlone(d_loop.team.robot)}
         times = {k: [] for k in ("central", "team", "broadcast", "central_hpipm", "robot_hpipm",
@@ -361,7 +361,7 @@ def readme(results: dict) -> str:
              f"{rows[0]['states']} consecutive states from the first in which a defender pushes the attacker "
              "(within its perception radius), posed as the `enclose` problem. "
              "Medians, the first state (which builds) excluded. *a robot*: its inputs from the round's broadcast "
-             "and its step on its loop (`TeamLoop.robots[i]`) on the `distributed` formulation's default backend, "
+             "and its step on its loop (`TeamStep.robots[i]`) on the `distributed` formulation's default backend, "
              "`daqp-condensed` (its QP condensed to its 2N controls, DAQP from its last active set, compiled); "
              "*on HPIPM*: the same on `hpipm-codegen` (the stage form, compiled), from the same inputs (both loops "
              "step from the default's plans), and *plans within*: the largest difference between the two loops' "
@@ -370,7 +370,7 @@ def readme(results: dict) -> str:
              "best "
              "through CasADi, from Python); *team*: the "
              "state loaded, the broadcast and the slowest robot (the robots in parallel, one Jacobi round); "
-             "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").loop(problem)`, the state loaded and one "
+             "*centralised*: `CaptureSolver(\"rti\", \"hpipm-codegen\").step_for(problem)`, the state loaded and one "
              "`step()`.", "",
              *markdown.table(
                  ["N_d", "centralised (ms)", "its HPIPM alone (ms)", "ratio", "a robot (ms)", "on HPIPM (ms)",
@@ -563,7 +563,7 @@ def plan_agreement(states: dict[int, list[HuntState]]) -> dict[int, float]:
     for size, hunt in states.items():
         problems = problems_of(size, hunt)
         mpcs = [CaptureMPC("distributed", b, score=False) for b in (ROBOT_BACKENDS[0], "hpipm")]
-        loops = [mpc.solver.loop(problems[0]) for mpc in mpcs]
+        loops = [mpc.solver.step_for(problems[0]) for mpc in mpcs]
         difference = 0.0
         for problem in problems:
             mpcs[1].follow(mpcs[0])                     # the same plans to start from: the default's closed loop

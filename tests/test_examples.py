@@ -91,10 +91,10 @@ def test_the_example_imports_only_the_public_api(name):
 def test_the_import_check_refuses_what_is_private(tmp_path):
     script = tmp_path / "private.py"
     script.write_text("from mpc_hunt.world.hunting_circle import success_test\nfrom mpc_hunt import _x, simulate\n"
-                      "import mpc_hunt.solving.loop\nfrom mpc_hunt.sweep import tasks\n"
+                      "import mpc_hunt.solving.step\nfrom mpc_hunt.sweep import tasks\n"
                       "from mpc_hunt.sim import simulate\n")
     assert private_imports(script) == ["mpc_hunt.world.hunting_circle.success_test", "mpc_hunt._x",
-                                       "mpc_hunt.solving.loop", "mpc_hunt.sweep.tasks"]
+                                       "mpc_hunt.solving.step", "mpc_hunt.sweep.tasks"]
 
 
 def test_every_example_is_shown_on_the_site_and_the_readme_points_to_the_embedded_step():

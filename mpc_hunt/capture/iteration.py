@@ -4,7 +4,7 @@ A step linearises at its reference and solves one QP; an iterated formulation
 then relinearises at that QP's plan and solves again, until no defender
 position moves by more than ``tolerance`` metres or ``max_qps`` QPs have run.
 The Python iteration (:func:`mpc_hunt.formulations.sqp.iterate`), the control loop's
-(:class:`mpc_hunt.solving.loop.CaptureLoop`) and the exported C step
+(:class:`mpc_hunt.solving.step.CaptureStep`) and the exported C step
 (:mod:`mpc_hunt.solving.export`, whose wrapper is generated from these two
 numbers) all apply :meth:`QPIteration.settled`.
 """

@@ -2,6 +2,6 @@
 
 import sys
 
-from mpc_hunt.cli.commands import main
+from mpc_hunt.cli import main
 
 sys.exit(main())

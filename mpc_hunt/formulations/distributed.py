@@ -52,7 +52,7 @@ MAX_ROUNDS = 100
 
 @dataclass
 class RobotProblem:
-    """One robot's step inputs: what :class:`~mpc_hunt.solving.loop.CaptureLoop` is built from and loads."""
+    """One robot's step inputs: what :class:`~mpc_hunt.solving.step.CaptureStep` is built from and loads."""
 
     structure: Structure
     theta: np.ndarray

@@ -11,6 +11,7 @@ but for rounding), ``low`` 1 mm.
 
 from __future__ import annotations
 
+from mpc_hunt import markdown
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.backends.base import ACCURACIES
 
@@ -27,11 +28,9 @@ def _settings(options: dict) -> str:
 def accuracy_table() -> str:
     """One Markdown table: per level, the violation tolerance and what each registered backend is handed."""
     backends = list(registry.BACKENDS)
-    lines = [
-        "| accuracy | violation tolerance (m) | " + " | ".join(backends) + " |",
-        "| --- | ---: | " + " | ".join("---" for _ in backends) + " |",
-    ]
+    rows = []
     for level in ACCURACIES:
-        cells = [_settings(registry.backend_class(b).ACCURACY.get(level, {})) for b in backends]
-        lines.append(f"| {level} | {VIOLATION_TOLERANCE[level]:g} | " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        handed = [_settings(registry.backend_class(b).ACCURACY.get(level, {})) for b in backends]
+        rows.append([level, f"{VIOLATION_TOLERANCE[level]:g}", *handed])
+    header = ["accuracy", "violation tolerance (m)", *backends]
+    return "\n".join(markdown.table(header, "lr" + "l" * len(backends), rows))

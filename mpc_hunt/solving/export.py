@@ -11,7 +11,7 @@ objective) the folder holds:
   result pointer arrays longer than the inputs and outputs (it uses them as work
   space) and work vectors of the sizes ``capture_step_work`` gives; this wrapper
   holds them, allocated once, so the caller hands over plain arrays; for ``stage-sqp``
-  it repeats the step at its own plan as :class:`~mpc_hunt.solving.loop.CaptureLoop` does;
+  it repeats the step at its own plan as :class:`~mpc_hunt.solving.step.CaptureStep` does;
 - ``main.c``: reads states (θ and the reference) from standard input, prints their plans;
 - ``Makefile``: ``make`` builds ``capture_step`` against HPIPM and BLASFEO (the
   stated dependencies; by default the copies CasADi's Python wheel ships, whose

@@ -22,7 +22,7 @@ backend, stateless between solves) and the receding-horizon memory, which lives 
 The centralised and the robot-by-robot formulations are the same object with another formulation.
 :meth:`CaptureMPC.step` returns a scored :class:`~mpc_hunt.capture.solution.Solution`;
 :meth:`CaptureMPC.loop_step` is the real-time form for a stage-form pair: the problem written into the arrays
-of its :class:`~mpc_hunt.solving.loop.CaptureLoop` (a :class:`~mpc_hunt.solving.team_loop.TeamLoop` for
+of its :class:`~mpc_hunt.solving.step.CaptureStep` (a :class:`~mpc_hunt.solving.team_step.TeamStep` for
 ``distributed``), one step, no evaluator, so its fallback starts at the shifted plan.
 
     mpc = CaptureMPC("rti", "hpipm")
@@ -119,16 +119,16 @@ class CaptureMPC:
         return MPCStep(solution, plan, fallback, start)
 
     def loop_step(self, problem: CaptureProblem) -> Status:
-        """One real-time step on the loop of ``problem``'s structure (the solver's :meth:`CaptureSolver.loop`,
-        built on its first problem): ``problem`` and the start written into its arrays, one step, its plan
-        applied if usable, else the fallback (no evaluator runs: never the last iterate). Returns the step's
-        status; :attr:`plan` is the plan applied."""
-        loop = self.solver.loop(problem)
+        """One real-time step on the control step of ``problem``'s structure (the solver's
+        :meth:`CaptureSolver.step_for`, built on its first problem): ``problem`` and the start written into its
+        arrays, one step, its plan applied if usable, else the fallback (no evaluator runs: never the last
+        iterate). Returns the step's status; :attr:`plan` is the plan applied."""
+        step = self.solver.step_for(problem)
         start = self._start(problem)
-        loop.load(problem, start)
-        status = loop.step()
+        step.load(problem, start)
+        status = step.step()
         if status.usable:
-            plan, fallback = problem.plan_with(loop.plan.reshape(-1)), None
+            plan, fallback = problem.plan_with(step.plan.reshape(-1)), None
         else:
             plan, fallback = self._fallback(problem, start)
         self._keep(problem, plan, fallback, None)

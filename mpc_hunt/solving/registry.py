@@ -85,7 +85,7 @@ def compatible_backends(formulation: str) -> list[str]:
 
 def stage_formulations() -> list[str]:
     """The formulations whose step is one stage-form Function (kind ``ocp-qp``): what a control loop
-    (:mod:`mpc_hunt.solving.loop`) and the C export run."""
+    (:mod:`mpc_hunt.solving.step`) and the C export run."""
     return [f for f in FORMULATIONS if formulation_class(f).kind == "ocp-qp"]
 
 

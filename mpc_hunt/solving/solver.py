@@ -2,7 +2,7 @@
 
 ``CaptureSolver`` pairs a formulation with a persistent backend, both found by
 name in :mod:`mpc_hunt.solving.registry` once, when it is made. It keeps only
-solver state: the backend's set-up structures and the loops it built. A solve
+solver state: the backend's set-up structures and the steps it built. A solve
 is one-shot: the plan and the duals to start from are the caller's. The
 receding-horizon memory (the plan applied, shifted one step, and the duals of a
 usable solve, while the same defenders are controlled) is
@@ -10,10 +10,10 @@ usable solve, while the same defenders are controlled) is
 
 A stage-form pair (kind ``ocp-qp``: ``rti`` or ``stage-sqp`` on ``hpipm`` or
 ``hpipm-codegen``), whose backend closes the step into one Function, is solved
-on a :class:`~mpc_hunt.solving.loop.CaptureLoop`, one per structure: the posed
-problem is written into the loop's arrays, the loop steps, the plan is read
+on a :class:`~mpc_hunt.solving.step.CaptureStep`, one per structure: the posed
+problem is written into the step's arrays, the step runs, the plan is read
 back. Its plans are the formulation's own path's (``loop=False``) to the bit.
-The same solver hands a control loop that step (:meth:`CaptureSolver.loop`) and
+The same solver hands a control loop that step (:meth:`CaptureSolver.step_for`) and
 writes it as C for a robot's board (:meth:`CaptureSolver.export`).
 ``solve`` is the one-shot, cold form with a fresh solver.
 """
@@ -35,9 +35,9 @@ from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.capture.structure import Structure
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.solving import registry
-from mpc_hunt.solving.loop import CaptureLoop
+from mpc_hunt.solving.step import CaptureStep
 from mpc_hunt.solving.step_timing import timed_step
-from mpc_hunt.solving.team_loop import TeamLoop
+from mpc_hunt.solving.team_step import TeamStep
 
 
 class CaptureSolver:
@@ -53,7 +53,7 @@ class CaptureSolver:
     controller's fallback reads); its time is ``score_time``, apart. ``formulation_options`` go to the
     formulation (``distributed``: ``rounds``, ``scheme``). ``loop``
     (default: whether the pair closes its step into one Function) solves on
-    control loops; ``loop=False`` runs the formulation's own path.
+    its control step (:meth:`step_for`); ``loop=False`` runs the formulation's own path.
     """
 
     def __init__(
@@ -78,35 +78,35 @@ class CaptureSolver:
         self.stage_form = pair.closes_step
         if loop and not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(formulation))
-        self.on_loops = self.stage_form if loop is None else loop
+        self.on_steps = self.stage_form if loop is None else loop
         self.raise_on_failure = raise_on_failure
         self.score = score
         self._refusals = {
             objective: registry.objective_refusal(formulation, pair.backend_name, objective) for objective in OBJECTIVES
         }  # why an objective cannot be solved (None: it can)
         self._prepared: set[Structure] = set()  # structures whose model this solver has built
-        self._loops: dict[Structure, CaptureLoop | TeamLoop] = {}
+        self._steps: dict[Structure, CaptureStep | TeamStep] = {}
 
-    def loop(self, problem: CaptureProblem) -> CaptureLoop | TeamLoop:
+    def step_for(self, problem: CaptureProblem) -> CaptureStep | TeamStep:
         """The control loop's step for ``problem``'s structure, built on its first problem and kept: a
-        :class:`TeamLoop` (one loop per robot) for a formulation that plans robot by robot."""
+        :class:`TeamStep` (one step per robot) for a formulation that plans robot by robot."""
         if not self.stage_form:
             raise MpcHuntError(registry.stage_form_message(self.formulation.name))
         refused = self._refusal(problem)
         if refused:
             raise MpcHuntError(refused)
-        loop = self._loops.get(problem.structure)
-        if loop is None:
-            kind = TeamLoop if self.formulation.per_robot else CaptureLoop
-            loop = self._loops[problem.structure] = kind(problem, self.formulation, self.backend)
-        return loop
+        step = self._steps.get(problem.structure)
+        if step is None:
+            kind = TeamStep if self.formulation.per_robot else CaptureStep
+            step = self._steps[problem.structure] = kind(problem, self.formulation, self.backend)
+        return step
 
     def solve(
         self, problem: CaptureProblem, warm_plan: np.ndarray | None = None, duals: WarmStart | None = None
     ) -> Solution:
         """Solve ``problem``, from ``warm_plan`` (N, n, 2) if given, else cold from every defender held, and from
         ``duals`` (an earlier solution's of a problem with the same signature) if given; a stage-form pair on its
-        loop reads no duals."""
+        step reads no duals."""
         refused = self._refusal(problem)
         if refused:
             return self._finish(
@@ -114,7 +114,7 @@ class CaptureSolver:
                     status=Status.ERROR, formulation=self.formulation.name, backend=self.backend.name, message=refused
                 )
             )
-        if self.on_loops:
+        if self.on_steps:
             return self._finish(self._step(problem, warm_plan))
         t0 = time.perf_counter()
         names: dict[str, Any] = dict(formulation=self.formulation.name, backend=self.backend.name)
@@ -148,38 +148,38 @@ class CaptureSolver:
         )
 
     def _step(self, problem: CaptureProblem, warm_plan: np.ndarray | None) -> Solution:
-        """One step on the structure's loop: the problem written into its arrays, the plan read back. A failed
-        step's plan is the last usable one the loop kept (its reference if none)."""
+        """One call of the structure's :class:`CaptureStep`: the problem written into its arrays, the plan read
+        back. A failed step's plan is the last usable one the step kept (its reference if none)."""
         t0 = time.perf_counter()
-        built = problem.structure in self._loops
-        loop = self.loop(problem)
+        built = problem.structure in self._steps
+        step = self.step_for(problem)
         setup_time = 0.0 if built else time.perf_counter() - t0
-        loop.load(problem, warm_plan)
+        step.load(problem, warm_plan)
         t1 = time.perf_counter()
         with timed_step() as timing:
-            status = loop.step()
+            status = step.step()
         solver_time = time.perf_counter() - t1
-        plan = problem.plan_with(loop.plan)
+        plan = problem.plan_with(step.plan)
         scores = solve_scores(problem, plan, status, self.score)
         overhead = time.perf_counter() - t0 - solver_time - setup_time - scores.get("score_time", 0.0)
         return Solution(
             status=status,
-            message=loop.message,
+            message=step.message,
             formulation=self.formulation.name,
             backend=self.backend.name,
-            x=loop.plan.reshape(-1).copy(),
+            x=step.plan.reshape(-1).copy(),
             plan=plan,
-            formulation_objective=float(loop.objective[0])
-            if status.usable and np.isfinite(loop.objective[0])
+            formulation_objective=float(step.objective[0])
+            if status.usable and np.isfinite(step.objective[0])
             else None,
             solver_time=solver_time,
             overhead_time=max(overhead, 0.0),
             setup_time=setup_time,
             off_cpu_time=timing.off_cpu,
-            iterations=loop.iterations,
+            iterations=step.iterations,
             warm_started=warm_plan is not None,
-            extras=loop.extras,
-            certificate=loop_certificate(loop),
+            extras=step.extras,
+            certificate=step_certificate(step),
             **scores,
         )
 
@@ -195,30 +195,30 @@ class CaptureSolver:
         iteration: QPIteration = getattr(self.formulation, "iteration")
         check_export(target, self.backend.exports, iteration)
 
-        loop = self.loop(problem)
-        loop.load(problem)
-        if isinstance(loop, TeamLoop):
+        step = self.step_for(problem)
+        step.load(problem)
+        if isinstance(step, TeamStep):
             if not 0 <= robot < problem.structure.planned:
                 raise MpcHuntError(
                     f"robot: {problem.structure.planned} defenders are planned (index 0 to "
                     f"{problem.structure.planned - 1}), not {robot}"
                 )
-            loop = loop.robot_loop(robot)
-        theta, reference = loop.theta.copy(), loop.reference.reshape(-1).copy()  # the step moves its reference
-        if not loop.step().usable:
+            step = step.robot(robot)
+        theta, reference = step.theta.copy(), step.reference.reshape(-1).copy()  # the step moves its reference
+        if not step.step().usable:
             raise MpcHuntError(
-                f"the problem's {self.formulation.name} step failed in Python ({loop.message}): "
+                f"the problem's {self.formulation.name} step failed in Python ({step.message}): "
                 "nothing to compare the C step with"
             )
         return write_step(
             Path(folder),
-            getattr(self.backend, "generated_step")(loop.step_function),  # every exporting backend's
+            getattr(self.backend, "generated_step")(step.step_function),  # every exporting backend's
             self.backend.exports,
-            loop.formulation.iteration,
-            loop.structure,
+            step.formulation.iteration,
+            step.structure,
             theta,
             reference,
-            loop.plan.reshape(-1),
+            step.plan.reshape(-1),
             target,
         )
 
@@ -232,9 +232,9 @@ class CaptureSolver:
         return solution.raise_for_status() if self.raise_on_failure else solution
 
 
-def loop_certificate(loop: CaptureLoop | TeamLoop) -> Certificate | None:
-    """The certificate of the loop's last step (None where its backend writes none: NaN)."""
-    values = loop.certificate
+def step_certificate(step: CaptureStep | TeamStep) -> Certificate | None:
+    """The certificate of the step's last call (None where its backend writes none: NaN)."""
+    values = step.certificate
     if np.any(np.isnan(values)):
         return None
     primal, dual, gap = (float(v) for v in values)

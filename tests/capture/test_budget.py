@@ -179,7 +179,7 @@ def test_a_stage_step_starts_no_qp_that_would_not_fit(scenario, monkeypatch):
     solver = CaptureSolver("stage-sqp", "hpipm", time_limit=5.0)
     problem = problem_at(scenario, 5)
     solver.solve(problem)
-    loop = solver.loop(problem)
+    loop = solver.step_for(problem)
     monkeypatch.setattr(solver.backend, "time_left", lambda: 1e-9)   # never enough for a second QP
     loop.load(problem)
     assert loop.step() is Status.TIME_LIMIT and loop.qps == 1

@@ -98,7 +98,7 @@ def test_the_loop_gives_the_formulations_own_plans_to_the_bit(backend, options):
     """Cold, and along a closed loop warm-started from the shifted plan; the pushes on the attacker are not zero."""
     looped = CaptureSolver("distributed", backend, formulation_options=options)
     own = CaptureSolver("distributed", backend, loop=False, formulation_options=options)
-    assert looped.on_loops and not own.on_loops
+    assert looped.on_steps and not own.on_steps
     for first in _team_problems():
         problem, warm = first, None
         for _ in range(3):
@@ -333,7 +333,7 @@ def test_the_paper_objective_is_refused_everywhere():
     assert solution.status is Status.ERROR and "not the paper objective" in solution.message \
         and "enclose" in solution.message
     with pytest.raises(MpcHuntError, match="objective: .*not the paper objective"):
-        CaptureSolver("distributed").loop(paper)
+        CaptureSolver("distributed").step_for(paper)
     with pytest.raises(MpcHuntError, match="distributed poses the enclose objective, not the paper objective"):
         check_pairs(["distributed"], "paper")
     with pytest.raises(MpcHuntError, match="distributed poses the enclose objective, not the paper objective"):
@@ -433,9 +433,9 @@ def test_each_robot_starts_from_its_own_last_active_set():
     iteration, the plan within 1e-12 m (measured: 1.8e-15); a loop of its own (another robot's buffer) starts
     cold, as the first did (21 iterations)."""
     problem = next(_team_problems())
-    team = CaptureSolver("distributed").loop(problem)
+    team = CaptureSolver("distributed").step_for(problem)
     team.load(problem)
-    robot = team.robot_loop(0)
+    robot = team.robot(0)
     theta, reference = robot.theta.copy(), robot.reference.copy()
     assert robot.step().usable
     cold, plan = robot.iterations, robot.plan.copy()
@@ -469,9 +469,9 @@ def test_a_non_finite_input_fails_the_step_and_keeps_the_reference(monkeypatch, 
     problem = next(_team_problems())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        team = CaptureSolver("distributed").loop(problem)
+        team = CaptureSolver("distributed").step_for(problem)
     team.load(problem)
-    robot = team.robot_loop(2)
+    robot = team.robot(2)
     robot.theta[0] = np.nan
     status = robot.step()
     assert not status.usable and "non-finite input" in robot.message

@@ -218,7 +218,7 @@ def _robot_inputs(size: int, states: int) -> tuple:
     committed = load_states(Path(__file__).resolve().parents[2] / "studies" / "team_size" / "states.json")
     problems = problems_of(size, committed[size][:states])
     mpc = CaptureMPC("distributed", score=False)
-    team = mpc.solver.loop(problems[0])
+    team = mpc.solver.step_for(problems[0])
     inputs, plans = [], []
     for problem in problems:
         assert mpc.loop_step(problem).usable

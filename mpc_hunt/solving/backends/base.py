@@ -239,7 +239,7 @@ class Backend:
     # The shared lifecycle.
     def prepared(self, data) -> tuple[Any, bool]:
         """The solver set up for ``data``'s key, and whether it was set up by this call (else kept from an earlier
-        one): what :meth:`solve` and a control loop's step (:mod:`mpc_hunt.solving.loop`) share."""
+        one): what :meth:`solve` and a control loop's step (:mod:`mpc_hunt.solving.step`) share."""
         state = self._cache.get(data.key)
         if state is not None:
             self._cache.move_to_end(data.key)

@@ -91,7 +91,7 @@ class ConicStepBackend(Backend):
         return step
 
     def loop_function(self, step):
-        """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.solving.loop`)."""
+        """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.solving.step`)."""
         return step
 
     def loop_status(self, step, buffer) -> tuple[Status, int]:

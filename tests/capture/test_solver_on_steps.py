@@ -38,7 +38,7 @@ def test_scored_it_returns_the_capture_solvers_solution(formulation):
         assert (got.objective, got.violation) == (expected.objective, expected.violation)
         assert (got.iterations, got.formulation_objective) == (expected.iterations, expected.formulation_objective)
         assert got.warm_started == (warm is not None)
-    assert len(loop._loops) == 1                       # one loop for the one structure, built once
+    assert len(loop._steps) == 1                       # one loop for the one structure, built once
 
 
 def test_unscored_it_runs_no_evaluator():
@@ -66,7 +66,7 @@ def test_a_new_structure_gets_its_own_loop_and_a_nan_start_a_status():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
     broken = solver.solve(problem, np.full((HORIZON, 3, 2), np.nan))
     assert not broken.success and broken.message and broken.formulation_objective is None
-    assert len(solver._loops) == 2
+    assert len(solver._steps) == 2
     assert solver.solve(problem).success
 
 
@@ -83,9 +83,9 @@ def test_unscored_the_capture_solver_scores_only_a_failed_solve_and_scoring_is_t
 
 
 def test_the_solver_runs_a_loop_where_the_pair_closes_one():
-    assert CaptureSolver("rti", "hpipm").on_loops and CaptureSolver("stage-sqp", "hpipm-codegen").on_loops
-    assert not CaptureSolver("sqp", "daqp").on_loops and not CaptureSolver("nlp").on_loops
-    assert not CaptureSolver("rti", "hpipm", loop=False).on_loops
+    assert CaptureSolver("rti", "hpipm").on_steps and CaptureSolver("stage-sqp", "hpipm-codegen").on_steps
+    assert not CaptureSolver("sqp", "daqp").on_steps and not CaptureSolver("nlp").on_steps
+    assert not CaptureSolver("rti", "hpipm", loop=False).on_steps
     with pytest.raises(SolverError, match="time_limit: backend daqp-condensed takes none"):   # its step is one call
         CaptureSolver("distributed", "daqp-condensed", time_limit=0.05)
     with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
@@ -100,7 +100,7 @@ def test_a_hunt_on_the_loop_is_the_hunt_on_the_capture_solver():
     options = dict(reference=Enclosure, formulation="rti", backend="hpipm", horizon=5)
     looped, solved = HuntingStrategy(scenario, **options), HuntingStrategy(scenario, **options)
     solved.mpc.solver = CaptureSolver("rti", "hpipm", score=False, loop=False)
-    assert looped.mpc.solver.on_loops
+    assert looped.mpc.solver.on_steps
     a, b = simulate(scenario, looped), simulate(scenario, solved)
     assert len(a.solve_times) > 100
     np.testing.assert_array_equal(a.defenders, b.defenders)
@@ -115,7 +115,7 @@ def test_the_step_a_solver_set_up_is_the_one_it_exports_and_its_loop_runs(tmp_pa
     solver = CaptureSolver("stage-sqp", "hpipm", score=False)
     solved = solver.solve(problem)
     files = solver.export(tmp_path / "board", problem)
-    assert solver.loop(problem) is solver.loop(problem) and solver.backend.setups == 1
+    assert solver.step_for(problem) is solver.step_for(problem) and solver.backend.setups == 1
     own = CaptureSolver("stage-sqp", "hpipm", loop=False)
     own.backend = solver.backend
     assert own.solve(problem).success and solver.backend.setups == 1

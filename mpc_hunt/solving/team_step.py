@@ -1,17 +1,17 @@
-"""The distributed capture step for a control loop: one :class:`~mpc_hunt.solving.loop.CaptureLoop` per robot.
+"""The distributed capture step a control loop calls: one :class:`~mpc_hunt.solving.step.CaptureStep` per robot.
 
 A formulation that plans robot by robot (``distributed``) makes one small stage
 QP per robot, all of one structure (one robot, its neighbour slots), which the
-backend closes into one Function, set up once. ``TeamLoop`` holds a loop per
+backend closes into one Function, set up once. ``TeamStep`` holds a step per
 robot, each with its own arrays, and runs the formulation's rounds on them:
 each round broadcasts the team's plans (what the UAV, or every robot, computes),
-then each robot writes its inputs into its loop's arrays and steps. On the
+then each robot writes its inputs into its step's arrays and steps. On the
 robots, each runs :meth:`robot_step` for itself on its own board; here they run
 one after another, and each robot's time is kept (``robot_times``), and the
 rest of the step's (``broadcast_time``): the team's step, the robots in
 parallel, is the broadcast plus the slowest robot. The plans each step starts
 from are :class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, whose ``loop_step``
-drives it as it drives a centralised loop.
+drives it as it drives a centralised step.
 
     mpc = CaptureMPC("distributed", "hpipm-codegen")
     for each control step:
@@ -27,11 +27,11 @@ import numpy as np
 from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Status
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.solving.loop import CaptureLoop
+from mpc_hunt.solving.step import CaptureStep
 
 
-class TeamLoop:
-    """The rounds of a robot-by-robot formulation on one :class:`CaptureLoop` per robot, for one team structure."""
+class TeamStep:
+    """The rounds of a robot-by-robot formulation on one :class:`CaptureStep` per robot, for one team structure."""
 
     def __init__(self, problem: CaptureProblem, formulation, backend):
         self.formulation = formulation
@@ -43,7 +43,7 @@ class TeamLoop:
         for i in range(self.structure.planned):
             theta, reference, _ = self.team.robot_inputs(i, broadcast)
             self.robots.append(
-                CaptureLoop(formulation.robot_problem(self.team, theta, reference), formulation.robot_step, backend)
+                CaptureStep(formulation.robot_problem(self.team, theta, reference), formulation.robot_step, backend)
             )
         self.step_function = self.robots[0].step_function
         self.objective = np.full(1, np.nan)  # no one objective: each robot minimises its own
@@ -57,35 +57,35 @@ class TeamLoop:
     @property
     def certificate(self) -> np.ndarray:
         """The worst of the robots' last QPs' certificates (primal residual, dual residual, duality gap)."""
-        return np.max([loop.certificate for loop in self.robots], axis=0)
+        return np.max([robot.certificate for robot in self.robots], axis=0)
 
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """The team's numbers at ``problem``, and the plans to start from (``warm_plan``, else every one held)."""
         if problem.structure != self.structure:
             raise MpcHuntError(
-                f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
-                "build one loop per structure"
+                f"problem: structure {problem.structure}, this step was built for {self.structure}; "
+                "build one step per structure"
             )
         self.team.load(problem, self.formulation.smoothing)
         start = problem.held_plan() if warm_plan is None else warm_plan
         self.plan = problem.x_from_plan(start).reshape(problem.horizon, -1, 2)
 
-    def robot_loop(self, i: int) -> CaptureLoop:
-        """Robot ``i``'s loop with its inputs written from the broadcast of ``plan`` (what a robot steps, or
+    def robot(self, i: int) -> CaptureStep:
+        """Robot ``i``'s step with its inputs written from the broadcast of ``plan`` (what a robot steps, or
         the C export writes)."""
         theta, reference, _ = self.team.robot_inputs(i, self.team.broadcast(self.plan))
-        loop = self.robots[i]
-        loop.theta[:] = theta
-        loop.reference.reshape(-1)[:] = reference
-        return loop
+        robot = self.robots[i]
+        robot.theta[:] = theta
+        robot.reference.reshape(-1)[:] = reference
+        return robot
 
     def robot_step(self, i: int, theta: np.ndarray, reference: np.ndarray) -> tuple:
-        """Robot ``i``'s QP from its inputs, on its loop: (status, plan, iterations, message)."""
-        loop = self.robots[i]
-        loop.theta[:] = theta
-        loop.reference.reshape(-1)[:] = reference
-        status = loop.step()
-        return status, loop.plan.reshape(-1), loop.iterations, loop.message
+        """Robot ``i``'s QP from its inputs, on its step: (status, plan, iterations, message)."""
+        robot = self.robots[i]
+        robot.theta[:] = theta
+        robot.reference.reshape(-1)[:] = reference
+        status = robot.step()
+        return status, robot.plan.reshape(-1), robot.iterations, robot.message
 
     def step(self) -> Status:
         """The formulation's rounds from ``plan``; the team's new plans go into ``plan``."""

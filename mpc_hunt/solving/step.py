@@ -1,7 +1,7 @@
-"""The capture step for a control loop: built once for a structure, then called once per control step.
+"""The capture step a control loop calls: built once for a structure, then called once per control step.
 
 A benchmark wants a :class:`~mpc_hunt.capture.solution.Solution` (posed problem,
-scored plan, times); a control loop wants the plan. ``CaptureLoop``
+scored plan, times); a control loop wants the plan. ``CaptureStep``
 holds the step's inputs and outputs in arrays allocated once (``theta``, with
 named views ``parts``; ``reference``; ``plan``) and evaluates the backend's one
 step Function through CasADi's buffers, which read and write those arrays in
@@ -15,7 +15,7 @@ Function (``hpipm``, ``hpipm-codegen``). :class:`~mpc_hunt.solving.solver.Captur
 builds one per structure for such a pair and solves on it; its plans are the
 formulation's own (``CaptureSolver(..., loop=False)``) to the last bit from the
 same inputs (a test holds it): no duals are handed over, which HPIPM does not read.
-The loop keeps no memory between steps beyond its arrays: the reference each step
+The step keeps no memory between calls beyond its arrays: the reference each step
 starts from (the plan applied last step, shifted one step) and the fallback are
 :class:`~mpc_hunt.solving.mpc.CaptureMPC`'s, whose ``loop_step`` drives it.
 
@@ -37,13 +37,13 @@ from mpc_hunt.capture.solution import Status
 from mpc_hunt.errors import MpcHuntError
 
 
-class CaptureLoop:
+class CaptureStep:
     """One stage-form formulation × backend step for one structure, on arrays allocated once.
 
     ``problem`` fixes the structure (controlled and held defenders, obstacles,
     horizon, objective) and the first inputs; ``formulation`` and ``backend`` are
     the instances a :class:`~mpc_hunt.solving.solver.CaptureSolver` holds (its
-    :meth:`~mpc_hunt.solving.solver.CaptureSolver.loop` builds one).
+    :meth:`~mpc_hunt.solving.solver.CaptureSolver.step_for` builds one).
     """
 
     def __init__(self, problem: CaptureProblem, formulation, backend):
@@ -83,8 +83,8 @@ class CaptureLoop:
         """Write ``problem``'s inputs into the arrays (the reference from ``warm_plan``, else every defender held)."""
         if problem.structure != self.structure:
             raise MpcHuntError(
-                f"problem: structure {problem.structure}, this loop was built for {self.structure}; "
-                "build one loop per structure"
+                f"problem: structure {problem.structure}, this step was built for {self.structure}; "
+                "build one step per structure"
             )
         self.formulation.write_inputs(problem, warm_plan, self.theta, self._reference)
 

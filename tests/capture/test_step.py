@@ -1,4 +1,4 @@
-"""The control loop's step (``CaptureSolver.loop``): the formulation's own plans to the bit, on arrays allocated once."""
+"""The control loop's step (``CaptureSolver.step_for``): the formulation's own plans to the bit, on arrays allocated once."""
 
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ def _closed_loop(formulation: str, backend: str, steps: int = 8):
 def test_the_loops_plans_are_the_solvers_to_the_bit(formulation, backend):
     loop = None
     for problem, warm, solution in _closed_loop(formulation, backend):
-        loop = loop or CaptureSolver(formulation, backend).loop(problem)
+        loop = loop or CaptureSolver(formulation, backend).step_for(problem)
         loop.load(problem, warm)
         assert loop.step() is solution.status
         np.testing.assert_array_equal(loop.plan, solution.plan[:, problem.controlled])
@@ -48,7 +48,7 @@ def test_the_loops_plans_are_the_solvers_to_the_bit(formulation, backend):
 
 def test_before_any_step_the_plan_is_the_held_reference():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    loop = CaptureSolver("rti", "hpipm").loop(problem)
+    loop = CaptureSolver("rti", "hpipm").step_for(problem)
     np.testing.assert_array_equal(loop.plan, np.broadcast_to(DEFENDERS, loop.plan.shape))
     assert loop.step() is Status.OPTIMAL
 
@@ -56,7 +56,7 @@ def test_before_any_step_the_plan_is_the_held_reference():
 @pytest.mark.parametrize("backend", ["hpipm", "hpipm-codegen"])
 def test_a_failed_step_reports_its_status_and_leaves_the_reference_as_the_plan(backend):
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    loop = CaptureSolver("stage-sqp", backend).loop(problem)
+    loop = CaptureSolver("stage-sqp", backend).step_for(problem)
     loop.parts["attacker"][:] = np.nan
     status = loop.step()
     assert not status.usable and loop.message
@@ -67,7 +67,7 @@ def test_a_failed_step_reports_its_status_and_leaves_the_reference_as_the_plan(b
 
 def test_a_plan_with_a_nan_is_an_error_even_when_the_solver_reports_success(monkeypatch):
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
-    loop = CaptureSolver("rti", "hpipm-codegen").loop(problem)
+    loop = CaptureSolver("rti", "hpipm-codegen").step_for(problem)
     monkeypatch.setattr(loop.backend, "loop_status", lambda step, buffer: (Status.OPTIMAL, 1))
     loop.reference[0, 0] = np.nan                     # the plan is read back round the reference
     assert loop.step() is Status.ERROR and loop.message
@@ -77,10 +77,10 @@ def test_a_plan_with_a_nan_is_an_error_even_when_the_solver_reports_success(monk
 def test_only_stage_form_steps_and_one_structure_per_loop():
     problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
     with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
-        CaptureSolver("sqp", "daqp").loop(problem)
+        CaptureSolver("sqp", "daqp").step_for(problem)
     with pytest.raises(MpcHuntError, match="formulation: .*rti, stage-sqp"):
         CaptureSolver("sqp", "daqp", loop=True)
-    loop = CaptureSolver("rti", "hpipm").loop(problem)
+    loop = CaptureSolver("rti", "hpipm").step_for(problem)
     other = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON + 1)
-    with pytest.raises(MpcHuntError, match="problem: structure .* one loop per structure"):
+    with pytest.raises(MpcHuntError, match="problem: structure .* one step per structure"):
         loop.load(other)
