@@ -877,6 +877,7 @@ def _compare_own_loop(args, pairs) -> int:
     from mpc_hunt.bench.machine import describe_machine, load_average
     from mpc_hunt.bench.own_loop import (
         ABANDON_AFTER,
+        OwnLoopRun,
         capture_stage_hunts,
         hunt_summary,
         rows_of,
@@ -961,7 +962,7 @@ def _compare_own_loop(args, pairs) -> int:
             if update:
                 update(next(done))
 
-        run_own_loop(
+        run = OwnLoopRun(
             scenarios,
             pairs,
             args.horizon,
@@ -971,9 +972,8 @@ def _compare_own_loop(args, pairs) -> int:
             max_iter=args.max_iter,
             deadline=args.deadline,
             abandon_after=abandon_after,
-            workers=workers,
-            progress=keep,
         )
+        run_own_loop(run, workers, keep)
     report(False)
     return 0
 
