@@ -111,6 +111,44 @@ def numbers(values: np.ndarray) -> str:
     return "\n".join(f"{v:.17g}" for v in values) + "\n"
 
 
+def generated(folder: Path, name: str, function) -> Path:
+    """CasADi's C of ``function``, ``name``.c and its header, written into ``folder`` (made if need be); the .c."""
+    import casadi as ca
+
+    folder.mkdir(parents=True, exist_ok=True)
+    generator = ca.CodeGenerator(f"{name}.c", {"with_header": True})
+    generator.add(function)
+    generator.generate(str(folder) + "/")
+    return folder / f"{name}.c"
+
+
+def step_header(
+    kind: str, structure: Structure, theta: np.ndarray, reference: np.ndarray, plan: np.ndarray, **values
+) -> str:
+    """``mpc_hunt_step.h`` of the ``kind`` of step (``hpipm``, ``condensed``): the structure's name, the lengths of
+    θ, the reference and the plan, and the template's other ``values``."""
+    return render(
+        f"{kind}/mpc_hunt_step.h",
+        structure=structure,
+        n_theta=len(theta),
+        n_reference=len(reference),
+        n_plan=len(plan),
+        **values,
+    )
+
+
+def problem_files(theta: np.ndarray, reference: np.ndarray, plan: np.ndarray) -> dict[str, str]:
+    """The problem the folder carries: ``input.txt`` (θ, then the reference) and ``expected.txt`` (Python's plan)."""
+    return {"input.txt": numbers(np.concatenate([theta, reference])), "expected.txt": numbers(plan)}
+
+
+def written(folder: Path, files: dict[str, str]) -> list[Path]:
+    """``files`` (name: text) written into ``folder``; their paths."""
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return [folder / name for name in files]
+
+
 def write_condensed(
     folder: Path,
     step,
@@ -125,14 +163,9 @@ def write_condensed(
     from), DAQP's sources (``daqp/``), ``main.c``, a Makefile that needs nothing else, the input and Python's plan."""
     import shutil
 
-    import casadi as ca
-
     from mpc_hunt.solving.backends.condensed_compiled import NON_FINITE_INPUT, NON_FINITE_PLAN, step_source
 
-    folder.mkdir(parents=True, exist_ok=True)
-    generator = ca.CodeGenerator("capture_condense.c", {"with_header": True})
-    generator.add(step.function)
-    generator.generate(str(folder) + "/")
+    source = generated(folder, "capture_condense", step.function)
     daqp = folder / "daqp"
     for part in ("src", "include"):
         (daqp / part).mkdir(parents=True, exist_ok=True)
@@ -141,12 +174,12 @@ def write_condensed(
     shutil.copyfile(DAQP_SOURCES / "LICENSE", daqp / "LICENSE")
     cc = TARGETS[target]["cc"]
     files = {
-        "mpc_hunt_step.h": render(
-            "condensed/mpc_hunt_step.h",
-            structure=structure,
-            n_theta=len(theta),
-            n_reference=len(reference),
-            n_plan=len(plan),
+        "mpc_hunt_step.h": step_header(
+            "condensed",
+            structure,
+            theta,
+            reference,
+            plan,
             non_finite_input=NON_FINITE_INPUT,
             non_finite_plan=NON_FINITE_PLAN,
         ),
@@ -155,8 +188,7 @@ def write_condensed(
         "Makefile": render(
             "condensed/Makefile", structure=structure, version=DAQP_VERSION, set_cc=f"CC = {cc}\n" if cc else ""
         ),
-        "input.txt": numbers(np.concatenate([theta, reference])),
-        "expected.txt": numbers(plan),
+        **problem_files(theta, reference, plan),
     }
     if target == "cortex-m7":
         del files["main.c"]
@@ -168,9 +200,7 @@ def write_condensed(
                 "Makefile": render("cortex-m7/Makefile", structure=structure, version=DAQP_VERSION),
             }
         )
-    for name, text in files.items():
-        (folder / name).write_text(text, encoding="utf-8")
-    return [folder / "capture_condense.c", folder / "capture_condense.h", *(folder / name for name in files), daqp]
+    return [source, source.with_suffix(".h"), *written(folder, files), daqp]
 
 
 def write_step(
@@ -192,34 +222,18 @@ def write_step(
     check_export(target, exports, iteration)
     if exports == "condensed":
         return write_condensed(folder, step, structure, theta, reference, plan, target)
-    import casadi as ca
-
     from mpc_hunt.solving.backends.hpipm_codegen import patch
     from mpc_hunt.solving.compiled import casadi_paths
 
-    folder.mkdir(parents=True, exist_ok=True)
-    generator = ca.CodeGenerator(f"{NAME}.c", {"with_header": True})
-    generator.add(step)
-    generator.generate(str(folder) + "/")
-    source = folder / f"{NAME}.c"
+    source = generated(folder, NAME, step)
     source.write_text(patch(source.read_text(encoding="utf-8")), encoding="utf-8")
     iterations = dict(qps=iteration.max_qps, tolerance=repr(float(iteration.tolerance)))
     sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
     files = {
-        "mpc_hunt_step.h": render(
-            "hpipm/mpc_hunt_step.h",
-            structure=structure,
-            n_theta=len(theta),
-            n_reference=len(reference),
-            n_plan=len(plan),
-            **iterations,
-        ),
+        "mpc_hunt_step.h": step_header("hpipm", structure, theta, reference, plan, **iterations),
         "mpc_hunt_step.c": render("hpipm/mpc_hunt_step.c", **sizes, **iterations),
         "main.c": render("main.c"),
         "Makefile": render("hpipm/Makefile", structure=structure, deps=casadi_paths()[1]),
-        "input.txt": numbers(np.concatenate([theta, reference])),
-        "expected.txt": numbers(plan),
+        **problem_files(theta, reference, plan),
     }
-    for name, text in files.items():
-        (folder / name).write_text(text, encoding="utf-8")
-    return [source, folder / f"{NAME}.h", *(folder / name for name in files)]
+    return [source, source.with_suffix(".h"), *written(folder, files)]
