@@ -44,6 +44,7 @@ C, headers and Makefiles are templates (:mod:`mpc_hunt.solving.c_template`), fil
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -122,24 +123,30 @@ def generated(folder: Path, name: str, function) -> Path:
     return folder / f"{name}.c"
 
 
-def step_header(
-    kind: str, structure: Structure, theta: np.ndarray, reference: np.ndarray, plan: np.ndarray, **values
-) -> str:
-    """``mpc_hunt_step.h`` of the ``kind`` of step (``hpipm``, ``condensed``): the structure's name, the lengths of
-    θ, the reference and the plan, and the template's other ``values``."""
-    return render(
-        f"{kind}/mpc_hunt_step.h",
-        structure=structure,
-        n_theta=len(theta),
-        n_reference=len(reference),
-        n_plan=len(plan),
-        **values,
-    )
+@dataclass(frozen=True)
+class ExportedProblem:
+    """The problem an export's folder carries: its structure, θ, the reference and Python's plan."""
 
+    structure: Structure
+    theta: np.ndarray
+    reference: np.ndarray
+    plan: np.ndarray
 
-def problem_files(theta: np.ndarray, reference: np.ndarray, plan: np.ndarray) -> dict[str, str]:
-    """The problem the folder carries: ``input.txt`` (θ, then the reference) and ``expected.txt`` (Python's plan)."""
-    return {"input.txt": numbers(np.concatenate([theta, reference])), "expected.txt": numbers(plan)}
+    def header(self, kind: str, **values) -> str:
+        """``mpc_hunt_step.h`` of the ``kind`` of step (``hpipm``, ``condensed``): the structure's name, the lengths
+        of θ, the reference and the plan, and the template's other ``values``."""
+        return render(
+            f"{kind}/mpc_hunt_step.h",
+            structure=self.structure,
+            n_theta=len(self.theta),
+            n_reference=len(self.reference),
+            n_plan=len(self.plan),
+            **values,
+        )
+
+    def files(self) -> dict[str, str]:
+        """``input.txt`` (θ, then the reference) and ``expected.txt`` (Python's plan)."""
+        return {"input.txt": numbers(np.concatenate([self.theta, self.reference])), "expected.txt": numbers(self.plan)}
 
 
 def written(folder: Path, files: dict[str, str]) -> list[Path]:
@@ -149,15 +156,7 @@ def written(folder: Path, files: dict[str, str]) -> list[Path]:
     return [folder / name for name in files]
 
 
-def write_condensed(
-    folder: Path,
-    step,
-    structure: Structure,
-    theta: np.ndarray,
-    reference: np.ndarray,
-    plan: np.ndarray,
-    target: str = "host",
-) -> list[Path]:
+def write_condensed(folder: Path, step, problem: ExportedProblem, target: str = "host") -> list[Path]:
     """The folder of the module docstring for the ``daqp-condensed`` backend's step: CasADi's condensing
     (``capture_condense.c``), the step around DAQP (``mpc_hunt_step.c``, the C the backend's library is built
     from), DAQP's sources (``daqp/``), ``main.c``, a Makefile that needs nothing else, the input and Python's plan."""
@@ -174,21 +173,15 @@ def write_condensed(
     shutil.copyfile(DAQP_SOURCES / "LICENSE", daqp / "LICENSE")
     cc = TARGETS[target]["cc"]
     files = {
-        "mpc_hunt_step.h": step_header(
-            "condensed",
-            structure,
-            theta,
-            reference,
-            plan,
-            non_finite_input=NON_FINITE_INPUT,
-            non_finite_plan=NON_FINITE_PLAN,
+        "mpc_hunt_step.h": problem.header(
+            "condensed", non_finite_input=NON_FINITE_INPUT, non_finite_plan=NON_FINITE_PLAN
         ),
         "mpc_hunt_step.c": render("condensed/mpc_hunt_step.c", step=step_source(step.function, step.sizes)),
         "main.c": render("main.c"),
         "Makefile": render(
-            "condensed/Makefile", structure=structure, version=DAQP_VERSION, set_cc=f"CC = {cc}\n" if cc else ""
+            "condensed/Makefile", structure=problem.structure, version=DAQP_VERSION, set_cc=f"CC = {cc}\n" if cc else ""
         ),
-        **problem_files(theta, reference, plan),
+        **problem.files(),
     }
     if target == "cortex-m7":
         del files["main.c"]
@@ -197,7 +190,7 @@ def write_condensed(
                 "board.c": render("cortex-m7/board.c"),
                 "startup.c": render("cortex-m7/startup.c"),
                 "board.ld": render("cortex-m7/board.ld"),
-                "Makefile": render("cortex-m7/Makefile", structure=structure, version=DAQP_VERSION),
+                "Makefile": render("cortex-m7/Makefile", structure=problem.structure, version=DAQP_VERSION),
             }
         )
     return [source, source.with_suffix(".h"), *written(folder, files), daqp]
@@ -220,8 +213,9 @@ def write_step(
     Makefile building for ``target`` (:data:`TARGETS`); returns the files written.
     :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it has set up."""
     check_export(target, exports, iteration)
+    problem = ExportedProblem(structure, theta, reference, plan)
     if exports == "condensed":
-        return write_condensed(folder, step, structure, theta, reference, plan, target)
+        return write_condensed(folder, step, problem, target)
     from mpc_hunt.solving.backends.hpipm_codegen import patch
     from mpc_hunt.solving.compiled import casadi_paths
 
@@ -230,10 +224,10 @@ def write_step(
     iterations = dict(qps=iteration.max_qps, tolerance=repr(float(iteration.tolerance)))
     sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
     files = {
-        "mpc_hunt_step.h": step_header("hpipm", structure, theta, reference, plan, **iterations),
+        "mpc_hunt_step.h": problem.header("hpipm", **iterations),
         "mpc_hunt_step.c": render("hpipm/mpc_hunt_step.c", **sizes, **iterations),
         "main.c": render("main.c"),
         "Makefile": render("hpipm/Makefile", structure=structure, deps=casadi_paths()[1]),
-        **problem_files(theta, reference, plan),
+        **problem.files(),
     }
     return [source, source.with_suffix(".h"), *written(folder, files)]
