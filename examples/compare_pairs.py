@@ -21,7 +21,7 @@ import statistics
 import numpy as np
 
 from mpc_hunt import builtin_scenario
-from mpc_hunt.bench import builtin_problem_set, capture_stage_hunts, run_compare, run_own_loop
+from mpc_hunt.bench import OwnLoopRun, builtin_problem_set, capture_stage_hunts, run_compare, run_own_loop
 
 
 def main() -> None:
@@ -52,7 +52,7 @@ def main() -> None:
         )
 
     hunts = capture_stage_hunts([builtin_scenario(args.scenario)], [], 0)
-    own = run_own_loop(hunts, pairs, [args.horizon], controller=args.controller, deadline=args.deadline)
+    own = run_own_loop(OwnLoopRun(hunts, pairs, [args.horizon], controller=args.controller, deadline=args.deadline))
     print(
         f"own loop, {args.controller} on {args.scenario} from its capture stage, deadline {args.deadline * 1e3:.0f} ms:"
     )

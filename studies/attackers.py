@@ -29,7 +29,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
 from mpc_hunt import markdown
-from mpc_hunt.arguments import CommandParser, count
+from mpc_hunt.arguments import CommandParser
 from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.control.controllers import SOLVING
@@ -53,7 +53,6 @@ OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
 HUNTS, SEED = 60, 1       # 60 hunts a cell (43 comfortable on seed 1): 95 % intervals of about ±13 points, not ±25
 BELIEF_HUNTS = 15         # FIRST and the belief errors: on the first this many hunts
-MAX_HUNTS = 1000
 DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
 FOCUS = ControllerSpec().label       # the recommended controller, measured against the Voronoi baseline
 BASELINE = "voronoi"
@@ -427,9 +426,7 @@ def check(folder: Path) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS,
-                        help=f"reachable hunts a strategy and attacker (default {HUNTS})")
-    add_study_options(parser, SEED, OUT)
+    add_study_options(parser, HUNTS, "reachable hunts a strategy and attacker", SEED, OUT)
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("attackers study"):

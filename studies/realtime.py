@@ -34,7 +34,7 @@ from mpc_hunt import builtin_scenario
 
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
-from mpc_hunt.bench.own_loop import (ABANDON_AFTER, WINDOW, capture_stage_hunts, hunt_summary, loop_tasks,
+from mpc_hunt.bench.own_loop import (ABANDON_AFTER, WINDOW, OwnLoopRun, capture_stage_hunts, hunt_summary,
                                      markdown_table, rows_of, run_tasks)
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import stop_at_once
@@ -72,7 +72,8 @@ def pairs() -> list[tuple[str, str]]:
 
 def tasks() -> list:
     """Every pair × horizon through every hunt, the pairs taking turns on each hunt (mpc_hunt/bench/own_loop.py)."""
-    return loop_tasks(scenarios(), pairs(), HORIZONS, time_limit=BUDGET, deadline=BUDGET, abandon_after=ABANDON_AFTER)
+    return OwnLoopRun(scenarios(), pairs(), HORIZONS, time_limit=BUDGET, deadline=BUDGET,
+                      abandon_after=ABANDON_AFTER).tasks()
 
 
 def key(horizon: int, scenario: str, pair: tuple[str, str]) -> str:

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from mpc_hunt.arguments import CommandParser, output_folder, seed as seed_number
+from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Hunt, run_hunt
@@ -18,10 +18,13 @@ from mpc_hunt.world.behaviours import BEHAVIOURS
 
 PROGRESS_EVERY = 20     # hunts between two progress lines
 NOTHING_RAN = "no hunt ran: nothing to report"      # why a study whose results file stays empty stops
+MAX_HUNTS = 1000        # the most hunts a sweep study's --hunts asks for
 
 
-def add_study_options(parser: CommandParser, seed: int, out: Path) -> None:
-    """A sweep study's --seed (default ``seed``), --output (default ``out``, a folder of studies/) and --check."""
+def add_study_options(parser: CommandParser, hunts: int, what: str, seed: int, out: Path) -> None:
+    """A sweep study's --hunts (default ``hunts``, ``what`` they are), --seed (default ``seed``), --output (default
+    ``out``, a folder of studies/) and --check."""
+    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=hunts, help=f"{what} (default {hunts})")
     parser.add_argument("--seed", type=seed_number, default=seed, help=f"the sweep's seed (default {seed})")
     parser.add_argument("--output", type=output_folder, default=out,
                         help=f"the folder to write (default studies/{out.name})")

@@ -42,13 +42,12 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, run_study
-from studies.sweep_study import (add_study_options, keys, measured_run, missing, quickest_captures, run_file,
-                                 still_captured, stop_status)
+from studies.sweep_study import (MAX_HUNTS, add_study_options, keys, measured_run, missing, quickest_captures,
+                                 run_file, still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
 HUNTS, TEAM_HUNTS, SEED = 60, 20, 4
-MAX_HUNTS = 1000
 CENTRAL, DISTRIBUTED = "enclose:rti:hpipm:10", "enclose:distributed:hpipm:10"
 STRATEGIES = (CENTRAL, DISTRIBUTED)
 TEAM_ATTACKER = "apf"
@@ -189,10 +188,9 @@ def check(folder: Path) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--hunts", type=count(MAX_HUNTS), default=HUNTS, help=f"hunts per attacker (default {HUNTS})")
+    add_study_options(parser, HUNTS, "hunts per attacker", SEED, OUT)
     parser.add_argument("--team-hunts", type=count(MAX_HUNTS), default=TEAM_HUNTS,
                         help=f"hunts with {TEAMS[0]}–{TEAMS[1]} defenders (default {TEAM_HUNTS})")
-    add_study_options(parser, SEED, OUT)
     args = parser.parse_args(argv)
     if args.check:
         with stop_at_once("team sweep study"):

@@ -47,10 +47,10 @@ import numpy as np
 from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, machine_lines
-from mpc_hunt.control.ppo_team import RESIDUAL, policy_file as team_file
+from mpc_hunt.control.ppo_team import RESIDUAL, TEAM_POLICY
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.world.behaviours.ppo import policy_file as attacker_file
+from mpc_hunt.world.behaviours.ppo import ATTACKER_POLICY
 
 from studies.study_check import check_result, run_study
 
@@ -71,7 +71,7 @@ PPO_SETTINGS = {
              "learning_rate": 3e-4, "clip_range": 0.2, "ent_coef": 0.0},
 }
 LOG_STD_INIT = {"attacker": 0.0, "team": -1.0}   # the Gaussian's first log σ: the team's corrections start small
-SIDE_FILES = {"attacker": attacker_file, "team": team_file}
+SIDE_FILES = {"attacker": ATTACKER_POLICY.file, "team": TEAM_POLICY.file}
 SIDE_NAMES = {"attacker": "attacker", "team": "defender"}
 
 

@@ -72,7 +72,7 @@ def test_every_template_and_daqps_version_are_package_data():
     shipped = _shipped("mpc_hunt.solving")
     templates = {path for path in TEMPLATES.rglob("*") if path.is_file()}
     assert templates and templates <= shipped
-    assert TEMPLATES.parent / "daqp_c" / "VERSION" in shipped
+    assert TEMPLATES.parent / "vendor" / "daqp" / "VERSION" in shipped
 
 
 def test_a_template_is_filled_in_whole_or_refused():

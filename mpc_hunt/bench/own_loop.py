@@ -63,19 +63,25 @@ class LoopHunt:
     time_limit: float | None = None  # each step's (s), if one was given
 
 
+ABANDON_AFTER = 10.0  # s: a hunt whose capture stage has failed this long in a row stops, "abandoned" (100 steps
+# at T = 0.1 s, twenty times the longest streak a pair fit to embed may have: what follows
+# is the fallback's hunt, not the pair's, and would only cost the run its time)
+
+
 @dataclass
 class OwnLoopRun:
-    """What an own-loop run did: its settings and every finished hunt."""
+    """An own-loop run: its settings (every pair × horizon through every scenario's hunt, with ``controller``, a
+    solving one), then what it did (every finished hunt, whether Ctrl-C stopped it)."""
 
     scenarios: list[Scenario]
     pairs: list[tuple[str, str]]
     horizons: list[int]
-    controller: str
-    accuracy: str
-    time_limit: float | None
-    max_iter: int | None
-    deadline: float | None
-    abandon_after: float | None
+    controller: str = "paper"
+    accuracy: str = "default"
+    time_limit: float | None = None
+    max_iter: int | None = None
+    deadline: float | None = None
+    abandon_after: float | None = ABANDON_AFTER
     hunts: list[LoopHunt] = field(default_factory=list)
     interrupted: bool = False
 
@@ -84,18 +90,25 @@ class OwnLoopRun:
         return VIOLATION_TOLERANCE[self.accuracy]
 
     def tasks(self) -> list[LoopTask]:
-        """Its hunts, every pair × horizon through every scenario (:func:`loop_tasks`, which checks the settings)."""
-        return loop_tasks(
-            self.scenarios,
-            self.pairs,
-            self.horizons,
-            controller=self.controller,
-            accuracy=self.accuracy,
-            time_limit=self.time_limit,
-            max_iter=self.max_iter,
-            deadline=self.deadline,
-            abandon_after=self.abandon_after,
-        )
+        """Its hunts, its settings checked: by horizon, then hunt, the pairs taking turns on each hunt (so that
+        load on the machine falls on all of them alike)."""
+        if not self.scenarios:
+            raise BenchmarkError("scenarios: none to hunt in")
+        if not self.pairs:
+            raise BenchmarkError("pairs: none to run")
+        if self.accuracy not in VIOLATION_TOLERANCE:
+            raise BenchmarkError(f"accuracy: unknown {self.accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
+        check_seconds("deadline", self.deadline, BenchmarkError)
+        check_seconds("abandon_after", self.abandon_after, BenchmarkError)
+        given = (("time_limit", self.time_limit), ("max_iter", self.max_iter))
+        budget = tuple((k, v) for k, v in given if v is not None)
+        settings = (self.controller, self.accuracy, budget, self.deadline, self.abandon_after)
+        return [
+            LoopTask(scenario, formulation, backend, horizon, *settings)
+            for horizon in self.horizons
+            for scenario in self.scenarios
+            for formulation, backend in self.pairs
+        ]
 
 
 def from_capture_stage(scenario: Scenario, window: float) -> Scenario | None:
@@ -164,11 +177,6 @@ def capture_stage_hunts(
     return hunts
 
 
-ABANDON_AFTER = 10.0  # s: a hunt whose capture stage has failed this long in a row stops, "abandoned" (100 steps
-# at T = 0.1 s, twenty times the longest streak a pair fit to embed may have: what follows
-# is the fallback's hunt, not the pair's, and would only cost the run its time)
-
-
 @dataclass(frozen=True)
 class LoopTask:
     """One hunt of one pair at one horizon, as a worker runs it (:func:`run_hunt`)."""
@@ -182,37 +190,6 @@ class LoopTask:
     budget: tuple  # (("time_limit", s), ("max_iter", n)): the ones given
     deadline: float | None
     abandon_after: float | None
-
-
-def loop_tasks(
-    scenarios: list[Scenario],
-    pairs: list[tuple[str, str]],
-    horizons: list[int],
-    *,
-    controller: str = "paper",
-    accuracy: str = "default",
-    time_limit: float | None = None,
-    max_iter: int | None = None,
-    deadline: float | None = None,
-    abandon_after: float | None = ABANDON_AFTER,
-) -> list[LoopTask]:
-    """Every pair × horizon through every scenario's hunt, by horizon, then hunt, the pairs taking turns on each
-    hunt (so that load on the machine falls on all of them alike)."""
-    if not scenarios:
-        raise BenchmarkError("scenarios: none to hunt in")
-    if not pairs:
-        raise BenchmarkError("pairs: none to run")
-    if accuracy not in VIOLATION_TOLERANCE:
-        raise BenchmarkError(f"accuracy: unknown {accuracy!r} (known: {', '.join(VIOLATION_TOLERANCE)})")
-    check_seconds("deadline", deadline, BenchmarkError)
-    check_seconds("abandon_after", abandon_after, BenchmarkError)
-    budget = tuple((k, v) for k, v in (("time_limit", time_limit), ("max_iter", max_iter)) if v is not None)
-    return [
-        LoopTask(scenario, formulation, backend, horizon, controller, accuracy, budget, deadline, abandon_after)
-        for horizon in horizons
-        for scenario in scenarios
-        for formulation, backend in pairs
-    ]
 
 
 def run_hunt(task: LoopTask) -> LoopHunt:
@@ -244,34 +221,10 @@ def run_tasks(tasks: Iterable[LoopTask], workers: int = 1) -> Iterator[LoopHunt]
     return run_local(tasks, run_hunt, workers)
 
 
-def run_own_loop(
-    scenarios: list[Scenario],
-    pairs: list[tuple[str, str]],
-    horizons: list[int],
-    *,
-    controller: str = "paper",
-    accuracy: str = "default",
-    time_limit: float | None = None,
-    max_iter: int | None = None,
-    deadline: float | None = None,
-    abandon_after: float | None = ABANDON_AFTER,
-    workers: int = 1,
-    progress: Callable[[LoopHunt], None] | None = None,
-) -> OwnLoopRun:
-    """Every pair × horizon through every scenario's hunt with ``controller`` (a solving one), on ``workers``
-    processes (:func:`run_tasks`); ``progress(hunt)`` is called with each hunt as it finishes."""
-    run = OwnLoopRun(
-        list(scenarios),
-        list(pairs),
-        list(horizons),
-        controller,
-        accuracy,
-        time_limit,
-        max_iter,
-        deadline,
-        abandon_after,
-    )
-    tasks = run.tasks()  # checked before any hunt
+def run_own_loop(run: OwnLoopRun, workers: int = 1, progress: Callable[[LoopHunt], None] | None = None) -> OwnLoopRun:
+    """``run``'s hunts (its settings checked before any), on ``workers`` processes (:func:`run_tasks`), each kept
+    in ``run.hunts`` as it finishes and ``progress(hunt)`` called with it; Ctrl-C stops the run, keeping them."""
+    tasks = run.tasks()
     tick = progress or (lambda hunt: None)
     try:
         for hunt in run_tasks(tasks, workers):

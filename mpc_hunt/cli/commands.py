@@ -62,6 +62,13 @@ OWN_LOOP = "own-loop"  # compare's mode whose pairs run hunts in their own loops
 OWN_LOOP_SCENARIOS = ("paper-open", "paper-obstacles")
 MAX_OWN_LOOP_HUNTS = 200
 
+# problems --build's counts: (option, its number type, default, metavar, what it counts)
+BUILD_COUNTS = (
+    ("--every", count(MAX_PROBLEMS), 560, "K", "a run starts at every K-th capture-stage state"),
+    ("--run-length", count(MAX_RUN_LENGTH), 4, "L", "consecutive states per run"),
+    ("--random", non_negative(MAX_RANDOM), 2, "M", "random states per constraint family"),
+)
+
 
 def _backend_help() -> str:
     defaults = ", ".join(f"{f}→{registry.formulation_class(f).default_backend}" for f in registry.FORMULATIONS)
@@ -472,27 +479,8 @@ def _problems_parser(sub) -> None:
         help="a scenario whose hunt is sampled; repeat for several (default: every built-in); "
         "the first one's robots are the random states' template",
     )
-    prob.add_argument(
-        "--every",
-        type=count(MAX_PROBLEMS),
-        default=560,
-        metavar="K",
-        help="a run starts at every K-th capture-stage state (default: 560)",
-    )
-    prob.add_argument(
-        "--run-length",
-        type=count(MAX_RUN_LENGTH),
-        default=4,
-        metavar="L",
-        help="consecutive states per run (default: 4)",
-    )
-    prob.add_argument(
-        "--random",
-        type=non_negative(MAX_RANDOM),
-        default=2,
-        metavar="M",
-        help="random states per constraint family (default: 2)",
-    )
+    for option, number, default, metavar, meaning in BUILD_COUNTS:
+        prob.add_argument(option, type=number, default=default, metavar=metavar, help=f"{meaning} (default: {default})")
     prob.add_argument("--seed", type=seed, default=0, help="seed of the random states (default: 0)")
 
 
@@ -877,6 +865,7 @@ def _compare_own_loop(args, pairs) -> int:
     from mpc_hunt.bench.machine import describe_machine, load_average
     from mpc_hunt.bench.own_loop import (
         ABANDON_AFTER,
+        OwnLoopRun,
         capture_stage_hunts,
         hunt_summary,
         rows_of,
@@ -961,7 +950,7 @@ def _compare_own_loop(args, pairs) -> int:
             if update:
                 update(next(done))
 
-        run_own_loop(
+        run = OwnLoopRun(
             scenarios,
             pairs,
             args.horizon,
@@ -971,9 +960,8 @@ def _compare_own_loop(args, pairs) -> int:
             max_iter=args.max_iter,
             deadline=args.deadline,
             abandon_after=abandon_after,
-            workers=workers,
-            progress=keep,
         )
+        run_own_loop(run, workers, keep)
     report(False)
     return 0
 

@@ -22,8 +22,6 @@ network never captured, nor did a network cloned from the baseline (docs/envs.md
 
 from __future__ import annotations
 
-from importlib import resources
-
 import numpy as np
 
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
@@ -31,28 +29,14 @@ from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.world.agent_view import DEFENDER_VIEW, defender_view
 from mpc_hunt.world.arena import arena_rows, safe_velocity
 from mpc_hunt.world.geometry import saturate
-from mpc_hunt.world.mlp import Mlp, load_mlp, shipped_mlp
+from mpc_hunt.world.mlp import ShippedPolicy
 from mpc_hunt.world.safety import safety_rows
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
 
-POLICY = "ppo_team.npz"
 RESIDUAL = 0.5  # the largest correction, per component, as a share of the top speed
 TEAM_VIEW = DEFENDER_VIEW + 2
-
-
-def policy_file():
-    """The shipped policy, ``ppo_team.npz`` beside this module."""
-    return resources.files(__package__).joinpath(POLICY)
-
-
-def team_policy(path=None) -> Mlp:
-    """The team's network: the shipped one, or the policy file ``path``."""
-    return (
-        shipped_mlp(__package__, POLICY, "defender", TEAM_VIEW)
-        if path is None
-        else load_mlp(path, "defender", TEAM_VIEW)
-    )
+TEAM_POLICY = ShippedPolicy(__package__, "ppo_team.npz", "defender", TEAM_VIEW)  # the team's network
 
 
 def team_view(
@@ -100,14 +84,14 @@ class PpoTeam:
 
     def __init__(self, scenario: Scenario, *, policy: str | None = None):
         self.scenario, self.policy_path = scenario, policy
-        self.network = team_policy(policy)
+        self.network = TEAM_POLICY.network(policy)
         self.base = VoronoiController(scenario)
         self.held = 0
         self.corrections: np.ndarray | None = None
         self.last: np.ndarray | None = None
 
     def describe(self) -> dict:
-        return {"controller": "ppo", "policy": self.policy_path or POLICY}
+        return {"controller": "ppo", "policy": self.policy_path or TEAM_POLICY.name}
 
     def command(self, obs: Observation) -> Command:
         s = self.scenario

@@ -6,15 +6,14 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.animation import PillowWriter
-from matplotlib.patches import Circle
 
 from mpc_hunt.plots.hunt import (
-    ATTACKER_COLOUR,
     END_MARKER,
     START_MARKER,
     draw_markers,
     draw_obstacles,
     draw_paths,
+    draw_perception,
     frame_axes,
     hunt_title,
     last_finite_step,
@@ -46,16 +45,7 @@ def animate_hunt(result: HuntResult, scenario: Scenario, path: str | Path, frame
     trails = draw_paths(ax, result)
     draw_markers(ax, result, 0, START_MARKER, size=5.0)
     current = draw_markers(ax, result, 0, END_MARKER)
-    perception = Circle(
-        result.attacker[0],
-        scenario.attacker.perception_radius,
-        fill=False,
-        edgecolor=ATTACKER_COLOUR,
-        linestyle="--",
-        linewidth=0.8,
-        label="perception radius",
-    )
-    ax.add_patch(perception)
+    perception = draw_perception(ax, scenario, result.attacker[0], "perception radius", linestyle="--", linewidth=0.8)
     clock = ax.text(0.02, 0.98, "", transform=ax.transAxes, va="top", fontsize="small")
     marker_legend(ax, {START_MARKER: "start", END_MARKER: "now"})
     frame_axes(ax, result, scenario, hunt_title(result, scenario))

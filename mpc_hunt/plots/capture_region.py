@@ -12,11 +12,11 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Rectangle
 
 from mpc_hunt.plots.hunt import (
-    ATTACKER_COLOUR,
     END_MARKER,
     colours,
     draw_markers,
     draw_obstacles,
+    draw_perception,
     last_finite_step,
     paths,
     set_window,
@@ -59,17 +59,7 @@ def plot_capture_regions(cases: list[tuple[HuntResult, Scenario, str]], path: st
             ax.plot(p[tail : end + 1, 0], p[tail : end + 1, 1], color=c, linewidth=1.6, zorder=3, label=name)
         draw_markers(ax, result, end, END_MARKER)
         a = result.attacker[end]
-        ax.add_patch(
-            Circle(
-                a,
-                scenario.attacker.perception_radius,
-                fill=False,
-                edgecolor=ATTACKER_COLOUR,
-                linestyle=":",
-                zorder=5,
-                label="perception radius R_agg",
-            )
-        )
+        draw_perception(ax, scenario, a, "perception radius R_agg", linestyle=":", zorder=5)
         ax.add_patch(
             Circle(
                 a,

@@ -137,6 +137,16 @@ def draw_markers(ax: Axes, result: HuntResult, step: int, marker: str, size: flo
     ]
 
 
+def draw_perception(ax: Axes, scenario: Scenario, centre, label: str, **style) -> Circle:
+    """The attacker's perception radius R_agg round ``centre``, an unfilled circle in its colour drawn with
+    ``style``."""
+    circle = Circle(
+        centre, scenario.attacker.perception_radius, fill=False, edgecolor=ATTACKER_COLOUR, label=label, **style
+    )
+    ax.add_patch(circle)
+    return circle
+
+
 def marker_legend(ax: Axes, labels: dict[str, str]) -> None:
     """Legend-only black markers explaining the marker shapes, e.g. {START_MARKER: "start"}."""
     for marker, label in labels.items():

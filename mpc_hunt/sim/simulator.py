@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
-from mpc_hunt.control.controller import Controller, Observation
+from mpc_hunt.control.controller import Command, Controller, Observation
 from mpc_hunt.control.recommended import PAPER
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import OptionError
@@ -83,8 +83,8 @@ def simulate(
     p_a = np.array(scenario.attacker.start, dtype=float)
     p_d = scenario.defender_starts.copy()
     attacker_path, defender_paths, stages, intercepts = [p_a.copy()], [p_d.copy()], [], []
-    solve_times, iterations, record = [], [], _SolveRecord()
-    failed = fallbacks = held = streak = longest_streak = 0
+    record = _SolveRecord()
+    held = 0
     previous = None
     termination = "time_limit"
     for step in range(max_steps):
@@ -94,14 +94,7 @@ def simulate(
             termination = "stopped"
             break
         cmd = controller.command(observation)
-        if cmd.solution is not None:
-            solve_times.append(cmd.solution.solve_time)
-            iterations.append(cmd.solution.iterations)
-            record.add(cmd.solution, cmd.fallback)
-            failed += not cmd.solution.success
-            streak = 0 if cmd.solution.success else streak + 1
-            longest_streak = max(longest_streak, streak)
-        fallbacks += cmd.fallback
+        record.add(cmd)
         velocity = behaviour.velocity(p_a, p_d)
         previous = p_a.copy()
         p_a, p_d = moved(scenario, p_a, p_d, cmd.velocities, velocity, stopped)
@@ -115,7 +108,7 @@ def simulate(
         if ended is not None:
             termination = ended
             break
-        if abandon_after is not None and streak * T >= abandon_after - 1e-9:
+        if abandon_after is not None and record.streak * T >= abandon_after - 1e-9:
             termination = "abandoned"
             break
     result = _result(
@@ -127,24 +120,32 @@ def simulate(
         np.array(intercepts),
         termination,
         held,
-        solve_times,
-        iterations,
-        failed,
-        fallbacks,
-        longest_streak,
     )
     return record.into(result, deadline)
 
 
 class _SolveRecord:
-    """Per capture-stage solve: its set-up, the status, the certificate, the applied plan's true violations."""
+    """Per capture-stage solve: its time, iterations and set-up, the status, the certificate, the applied plan's
+    true violations; the failed solves, the current and the longest run of them, and the commands that fell
+    back."""
 
     def __init__(self):
+        self.times, self.iterations = [], []
         self.setups, self.overheads, self.off_cpu, self.statuses = [], [], [], []
         self.certificates, self.violations = [], []
-        self.violating = 0
+        self.violating = self.failed = self.streak = self.longest_streak = self.fallbacks = 0
 
-    def add(self, solution, fallback: bool) -> None:
+    def add(self, cmd: Command) -> None:
+        """A step's command: its solve, if it made one, and whether it fell back."""
+        solution, fallback = cmd.solution, cmd.fallback
+        self.fallbacks += fallback
+        if solution is None:
+            return
+        self.times.append(solution.solve_time)
+        self.iterations.append(solution.iterations)
+        self.failed += not solution.success
+        self.streak = 0 if solution.success else self.streak + 1
+        self.longest_streak = max(self.longest_streak, self.streak)
         self.violating += solution.success and fallback  # usable, yet not applied: beyond the tolerance
         self.setups.append(solution.setup_time)
         self.overheads.append(solution.overhead_time)
@@ -168,6 +169,11 @@ class _SolveRecord:
             applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),
             deadline=deadline,
             violating_plans=self.violating,
+            solve_times=np.array(self.times),
+            solve_iterations=np.array(self.iterations, dtype=int),
+            failed_solves=self.failed,
+            fallbacks=self.fallbacks,
+            longest_failure_streak=self.longest_streak,
         )
 
 
@@ -180,11 +186,6 @@ def _result(
     intercepts,
     termination,
     held,
-    solve_times,
-    iterations,
-    failed,
-    fallbacks,
-    longest_streak,
 ) -> HuntResult:
     hunt = scenario.hunt
     T = hunt.time_step
@@ -234,9 +235,4 @@ def _result(
         approach_min_obstacle_clearance=by_stage[False],
         capture_min_obstacle_clearance=by_stage[True],
         min_arena_margin=None if scenario.arena is None else float(np.min(margin(scenario.arena, d))),
-        solve_times=np.array(solve_times),
-        solve_iterations=np.array(iterations, dtype=int),
-        failed_solves=failed,
-        fallbacks=fallbacks,
-        longest_failure_streak=longest_streak,
     )

@@ -44,6 +44,7 @@ C, headers and Makefiles are templates (:mod:`mpc_hunt.solving.c_template`), fil
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -111,28 +112,59 @@ def numbers(values: np.ndarray) -> str:
     return "\n".join(f"{v:.17g}" for v in values) + "\n"
 
 
-def write_condensed(
-    folder: Path,
-    step,
-    structure: Structure,
-    theta: np.ndarray,
-    reference: np.ndarray,
-    plan: np.ndarray,
-    target: str = "host",
-) -> list[Path]:
+def generated(folder: Path, name: str, function) -> Path:
+    """CasADi's C of ``function``, ``name``.c and its header, written into ``folder`` (made if need be); the .c."""
+    import casadi as ca
+
+    folder.mkdir(parents=True, exist_ok=True)
+    generator = ca.CodeGenerator(f"{name}.c", {"with_header": True})
+    generator.add(function)
+    generator.generate(str(folder) + "/")
+    return folder / f"{name}.c"
+
+
+@dataclass(frozen=True)
+class ExportedProblem:
+    """The problem an export's folder carries: its structure, θ, the reference and Python's plan."""
+
+    structure: Structure
+    theta: np.ndarray
+    reference: np.ndarray
+    plan: np.ndarray
+
+    def header(self, kind: str, **values) -> str:
+        """``mpc_hunt_step.h`` of the ``kind`` of step (``hpipm``, ``condensed``): the structure's name, the lengths
+        of θ, the reference and the plan, and the template's other ``values``."""
+        return render(
+            f"{kind}/mpc_hunt_step.h",
+            structure=self.structure,
+            n_theta=len(self.theta),
+            n_reference=len(self.reference),
+            n_plan=len(self.plan),
+            **values,
+        )
+
+    def files(self) -> dict[str, str]:
+        """``input.txt`` (θ, then the reference) and ``expected.txt`` (Python's plan)."""
+        return {"input.txt": numbers(np.concatenate([self.theta, self.reference])), "expected.txt": numbers(self.plan)}
+
+
+def written(folder: Path, files: dict[str, str]) -> list[Path]:
+    """``files`` (name: text) written into ``folder``; their paths."""
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return [folder / name for name in files]
+
+
+def write_condensed(folder: Path, step, problem: ExportedProblem, target: str = "host") -> list[Path]:
     """The folder of the module docstring for the ``daqp-condensed`` backend's step: CasADi's condensing
     (``capture_condense.c``), the step around DAQP (``mpc_hunt_step.c``, the C the backend's library is built
     from), DAQP's sources (``daqp/``), ``main.c``, a Makefile that needs nothing else, the input and Python's plan."""
     import shutil
 
-    import casadi as ca
-
     from mpc_hunt.solving.backends.condensed_compiled import NON_FINITE_INPUT, NON_FINITE_PLAN, step_source
 
-    folder.mkdir(parents=True, exist_ok=True)
-    generator = ca.CodeGenerator("capture_condense.c", {"with_header": True})
-    generator.add(step.function)
-    generator.generate(str(folder) + "/")
+    source = generated(folder, "capture_condense", step.function)
     daqp = folder / "daqp"
     for part in ("src", "include"):
         (daqp / part).mkdir(parents=True, exist_ok=True)
@@ -141,22 +173,15 @@ def write_condensed(
     shutil.copyfile(DAQP_SOURCES / "LICENSE", daqp / "LICENSE")
     cc = TARGETS[target]["cc"]
     files = {
-        "mpc_hunt_step.h": render(
-            "condensed/mpc_hunt_step.h",
-            structure=structure,
-            n_theta=len(theta),
-            n_reference=len(reference),
-            n_plan=len(plan),
-            non_finite_input=NON_FINITE_INPUT,
-            non_finite_plan=NON_FINITE_PLAN,
+        "mpc_hunt_step.h": problem.header(
+            "condensed", non_finite_input=NON_FINITE_INPUT, non_finite_plan=NON_FINITE_PLAN
         ),
         "mpc_hunt_step.c": render("condensed/mpc_hunt_step.c", step=step_source(step.function, step.sizes)),
         "main.c": render("main.c"),
         "Makefile": render(
-            "condensed/Makefile", structure=structure, version=DAQP_VERSION, set_cc=f"CC = {cc}\n" if cc else ""
+            "condensed/Makefile", structure=problem.structure, version=DAQP_VERSION, set_cc=f"CC = {cc}\n" if cc else ""
         ),
-        "input.txt": numbers(np.concatenate([theta, reference])),
-        "expected.txt": numbers(plan),
+        **problem.files(),
     }
     if target == "cortex-m7":
         del files["main.c"]
@@ -165,12 +190,10 @@ def write_condensed(
                 "board.c": render("cortex-m7/board.c"),
                 "startup.c": render("cortex-m7/startup.c"),
                 "board.ld": render("cortex-m7/board.ld"),
-                "Makefile": render("cortex-m7/Makefile", structure=structure, version=DAQP_VERSION),
+                "Makefile": render("cortex-m7/Makefile", structure=problem.structure, version=DAQP_VERSION),
             }
         )
-    for name, text in files.items():
-        (folder / name).write_text(text, encoding="utf-8")
-    return [folder / "capture_condense.c", folder / "capture_condense.h", *(folder / name for name in files), daqp]
+    return [source, source.with_suffix(".h"), *written(folder, files), daqp]
 
 
 def write_step(
@@ -190,36 +213,21 @@ def write_step(
     Makefile building for ``target`` (:data:`TARGETS`); returns the files written.
     :meth:`mpc_hunt.solving.solver.CaptureSolver.export` calls it with the step it has set up."""
     check_export(target, exports, iteration)
+    problem = ExportedProblem(structure, theta, reference, plan)
     if exports == "condensed":
-        return write_condensed(folder, step, structure, theta, reference, plan, target)
-    import casadi as ca
-
+        return write_condensed(folder, step, problem, target)
     from mpc_hunt.solving.backends.hpipm_codegen import patch
     from mpc_hunt.solving.compiled import casadi_paths
 
-    folder.mkdir(parents=True, exist_ok=True)
-    generator = ca.CodeGenerator(f"{NAME}.c", {"with_header": True})
-    generator.add(step)
-    generator.generate(str(folder) + "/")
-    source = folder / f"{NAME}.c"
+    source = generated(folder, NAME, step)
     source.write_text(patch(source.read_text(encoding="utf-8")), encoding="utf-8")
     iterations = dict(qps=iteration.max_qps, tolerance=repr(float(iteration.tolerance)))
     sizes = dict(sz_arg=step.sz_arg(), sz_res=step.sz_res(), sz_iw=step.sz_iw(), sz_w=step.sz_w(), name=step.name())
     files = {
-        "mpc_hunt_step.h": render(
-            "hpipm/mpc_hunt_step.h",
-            structure=structure,
-            n_theta=len(theta),
-            n_reference=len(reference),
-            n_plan=len(plan),
-            **iterations,
-        ),
+        "mpc_hunt_step.h": problem.header("hpipm", **iterations),
         "mpc_hunt_step.c": render("hpipm/mpc_hunt_step.c", **sizes, **iterations),
         "main.c": render("main.c"),
         "Makefile": render("hpipm/Makefile", structure=structure, deps=casadi_paths()[1]),
-        "input.txt": numbers(np.concatenate([theta, reference])),
-        "expected.txt": numbers(plan),
+        **problem.files(),
     }
-    for name, text in files.items():
-        (folder / name).write_text(text, encoding="utf-8")
-    return [source, folder / f"{NAME}.h", *(folder / name for name in files)]
+    return [source, source.with_suffix(".h"), *written(folder, files)]

@@ -1,9 +1,9 @@
-"""DAQP's C sources, vendored in ``daqp_c/`` (MIT, from its PyPI sdist): where they are, their version, their digest.
+"""DAQP's C sources, vendored in ``vendor/daqp/`` (MIT, from its PyPI sdist): where they are, their version and digest.
 
 The ``daqp-condensed`` backend compiles them into its step's library
 (:mod:`mpc_hunt.solving.backends.condensed_compiled`) and the C export copies them
-next to the step (:mod:`mpc_hunt.solving.export`). Their version is ``daqp_c/VERSION``,
-the version pyproject.toml pins DAQP's Python package to (``daqp_c/README.md``), so
+next to the step (:mod:`mpc_hunt.solving.export`). Their version is ``vendor/daqp/VERSION``,
+the version pyproject.toml pins DAQP's Python package to (``vendor/daqp/README.md``), so
 that the compiled step and its interpreted fallback run the same DAQP.
 """
 
@@ -13,7 +13,7 @@ import hashlib
 from functools import cache
 from pathlib import Path
 
-DAQP_SOURCES = Path(__file__).resolve().parent / "daqp_c"
+DAQP_SOURCES = Path(__file__).resolve().parent / "vendor" / "daqp"
 DAQP_VERSION = (DAQP_SOURCES / "VERSION").read_text(encoding="utf-8").strip()
 
 

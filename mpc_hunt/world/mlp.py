@@ -65,6 +65,27 @@ def shipped_mlp(package: str, name: str, side: str, inputs: int) -> Mlp:
     return load_mlp(resources.files(package).joinpath(name), side, inputs)
 
 
+@dataclass(frozen=True)
+class ShippedPolicy:
+    """A policy shipped beside a module: its package, its file's name, the ``side`` it moves and the length of the
+    view it reads."""
+
+    package: str
+    name: str
+    side: str
+    inputs: int
+
+    def file(self):
+        """The shipped policy file."""
+        return resources.files(self.package).joinpath(self.name)
+
+    def network(self, path=None) -> Mlp:
+        """The shipped network (loaded once, :func:`shipped_mlp`), or the one in the policy file ``path``."""
+        if path is None:
+            return shipped_mlp(self.package, self.name, self.side, self.inputs)
+        return load_mlp(path, self.side, self.inputs)
+
+
 def load_mlp(path, side: str, inputs: int) -> Mlp:
     """The network in the policy file ``path`` for ``side``, reading views of ``inputs`` numbers; a damaged or
     foreign file is a one-line :class:`DataFileError` naming it."""

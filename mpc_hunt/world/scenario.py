@@ -278,21 +278,9 @@ class Scenario:
                 f"obstacles: {len(self.obstacles)} obstacles is beyond the limit of {MAX_OBSTACLES} ({LIMITS_DOC})"
             )
         set_ = object.__setattr__  # frozen dataclass: normalise in place once
-        set_(
-            self,
-            "defenders",
-            tuple(
-                _as(Defender, d, f"defenders[{i}]").validated(f"defenders[{i}]") for i, d in enumerate(self.defenders)
-            ),
-        )
+        set_(self, "defenders", _validated_all(Defender, self.defenders, "defenders"))
         set_(self, "attacker", _as(Attacker, self.attacker, "attacker").validated("attacker"))
-        set_(
-            self,
-            "obstacles",
-            tuple(
-                _as(Obstacle, o, f"obstacles[{i}]").validated(f"obstacles[{i}]") for i, o in enumerate(self.obstacles)
-            ),
-        )
+        set_(self, "obstacles", _validated_all(Obstacle, self.obstacles, "obstacles"))
         set_(self, "hunt", _as(HuntParameters, self.hunt, "hunt").validated("hunt"))
         if self.arena is not None:
             set_(self, "arena", checked_arena(self.arena))
@@ -359,3 +347,8 @@ def _as(cls: type, value: object, where: str):
     if isinstance(value, cls):
         return value
     raise ScenarioError(f"{where}: expected a {cls.__name__}, got {type(value).__name__}")
+
+
+def _validated_all(cls: type, values: tuple | list, field: str) -> tuple:
+    """Every one of ``values`` a ``cls``, validated, an error naming it by its place (``field[i]``)."""
+    return tuple(_as(cls, value, f"{field}[{i}]").validated(f"{field}[{i}]") for i, value in enumerate(values))

@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from conftest import capture_stage_scenario
-from mpc_hunt.bench.own_loop import rows, run_own_loop, table
+from mpc_hunt.bench.own_loop import OwnLoopRun, rows, run_own_loop, table
 from mpc_hunt.cli import main
 from mpc_hunt.errors import BenchmarkError
 
 
 def test_each_pair_runs_its_own_hunt_and_its_row_counts_what_its_loop_met():
     scenario = capture_stage_scenario(3.0)
-    run = run_own_loop([scenario], [("qp", "daqp"), ("rti", "hpipm")], [3], deadline=1e-9)
+    run = run_own_loop(OwnLoopRun([scenario], [("qp", "daqp"), ("rti", "hpipm")], [3], deadline=1e-9))
     assert [(h.formulation, h.backend) for h in run.hunts] == [("qp", "daqp"), ("rti", "hpipm")]
     assert not np.array_equal(run.hunts[0].result.defenders, run.hunts[1].result.defenders)   # its own states
     by = {r["backend"]: r for r in rows(run)}
@@ -32,7 +32,7 @@ def test_each_pair_runs_its_own_hunt_and_its_row_counts_what_its_loop_met():
 
 
 def test_a_budget_hit_is_counted_and_the_fallback_applied():
-    run = run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [5], max_iter=2)
+    run = run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("qp", "osqp")], [5], max_iter=2))
     row = rows(run)[0]
     assert row["budget_hits"] == row["solves"] == row["fallbacks"] == row["failed_solves"] > 0
     assert row["longest_failure_streak"] == row["solves"] and row["applied_plans_scored"] == 0
@@ -40,9 +40,9 @@ def test_a_budget_hit_is_counted_and_the_fallback_applied():
 
 def test_bad_settings_are_refused_before_any_hunt():
     with pytest.raises(BenchmarkError, match="scenarios"):
-        run_own_loop([], [("qp", "osqp")], [1])
+        run_own_loop(OwnLoopRun([], [("qp", "osqp")], [1]))
     with pytest.raises(BenchmarkError, match="deadline"):
-        run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [1], deadline=-1.0)
+        run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("qp", "osqp")], [1], deadline=-1.0))
 
 
 def test_the_command_runs_own_loop_alone(capsys):
@@ -83,22 +83,22 @@ def test_ctrl_c_keeps_the_rows_of_the_hunts_finished(tmp_path):
 
 def test_a_hunt_whose_capture_stage_keeps_failing_is_abandoned_at_its_time():
     """Every solve capped at 2 iterations fails: after ``abandon_after`` s of them in a row the hunt stops."""
-    run = run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [5], max_iter=2, abandon_after=0.5)
+    run = run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("qp", "osqp")], [5], max_iter=2, abandon_after=0.5))
     result = run.hunts[0].result
     assert result.termination == "abandoned" and not result.captured
     assert len(result.solve_times) == result.steps == 5         # 0.5 s of T = 0.1 s steps, the last one applied
     row = rows(run)[0]
     assert row["abandoned"] == 1 and row["captured"] == 0 and row["longest_failure_streak"] == 5
     with pytest.raises(BenchmarkError, match="abandon_after"):
-        run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [1], abandon_after=0.0)
+        run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("qp", "osqp")], [1], abandon_after=0.0))
 
 
 def test_hunts_on_two_worker_processes_are_the_hunts_of_one():
     """The same tasks on two processes: the same hunts (no time limit, so nothing depends on the clock)."""
     scenario = capture_stage_scenario(2.0)
     pairs = [("qp", "daqp"), ("rti", "hpipm")]
-    one = run_own_loop([scenario], pairs, [1, 3])
-    two = run_own_loop([scenario], pairs, [1, 3], workers=2)
+    one = run_own_loop(OwnLoopRun([scenario], pairs, [1, 3]))
+    two = run_own_loop(OwnLoopRun([scenario], pairs, [1, 3]), workers=2)
     key = lambda h: (h.formulation, h.backend, h.horizon)      # noqa: E731
     assert sorted(map(key, two.hunts)) == sorted(map(key, one.hunts)) and len(one.hunts) == 4
     by = {key(h): h.result for h in one.hunts}
@@ -116,7 +116,7 @@ def test_own_loop_settings_are_refused_in_the_other_modes(capsys):
 def test_a_step_past_its_limit_beyond_its_own_overhead_is_counted():
     """Under a time limit, each step's own overhead is recorded, and a step counts as past "the limit plus the
     measured overhead" exactly when its time less its overhead exceeds the limit."""
-    run = run_own_loop([capture_stage_scenario(3.0)], [("sqp", "osqp")], [3], time_limit=1e-4)
+    run = run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("sqp", "osqp")], [3], time_limit=1e-4))
     hunt = run.hunts[0]
     r = hunt.result
     assert hunt.time_limit == 1e-4 and len(r.overhead_times) == len(r.solve_times) > 0
@@ -130,6 +130,6 @@ def test_a_step_past_its_limit_beyond_its_own_overhead_is_counted():
     on_cpu = over - r.off_cpu_times
     assert row["past_limit_on_cpu"] == int(np.sum(on_cpu > 0)) <= row["past_limit_and_overhead"]
     assert row["largest_overrun_on_cpu_s"] == pytest.approx(on_cpu.max())
-    unlimited = rows(run_own_loop([capture_stage_scenario(3.0)], [("qp", "osqp")], [1]))[0]
+    unlimited = rows(run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("qp", "osqp")], [1])))[0]
     assert unlimited["past_limit_and_overhead"] is None and unlimited["largest_overrun_s"] is None
     assert unlimited["past_limit_on_cpu"] is None and unlimited["largest_overrun_on_cpu_s"] is None

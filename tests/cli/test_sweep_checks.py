@@ -5,6 +5,7 @@ copies in a temporary folder, put in their place by monkeypatching the name the 
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -18,7 +19,7 @@ from mpc_hunt.world import mlp
 from mpc_hunt.world.behaviours import BEHAVIOURS
 from mpc_hunt.world.behaviours import ppo as ppo_attacker
 
-NETWORKS = {"team": ppo_team, "attacker": ppo_attacker}
+NETWORKS = {"team": (ppo_team, "TEAM_POLICY"), "attacker": (ppo_attacker, "ATTACKER_POLICY")}  # module, its network
 FLAGS = {  # the sweep's flags that play each network, the field its refusal names, simulate's flags
     "team": (["--strategy", "ppo"], "--strategy: ppo", ["--controller", "ppo"]),
     "attacker": (["--strategy", "apf", "--attacker", "ppo"], "--attacker: ppo", ["--attacker", "ppo"]),
@@ -26,7 +27,8 @@ FLAGS = {  # the sweep's flags that play each network, the field its refusal nam
 
 
 def _damaged(side: str) -> dict[str, bytes]:
-    good = Path(str(NETWORKS[side].policy_file())).read_bytes()
+    module, name = NETWORKS[side]
+    good = Path(str(getattr(module, name).file())).read_bytes()
     return {"text": b"not a network\n", "empty": b"", "truncated": good[: len(good) // 2]}
 
 
@@ -41,10 +43,11 @@ def no_hunt(monkeypatch):
 @pytest.mark.parametrize("side", list(NETWORKS))
 def test_a_damaged_network_stops_the_sweep_in_one_line_before_any_hunt(capsys, monkeypatch, tmp_path, no_hunt,
                                                                        side, damage):
-    module = NETWORKS[side]
-    bad = tmp_path / module.POLICY
+    module, name = NETWORKS[side]
+    shipped = getattr(module, name)
+    bad = tmp_path / shipped.name
     bad.write_bytes(_damaged(side)[damage])
-    monkeypatch.setattr(module, "POLICY", str(bad))                 # as if the shipped file were damaged
+    monkeypatch.setattr(module, name, replace(shipped, name=str(bad)))   # as if the shipped file were damaged
     loads = []
     load = mlp.load_mlp
     monkeypatch.setattr(mlp, "load_mlp", lambda *a: loads.append(a) or load(*a))
@@ -67,7 +70,7 @@ def test_the_shipped_strategies_and_attackers_can_be_built():
 def test_a_strategy_that_cannot_be_built_is_refused_naming_strategies(monkeypatch, tmp_path):
     bad = tmp_path / "team.npz"
     bad.write_text("not a network\n")
-    monkeypatch.setattr(ppo_team, "POLICY", str(bad))
+    monkeypatch.setattr(ppo_team, "TEAM_POLICY", replace(ppo_team.TEAM_POLICY, name=str(bad)))
     with pytest.raises(SettingError) as exc:
         check_buildable(["apf", "ppo"], ["gap"], 0, ScenarioRanges())
     assert exc.value.fields == ("strategies",) and str(exc.value).startswith(f"strategies: ppo cannot be built: {bad}")

@@ -10,14 +10,14 @@ from gymnasium.utils.env_checker import check_env
 
 from conftest import small_scenario
 from mpc_hunt import simulate
-from mpc_hunt.control.ppo_team import PpoTeam, shielded, team_policy
+from mpc_hunt.control.ppo_team import TEAM_POLICY, PpoTeam, shielded
 from mpc_hunt.envs.learning import AttackerViewEnv, TeamHunts
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
 from mpc_hunt.control.ppo_team import TEAM_VIEW
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
 from mpc_hunt.world.behaviours import with_behaviour
-from mpc_hunt.world.behaviours.ppo import PpoAttacker, attacker_policy
+from mpc_hunt.world.behaviours.ppo import ATTACKER_POLICY, PpoAttacker
 from mpc_hunt.control.voronoi import VoronoiController
 
 
@@ -53,7 +53,7 @@ def test_the_ppo_attacker_plays_the_hunt_its_environment_gives():
     scenario = _hunt(3, limit=300.0)          # sensed from 28 s on: its decisions start then
     env = AttackerViewEnv(controller="voronoi", teams=(3,))
     view, _ = env.reset(seed=0, options={"scenario": scenario})
-    net, done = attacker_policy(), False
+    net, done = ATTACKER_POLICY.network(), False
     while not done:
         view, _, terminated, truncated, _ = env.step(net.action(view))
         done = terminated or truncated
@@ -71,7 +71,7 @@ def test_the_ppo_team_plays_the_hunt_its_training_gives():
     env = hunts.envs[0]["flee"]
     env.reset(seed=0, options={"scenario": scenario})
     hunts.start(0, env)
-    net, views, ended = team_policy(), hunts.views(0), False
+    net, views, ended = TEAM_POLICY.network(), hunts.views(0), False
     paths = [env.episode.defenders.copy()]
     while not ended:
         before = env.episode.step_count

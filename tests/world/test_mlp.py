@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 
 from mpc_hunt.errors import DataFileError
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, DEFENDER_VIEW
-from mpc_hunt.world.behaviours.ppo import attacker_policy
-from mpc_hunt.control.ppo_team import TEAM_VIEW, team_policy
+from mpc_hunt.world.behaviours.ppo import ATTACKER_POLICY
+from mpc_hunt.control.ppo_team import TEAM_POLICY, TEAM_VIEW
 from mpc_hunt.world.mlp import MAX_WIDTH, load_mlp
 
 
@@ -124,7 +124,7 @@ def test_a_pickled_array_is_refused_not_loaded(tmp_path):
 @given(st.lists(st.floats(-1e6, 1e6), min_size=ATTACKER_VIEW, max_size=ATTACKER_VIEW),
        st.lists(st.floats(-1e6, 1e6), min_size=TEAM_VIEW, max_size=TEAM_VIEW))
 def test_the_shipped_networks_give_a_valid_action_for_any_view(attacker_view, defender_view):
-    for net, view in ((attacker_policy(), attacker_view), (team_policy(), defender_view)):
+    for net, view in ((ATTACKER_POLICY.network(), attacker_view), (TEAM_POLICY.network(), defender_view)):
         action = net.action(np.array(view))
         assert action.shape == (2,) and np.all(np.isfinite(action)) and np.all(np.abs(action) <= 1)
 

@@ -15,33 +15,18 @@ and shipped as ``ppo_attacker.npz`` beside this module.
 
 from __future__ import annotations
 
-from importlib import resources
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
 from mpc_hunt.world.behaviours.base import attacker_move, sensed, sensing_radius, undisturbed
-from mpc_hunt.world.mlp import Mlp, load_mlp, shipped_mlp
+from mpc_hunt.world.mlp import Mlp, ShippedPolicy
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
-POLICY = "ppo_attacker.npz"
-
-
-def policy_file():
-    """The shipped policy, ``ppo_attacker.npz`` beside this module."""
-    return resources.files(__package__).joinpath(POLICY)
-
-
-def attacker_policy(path=None) -> Mlp:
-    """The attacker's network: the shipped one, or the policy file ``path``."""
-    return (
-        shipped_mlp(__package__, POLICY, "attacker", ATTACKER_VIEW)
-        if path is None
-        else load_mlp(path, "attacker", ATTACKER_VIEW)
-    )
+ATTACKER_POLICY = ShippedPolicy(__package__, "ppo_attacker.npz", "attacker", ATTACKER_VIEW)  # the attacker's network
 
 
 class PpoAttacker:
@@ -50,7 +35,7 @@ class PpoAttacker:
     def __init__(self, scenario: Scenario, rng: np.random.Generator, policy: Mlp | None = None):
         self.scenario = scenario
         self.radius = sensing_radius(scenario)
-        self.policy = attacker_policy() if policy is None else policy
+        self.policy = ATTACKER_POLICY.network() if policy is None else policy
         self.held, self.action = 0, np.zeros(2)
         self.last: np.ndarray | None = None
 
