@@ -9,7 +9,9 @@ The controller never learns the behaviour: it was built on a belief. A hunt ends
 the success test (Eqs. 4–5) has held for ``hold_time``, at ``time_limit``, or
 if the state stops being finite, when the attacker leaves the scenario's arena
 (if it has one), or when ``until`` (if given) says so of an observation. The
-same scenario always gives the same result.
+same scenario always gives the same result. Python's garbage collector is held off while the hunt runs and
+collects between steps, once a step's command is applied (:mod:`mpc_hunt.sim.collector`), as a robot's loop
+collects in its idle time.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from mpc_hunt.control.controller import Command, Controller, Observation
 from mpc_hunt.control.recommended import PAPER
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import OptionError
+from mpc_hunt.sim.collector import collecting_between_steps
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.world_step import moved, standing, steps
 from mpc_hunt.world.arena import margin
@@ -87,30 +90,32 @@ def simulate(
     held = 0
     previous = None
     termination = "time_limit"
-    for step in range(max_steps):
-        stopped = scenario.failed(step * T)  # robots that failed stand still for good
-        observation = Observation(step * T, p_a.copy(), previous, p_d.copy(), stopped if stopped.any() else None)
-        if until is not None and until(observation):
-            termination = "stopped"
-            break
-        cmd = controller.command(observation)
-        record.add(cmd)
-        velocity = behaviour.velocity(p_a, p_d)
-        previous = p_a.copy()
-        p_a, p_d = moved(scenario, p_a, p_d, cmd.velocities, velocity, stopped)
-        attacker_path.append(p_a.copy())
-        defender_paths.append(p_d.copy())
-        stages.append(cmd.capture_stage)
-        intercepts.append(cmd.intercepts)
-        ended, held = standing(scenario, p_a, p_d, held, hold_steps)
-        if progress is not None:
-            progress((step + 1) * T)
-        if ended is not None:
-            termination = ended
-            break
-        if abandon_after is not None and record.streak * T >= abandon_after - 1e-9:
-            termination = "abandoned"
-            break
+    with collecting_between_steps() as collect:  # (mpc_hunt.sim.collector)
+        for step in range(max_steps):
+            stopped = scenario.failed(step * T)  # robots that failed stand still for good
+            observation = Observation(step * T, p_a.copy(), previous, p_d.copy(), stopped if stopped.any() else None)
+            if until is not None and until(observation):
+                termination = "stopped"
+                break
+            cmd = controller.command(observation)
+            record.add(cmd)
+            velocity = behaviour.velocity(p_a, p_d)
+            previous = p_a.copy()
+            p_a, p_d = moved(scenario, p_a, p_d, cmd.velocities, velocity, stopped)
+            attacker_path.append(p_a.copy())
+            defender_paths.append(p_d.copy())
+            stages.append(cmd.capture_stage)
+            intercepts.append(cmd.intercepts)
+            collect()  # the command sent: the collector's work of this step, outside its solve's time
+            ended, held = standing(scenario, p_a, p_d, held, hold_steps)
+            if progress is not None:
+                progress((step + 1) * T)
+            if ended is not None:
+                termination = ended
+                break
+            if abandon_after is not None and record.streak * T >= abandon_after - 1e-9:
+                termination = "abandoned"
+                break
     result = _result(
         scenario,
         controller,
