@@ -1,4 +1,5 @@
-"""Markdown tables, written one way for every report (compare's, the sweep summary, the studies' READMEs).
+"""Markdown tables, written one way for every report (compare's, the sweep summary, the studies' READMEs), and the
+same tables as plain text for the terminal (:func:`plain`).
 
 A table is its header, the rule under it (a column's alignment: ``l``, left, ``---``; ``r``, right, ``---:``)
 and a line per row; a cell is any value, written with ``str``, an empty one as ``| |``. Nothing is padded:
@@ -33,3 +34,16 @@ def table(header: Sequence[object], align: str, rows: Iterable[Iterable[object]]
     if len(align) != len(header):
         raise ValueError(f"align: {len(align)} columns, the header has {len(header)}")
     return [row(header), rule(align), *map(row, rows)]
+
+
+def plain(header: Sequence[object], align: str, rows: Iterable[Iterable[object]] = ()) -> str:
+    """The table as plain text for the terminal: each column padded to its widest cell as ``align`` says (a letter a
+    column, as :func:`table`'s), two spaces apart, no rule."""
+    rule(align)  # (the letters checked)
+    body = [list(map(str, header)), *(list(map(str, cells)) for cells in rows)]
+    if len(align) != len(body[0]):
+        raise ValueError(f"align: {len(align)} columns, the header has {len(body[0])}")
+    widths = [max(len(line[i]) for line in body) for i in range(len(align))]
+    return "\n".join(
+        "  ".join(c.ljust(w) if a == "l" else c.rjust(w) for c, w, a in zip(line, widths, align)) for line in body
+    )

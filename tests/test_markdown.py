@@ -22,3 +22,14 @@ def test_an_alignment_that_is_not_the_headers_is_refused():
         markdown.table(["a", "b", "c"], "lr")
     with pytest.raises(ValueError, match="unknown 'c'"):
         markdown.rule("lc")
+
+
+def test_a_plain_table_pads_each_column_to_its_widest_cell_as_aligned():
+    text = markdown.plain(["pair", "N", "ms"], "llr", [["rti/hpipm", 10, "2.4"], ["qp/osqp", 1, "12.35"]])
+    assert text.splitlines() == [
+        "pair       N      ms",
+        "rti/hpipm  10    2.4",
+        "qp/osqp    1   12.35",
+    ]
+    with pytest.raises(ValueError, match="align: 2 columns"):
+        markdown.plain(["a", "b", "c"], "lr")

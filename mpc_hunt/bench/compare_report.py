@@ -118,17 +118,16 @@ def _cells(r: dict) -> list[str]:
     ]
 
 
+ALIGN = "ll" + "r" * (len(COLUMNS) - 2)  # the pair's names left, the figures right
+
+
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table for the terminal."""
-    body = [list(COLUMNS)] + [_cells(r) for r in rows]
-    widths = [max(len(line[i]) for line in body) for i in range(len(COLUMNS))]
-    return "\n".join(
-        "  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))) for line in body
-    )
+    return markdown.plain(COLUMNS, ALIGN, map(_cells, rows))
 
 
 def markdown_table(rows: list[dict]) -> list[str]:
-    return markdown.table(COLUMNS, "ll" + "r" * (len(COLUMNS) - 2), map(_cells, rows))
+    return markdown.table(COLUMNS, ALIGN, map(_cells, rows))
 
 
 def violation_table(rows: list[dict]) -> list[str]:

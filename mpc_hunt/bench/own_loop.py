@@ -424,18 +424,17 @@ def cells(r: dict) -> list[str]:
     ]
 
 
+ALIGN = "l" + "r" * (len(COLUMNS) - 1)  # the pair left, the figures right
+
+
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table."""
-    body = [list(COLUMNS)] + [cells(r) for r in rows]
-    widths = [max(len(line[i]) for line in body) for i in range(len(COLUMNS))]
-    return "\n".join(
-        "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))) for line in body
-    )
+    return markdown.plain(COLUMNS, ALIGN, map(cells, rows))
 
 
 def markdown_table(rows: list[dict], extra: tuple[str, Callable[[dict], str]] | None = None) -> list[str]:
     """The rows as a Markdown table; ``extra``, (its name, its cell of a row): a last column, left-aligned."""
-    header, align = list(COLUMNS), "l" + "r" * (len(COLUMNS) - 1)
+    header, align = list(COLUMNS), ALIGN
     if extra is None:
         return markdown.table(header, align, map(cells, rows))
     return markdown.table([*header, extra[0]], align + "l", ([*cells(r), extra[1](r)] for r in rows))
