@@ -117,6 +117,7 @@ class CaptureStep:
                 np.copyto(self.plan, self._previous)
                 return Status.TIME_LIMIT
             self.qps = count + 1
+            self.backend.loop_prepare(self.step_function)
             try:
                 self._evaluate()
             except RuntimeError as exc:  # CasADi refuses the QP (a NaN in it, say)

@@ -72,3 +72,19 @@ def test_without_a_compiler_or_with_a_failing_one_the_interpreted_step_runs_afte
 def test_a_generator_that_writes_otherwise_is_refused_not_patched_blindly():
     with pytest.raises(RuntimeError, match="mode"):
         hpipm_codegen.patch("int main(void) { return 0; }")
+
+
+def test_the_compiled_steps_cap_is_the_one_its_time_left_allows_at_each_call(cache, monkeypatch):
+    """Its generated cap is a number in the code; each call takes the backend's cap of the moment, at most that
+    one, so that under a time limit the cap follows the measured cost (the interpreted step keeps its own)."""
+    problem = _problem()
+    solver = CaptureSolver("rti", "hpipm-codegen")
+    free = solver.solve(problem)
+    assert free.success and free.iterations > 2
+    monkeypatch.setattr(solver.backend, "iteration_cap", lambda: 2)
+    capped = solver.solve(problem)
+    assert capped.status.value == "iteration_limit" and capped.iterations == 2
+    monkeypatch.setattr(solver.backend, "iteration_cap", lambda: 10_000)  # above the generated cap: that one
+    again = solver.solve(problem)
+    assert again.success and again.iterations == free.iterations
+    np.testing.assert_array_equal(again.plan, free.plan)

@@ -94,6 +94,9 @@ class ConicStepBackend(Backend):
         """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.solving.step`)."""
         return step
 
+    def loop_prepare(self, step) -> None:
+        """Ready ``step`` for its next evaluation (nothing here: a step's options are fixed when it is built)."""
+
     def loop_status(self, step, buffer) -> tuple[Status, int]:
         """(status, iterations) of the last evaluation of ``step`` through ``buffer``."""
         stats = buffer.stats()

@@ -97,6 +97,9 @@ class DaqpCondensedBackend(Backend):
     def loop_function(self, step: CondensedStep) -> CondensedStep:
         return step
 
+    def loop_prepare(self, step: CondensedStep) -> None:
+        """Nothing: its step runs DAQP's own cap (it takes no time limit)."""
+
     def loop_status(self, step: CondensedStep, buffer) -> tuple[Status, int]:
         if buffer.code == 0:
             return (Status.OPTIMAL_INACCURATE if buffer.flag == 4 else Status.OPTIMAL), buffer.iterations

@@ -2,7 +2,7 @@
 
 The ``hpipm`` backend's one Function (:mod:`mpc_hunt.solving.backends.conic_step`)
 generated to C by CasADi, compiled and cached (:mod:`mpc_hunt.solving.compiled`),
-and called as one CasADi Function from the library. Three things in CasADi's
+and called as one CasADi Function from the library. Four things in CasADi's
 generated HPIPM code (3.8) are rewritten before it is compiled:
 
 - it sets HPIPM's options one by one and leaves five unset (``dual_gap_max``,
@@ -12,7 +12,12 @@ generated HPIPM code (3.8) are rewritten before it is compiled:
 - it allocates HPIPM's memory on every call: each block is allocated once;
 - it raises on any status but success, losing the plan and the iterations: the
   call returns, and the status and iteration count are read from the library
-  (their accessors: ``c_templates/hpipm/hpipm_status.c``, :mod:`mpc_hunt.solving.c_template`).
+  (their accessors: ``c_templates/hpipm/hpipm_status.c``, :mod:`mpc_hunt.solving.c_template`);
+- its iteration cap is a number in the code: each call takes the library's
+  (set before it from the time left, :meth:`HpipmCodegenBackend.loop_prepare`),
+  at most the generated one, so that under a time limit the cap follows the
+  step's measured cost, where the interpreted step keeps the cap it was built
+  with (before any solve was measured).
 
 No compiler, or a failed build: one warning, and the interpreted ``hpipm`` step.
 """
@@ -44,7 +49,7 @@ def _replace(source: str, old: str, new: str, count: int = 1) -> str:
 
 
 def patch(source: str) -> str:
-    """The three rewrites of the module docstring."""
+    """The four rewrites of the module docstring."""
     mode = re.findall(r"p\.hpipm_options\.mode = (\d+);", source)
     if len(mode) != 1:
         raise RuntimeError("CasADi's generated HPIPM code does not set one mode")
@@ -65,6 +70,15 @@ def patch(source: str) -> str:
         "#include <hpipm_d_ocp_qp_utils.h>\n",
         "#include <hpipm_d_ocp_qp_utils.h>\n\n" + render("hpipm/hpipm_status.c"),
     )
+    cap = re.findall(r"p\.hpipm_options\.iter_max = (\d+);", source)
+    if len(cap) != 1:
+        raise RuntimeError("CasADi's generated HPIPM code does not set one iteration cap")
+    source = _replace(
+        source,
+        f"p.hpipm_options.iter_max = {cap[0]};",
+        f"p.hpipm_options.iter_max = mpc_hunt_iter_cap > 0 && mpc_hunt_iter_cap < {cap[0]} ? mpc_hunt_iter_cap "
+        f": {cap[0]};",
+    )
     source = _replace(
         source,
         "  casadi_hpipm_solve(&d, arg, res, iw, w);\n  if (d.return_status!=0) {\n    return -1;\n  }\n",
@@ -82,6 +96,7 @@ class CompiledStep:
     function: Any
     status: Any
     iterations: Any
+    cap: Any  # sets the next calls' iteration cap
     source: Any
 
 
@@ -101,15 +116,28 @@ class HpipmCodegenBackend(HpipmBackend):
             return step
         function, path = built
         library = ctypes.CDLL(str(path))
-        return CompiledStep(function, library.mpc_hunt_hpipm_status, library.mpc_hunt_hpipm_iterations, step)
+        return CompiledStep(
+            function,
+            library.mpc_hunt_hpipm_status,
+            library.mpc_hunt_hpipm_iterations,
+            library.mpc_hunt_hpipm_set_iter_max,
+            step,
+        )
 
     def run(self, state, data: StageQPData, warm: WarmStart) -> Solution:
         if not isinstance(state, CompiledStep):
             return super().run(state, data, warm)
+        self.loop_prepare(state)
         outputs = call(state.function, data, warm)
         code = int(state.status())
         status = Status.OPTIMAL if code == 0 else self.failure({"return_status": code})
         return as_solution(status, "" if code == 0 else f"HPIPM status {code}", int(state.iterations()), outputs)
+
+    def loop_prepare(self, step) -> None:
+        """The next call's iteration cap: what fits in the time left, from the measured cost
+        (:meth:`~mpc_hunt.solving.backends.base.Backend.iteration_cap`)."""
+        if isinstance(step, CompiledStep):
+            step.cap(self.iteration_cap())
 
     def generated_step(self, step):
         return step.source if isinstance(step, CompiledStep) else step
