@@ -38,7 +38,8 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.plots.sweep import write_plots
 from mpc_hunt.plots.typical_hunts import plot_typical_hunts
-from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, run_hunt, run_local, tasks
+from mpc_hunt.sweep.runner import DEFAULT_STRATEGIES, Hunt, check_buildable, run_hunt, run_local, tasks
+from mpc_hunt.world.behaviours import DEFAULT_BEHAVIOUR
 from mpc_hunt.sweep.store import SweepStore, self_contained, stored_rows
 from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.sweep.summary import summarise, table
@@ -272,9 +273,11 @@ def check() -> list[str]:
 def run_sweep() -> int:
     """Run (or resume) the sweep into sweep.db and print its summary, as ``mpc-hunt sweep --hunts HUNTS --seed SEED
     --output sweep.db --json [--resume]`` does."""
+    strategies = arguments()["strategies"]
+    check_buildable(strategies, (DEFAULT_BEHAVIOUR,), SEED, ScenarioRanges())   # each built once, before the file
     store = SweepStore(DB, arguments(), resume=DB.exists())
     try:
-        stopped = run_into(store, tasks(arguments()["strategies"], HUNTS, SEED, ScenarioRanges(), store.done()))
+        stopped = run_into(store, tasks(strategies, HUNTS, SEED, ScenarioRanges(), store.done()))
         print(json.dumps({"strategies": summarise(store.rows())}))     # the summary so far, if stopped
     finally:
         store.close()

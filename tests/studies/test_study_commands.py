@@ -285,3 +285,19 @@ def test_team_size_check_of_results_of_another_shape_is_one_line(content, messag
     assert study("team_size").main(["--check", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err and "to make the results to check" in err, err
+
+
+def test_the_sweep_study_refuses_a_strategy_that_cannot_be_built_before_its_results_file(monkeypatch, tmp_path):
+    from dataclasses import replace
+
+    from mpc_hunt.control import ppo_team
+    from mpc_hunt.errors import SettingError
+
+    module = study("sweep")
+    bad = tmp_path / "team.npz"
+    bad.write_bytes(b"not a network\n")
+    monkeypatch.setattr(ppo_team, "TEAM_POLICY", replace(ppo_team.TEAM_POLICY, name=str(bad)))
+    monkeypatch.setattr(module, "arguments", lambda: {"strategies": ["ppo"]})
+    monkeypatch.setattr(module, "SweepStore", lambda *a, **k: pytest.fail("the sweep's file was opened"))
+    with pytest.raises(SettingError, match="ppo cannot be built"):
+        module.run_sweep()
