@@ -249,7 +249,8 @@ def hunt_summary(hunt: LoopHunt) -> dict:
     scored = r.applied_violations[~np.any(np.isnan(r.applied_violations), axis=1)]
     hard = scored[:, [VIOLATION_NAMES.index(n) for n in HARD]]
     over = r.solve_times - r.overhead_times - (hunt.time_limit or 0.0)  # past the limit, beyond our own overhead
-    on_cpu = over - r.off_cpu_times  # the same, counting only the time the process ran (mpc_hunt.solving.step_timing)
+    # the same, counting only the time the process ran, neither off the CPU nor stolen (mpc_hunt.solving.step_timing)
+    on_cpu = over - r.off_cpu_times - r.stolen_times
     return {
         "formulation": hunt.formulation,
         "backend": hunt.backend,
@@ -271,6 +272,7 @@ def hunt_summary(hunt: LoopHunt) -> dict:
         "largest_overrun_s": None if hunt.time_limit is None else _stat(over, np.max),
         "past_limit_on_cpu": None if hunt.time_limit is None else int(np.sum(on_cpu > 0)),
         "largest_overrun_on_cpu_s": None if hunt.time_limit is None else _stat(on_cpu, np.max),
+        "past_limit_stolen": None if hunt.time_limit is None else int(np.sum((over > 0) & (r.stolen_times > 0))),
         "budget_hits": r.budget_hits,
         "failed_solves": r.failed_solves,
         "fallbacks": r.fallbacks,

@@ -52,6 +52,9 @@ class HuntResult:
     # Of each solve's step, the time the process was off the CPU: the machine's, not the step's
     # (mpc_hunt.solving.step_timing).
     off_cpu_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # Of each solve's step, the time the hypervisor took from the machine's CPUs meanwhile (read only for a hunt
+    # given a deadline; 10 ms ticks, summed over the CPUs: an upper bound of the step's own; 0 where unread).
+    stolen_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     solve_statuses: tuple[str, ...] = ()
     certificates: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     applied_violations: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))

@@ -29,6 +29,7 @@ from mpc_hunt.errors import OptionError
 from mpc_hunt.sim.collector import collecting_between_steps
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.world_step import moved, standing, steps
+from mpc_hunt.solving.step_timing import stolen
 from mpc_hunt.world.arena import margin
 from mpc_hunt.world.behaviours import make_behaviour
 from mpc_hunt.world.behaviours.base import Behaviour
@@ -71,7 +72,9 @@ def simulate(
     ``until`` stops the run (termination ``"stopped"``) before the first
     observation it returns true for; that observation is the last recorded state.
     ``progress``, if given, is called with the simulated time after each step. ``deadline`` (s), if given, is
-    the capture stage's budget a step is counted against (:meth:`HuntResult.deadline_misses`), beside T.
+    the capture stage's budget a step is counted against (:meth:`HuntResult.deadline_misses`), beside T; each
+    step's time the hypervisor took from the machine is then read around it (``stolen_times``,
+    :func:`~mpc_hunt.solving.step_timing.stolen`).
     ``abandon_after`` (s), if given, stops the run (termination ``"abandoned"``) once the capture stage's solves
     have failed for that long in a row: the hunt is then the fallback's, not the capture stage's.
     """
@@ -97,8 +100,9 @@ def simulate(
             if until is not None and until(observation):
                 termination = "stopped"
                 break
+            before = stolen() if deadline is not None else 0.0
             cmd = controller.command(observation)
-            record.add(cmd)
+            record.add(cmd, stolen() - before if deadline is not None else 0.0)
             velocity = behaviour.velocity(p_a, p_d)
             previous = p_a.copy()
             p_a, p_d = moved(scenario, p_a, p_d, cmd.velocities, velocity, stopped)
@@ -136,12 +140,13 @@ class _SolveRecord:
 
     def __init__(self):
         self.times, self.iterations = [], []
-        self.setups, self.overheads, self.off_cpu, self.statuses = [], [], [], []
+        self.setups, self.overheads, self.off_cpu, self.stolen, self.statuses = [], [], [], [], []
         self.certificates, self.violations = [], []
         self.violating = self.failed = self.streak = self.longest_streak = self.fallbacks = 0
 
-    def add(self, cmd: Command) -> None:
-        """A step's command: its solve, if it made one, and whether it fell back."""
+    def add(self, cmd: Command, stolen: float = 0.0) -> None:
+        """A step's command: its solve, if it made one (``stolen`` s taken by the hypervisor meanwhile), and
+        whether it fell back."""
         solution, fallback = cmd.solution, cmd.fallback
         self.fallbacks += fallback
         if solution is None:
@@ -155,6 +160,7 @@ class _SolveRecord:
         self.setups.append(solution.setup_time)
         self.overheads.append(solution.overhead_time)
         self.off_cpu.append(solution.off_cpu_time)
+        self.stolen.append(stolen)
         self.statuses.append(solution.status.value)
         c = solution.certificate
         self.certificates.append((np.nan,) * 3 if c is None else (c.primal_residual, c.dual_residual, c.duality_gap))
@@ -169,6 +175,7 @@ class _SolveRecord:
             setup_times=np.array(self.setups),
             overhead_times=np.array(self.overheads),
             off_cpu_times=np.array(self.off_cpu),
+            stolen_times=np.array(self.stolen),
             solve_statuses=tuple(self.statuses),
             certificates=np.array(self.certificates, dtype=float).reshape(-1, 3),
             applied_violations=np.array(self.violations, dtype=float).reshape(-1, len(VIOLATION_NAMES)),

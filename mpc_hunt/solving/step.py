@@ -50,7 +50,6 @@ class CaptureStep:
         self.formulation, self.backend = formulation, backend
         self.structure = problem.structure
         self.step_function = self.backend.prepared(self.formulation.stage_data(self.structure))[0]  # its step
-        function = self.backend.loop_function(self.step_function)
         theta, reference = self.formulation.step_inputs(problem)
         nc, horizon = int(problem.controlled.sum()), problem.horizon
         self.theta = np.array(theta, dtype=float)
@@ -64,13 +63,19 @@ class CaptureStep:
         self.message = ""  # why the last step failed ("" when it did not)
         self._previous = np.empty_like(self.plan)  # the last usable plan of the step under way
         self._move = np.empty_like(self.plan)  # |plan − reference|, so a step allocates nothing
-        self._buffer, self._evaluate = function.buffer()
+        self._stepped = False  # whether a step has run (the first, slower, is not paced)
+        self.certificate = np.full(3, np.nan)  # the last QP's primal and dual residuals and duality gap
+        self.setup_time = 0.0  # s of the last step spent rebuilding its Function for a new cap (a set-up)
+        self._bind()
+
+    def _bind(self) -> None:
+        """Evaluate the backend's loop Function of the step through buffers on the arrays (again once rebuilt)."""
+        self._function = self.backend.loop_function(self.step_function)
+        self._buffer, self._evaluate = self._function.buffer()
         self._buffer.set_arg(0, self.theta.data)
         self._buffer.set_arg(1, self._reference.data)
         self._buffer.set_res(0, self.plan.reshape(-1).data)
         self._buffer.set_res(1, self.objective.data)
-        self._stepped = False  # whether a step has run (the first, slower, is not paced)
-        self.certificate = np.full(3, np.nan)  # the last QP's primal and dual residuals and duality gap
         if self.backend.LOOP_CERTIFICATE:
             self._buffer.set_res(5, self.certificate.data)
 
@@ -93,12 +98,13 @@ class CaptureStep:
         of this step (the reference it started from, if none) and returns its status. A step that ran past the
         backend's time limit returns ``time_limit`` (its plan kept); no further QP is started once what is left of
         the limit would not fit one (:func:`~mpc_hunt.capture.iteration.another_fits`)."""
-        t0 = time.perf_counter()
+        t0, cpu = time.perf_counter(), time.thread_time()
+        self.setup_time = 0.0
         with self.backend.step_within(t0):
             status = self._step()
-        elapsed = time.perf_counter() - t0
-        if self._stepped:
-            self.backend.record_pace(elapsed, self.iterations)
+        elapsed = time.perf_counter() - t0 - self.setup_time
+        if self._stepped and not self.setup_time:
+            self.backend.record_pace(time.thread_time() - cpu, self.iterations)
         self._stepped = True
         limit = self.backend.time_limit
         if limit is not None and elapsed > limit and status.usable:
@@ -117,7 +123,13 @@ class CaptureStep:
                 np.copyto(self.plan, self._previous)
                 return Status.TIME_LIMIT
             self.qps = count + 1
-            self.backend.loop_prepare(self.step_function)
+            rebuilt = self.backend.loop_prepare(self.step_function)
+            if rebuilt:  # a set-up: not the step's time
+                self.setup_time += rebuilt
+                self.backend.set_up_within_step(rebuilt)
+                start += rebuilt
+            if self.backend.loop_function(self.step_function) is not self._function:  # rebuilt, here or by a
+                self._bind()  # step sharing it (a team's robots)
             try:
                 self._evaluate()
             except RuntimeError as exc:  # CasADi refuses the QP (a NaN in it, say)

@@ -59,6 +59,11 @@ class TeamStep:
         """The worst of the robots' last QPs' certificates (primal residual, dual residual, duality gap)."""
         return np.max([robot.certificate for robot in self.robots], axis=0)
 
+    @property
+    def setup_time(self) -> float:
+        """Seconds of the last step its robots' steps spent rebuilding their Function for a new cap (a set-up)."""
+        return sum(robot.setup_time for robot in self.robots)
+
     def load(self, problem: CaptureProblem, warm_plan: np.ndarray | None = None) -> None:
         """The team's numbers at ``problem``, and the plans to start from (``warm_plan``, else every one held)."""
         if problem.structure != self.structure:

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from conftest import capture_stage_scenario
-from mpc_hunt.bench.own_loop import OwnLoopRun, rows, run_own_loop, table
+from mpc_hunt.bench.own_loop import OwnLoopRun, hunt_summary, rows, run_own_loop, table
 from mpc_hunt.cli import main
 from mpc_hunt.errors import BenchmarkError
+from mpc_hunt.sim import simulator
 
 
 def test_each_pair_runs_its_own_hunt_and_its_row_counts_what_its_loop_met():
@@ -127,9 +128,24 @@ def test_a_step_past_its_limit_beyond_its_own_overhead_is_counted():
     assert row["largest_overrun_s"] == pytest.approx(over.max())
     assert row["overhead_max_s"] == pytest.approx(r.overhead_times.max())
     assert len(r.off_cpu_times) == len(r.solve_times) and np.all(r.off_cpu_times >= 0)
+    assert len(r.stolen_times) == len(r.solve_times) and np.all(r.stolen_times == 0)   # read with a deadline only
     on_cpu = over - r.off_cpu_times
     assert row["past_limit_on_cpu"] == int(np.sum(on_cpu > 0)) <= row["past_limit_and_overhead"]
     assert row["largest_overrun_on_cpu_s"] == pytest.approx(on_cpu.max())
     unlimited = rows(run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("qp", "osqp")], [1])))[0]
     assert unlimited["past_limit_and_overhead"] is None and unlimited["largest_overrun_s"] is None
     assert unlimited["past_limit_on_cpu"] is None and unlimited["largest_overrun_on_cpu_s"] is None
+
+
+def test_a_step_the_hypervisor_took_time_from_is_the_machines(monkeypatch):
+    """Under a deadline, the machine's steal is read around each step; a step past its limit during which the
+    hypervisor took the time it overran by is not counted as the step's own on the CPU."""
+    ticks = iter(np.arange(0.0, 1e4, 0.5))  # every reading half a second on: each step saw 0.5 s stolen
+    monkeypatch.setattr(simulator, "stolen", lambda: float(next(ticks)))
+    run = run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("sqp", "osqp")], [3], time_limit=1e-4,
+                                  deadline=0.02))
+    r = run.hunts[0].result
+    assert len(r.stolen_times) == len(r.solve_times) > 0 and np.all(r.stolen_times == 0.5)
+    summary = hunt_summary(run.hunts[0])
+    assert summary["past_limit_and_overhead"] > 0 and summary["past_limit_on_cpu"] == 0
+    assert summary["past_limit_stolen"] == summary["past_limit_and_overhead"]

@@ -11,7 +11,7 @@ from mpc_hunt import CaptureSolver, Status, make_controller
 from mpc_hunt.capture.iteration import PACE_MARGIN, another_fits
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.solving import registry
-from mpc_hunt.solving.backends.base import MIN_SLICE
+from mpc_hunt.solving.backends.base import MIN_SLICE, PACE_SOLVES
 from mpc_hunt.solving.backends.daqp import DaqpBackend
 
 INSTALLED = [b for b in registry.BACKENDS if registry.installed(b)]
@@ -69,10 +69,16 @@ def test_daqp_turns_its_time_limit_into_an_iteration_cap_from_its_measured_cost(
     assert backend.cost() == pytest.approx((0.0, 5e-5)) and backend.iteration_cap() == int(0.01 / (PACE_MARGIN * 5e-5))
     for k in (2, 4, 8, 16):                                # 1 ms fixed + 0.2 ms an iteration: both recovered
         backend.record_pace(1e-3 + 2e-4 * k, k)
-    backend.record_pace(1.0, 5)                            # one solve held up by the machine: it moves little
     fixed, per_iteration = backend.cost()
     assert fixed == pytest.approx(1e-3, rel=0.05) and per_iteration == pytest.approx(2e-4, rel=0.05)
     assert backend.iteration_cap() == int((0.01 - fixed) / (PACE_MARGIN * per_iteration))    # (10 − 1) / 0.3: 30
+    backend.record_pace(1e-3 + 6e-4 * 5, 5)                # one solve's iterations three times dearer: the bound
+    fixed, per_iteration = backend.cost()                  # follows the dearest, the fixed cost stays
+    assert fixed == pytest.approx(1e-3, rel=0.05) and per_iteration == pytest.approx(6e-4, rel=0.05)
+    assert backend.iteration_cap() == int((0.01 - fixed) / (PACE_MARGIN * per_iteration))    # (10 − 1) / 0.9: 10
+    for k in np.resize((3, 4, 5), PACE_SOLVES):            # until it leaves the solves measured
+        backend.record_pace(1e-3 + 2e-4 * k, k)
+    assert backend.cost()[1] == pytest.approx(2e-4, rel=0.05)
     assert DaqpBackend(time_limit=0.01, max_iter=3).iteration_cap() == 3
     assert DaqpBackend().iteration_cap() == DaqpBackend.MAX_ITER
 
@@ -223,3 +229,21 @@ def test_ipopt_budgets_a_solves_first_iteration_as_the_recent_solves_longest():
         iteration(0.001)
     deadline.start(0.06)
     assert iteration() == 0.0
+
+
+def test_the_interpreted_hpipm_step_is_rebuilt_once_its_cap_no_longer_fits(scenario, monkeypatch):
+    """CasADi fixes HPIPM's ``iter_max`` when the step is built, before any solve is measured; once the measured
+    cost says that fewer than half as many iterations fit in the limit, the loop rebuilds the step with the cap
+    that fits (a set-up, not the step's time), and its steps stop there."""
+    problem = problem_at(scenario, 3)
+    solver = CaptureSolver("rti", "hpipm", time_limit=0.5)
+    free = solver.solve(problem)
+    assert free.success and free.iterations > 3 and free.setup_time > 0          # built with the first cap: 100
+    again = solver.solve(problem)
+    assert again.success and again.setup_time == 0                               # nothing measured says otherwise
+    monkeypatch.setattr(solver.backend, "cost", lambda: (0.0, 0.1))               # 0.1 s an iteration: 3 fit
+    capped = solver.solve(problem)
+    assert capped.setup_time > 0 and capped.status is Status.ITERATION_LIMIT and capped.iterations == 3
+    assert capped.solve_time < capped.setup_time + 0.5
+    kept = solver.solve(problem)
+    assert kept.setup_time == 0 and kept.iterations == 3                          # rebuilt once, not at each step

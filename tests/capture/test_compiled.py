@@ -76,7 +76,7 @@ def test_a_generator_that_writes_otherwise_is_refused_not_patched_blindly():
 
 def test_the_compiled_steps_cap_is_the_one_its_time_left_allows_at_each_call(cache, monkeypatch):
     """Its generated cap is a number in the code; each call takes the backend's cap of the moment, at most that
-    one, so that under a time limit the cap follows the measured cost (the interpreted step keeps its own)."""
+    one, so that under a time limit the cap follows the measured cost (the interpreted step is rebuilt instead)."""
     problem = _problem()
     solver = CaptureSolver("rti", "hpipm-codegen")
     free = solver.solve(problem)

@@ -219,8 +219,8 @@ def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch,
     module = study("realtime")
     progress = tmp_path / "hunts.jsonl"
     hunt = {"formulation": "qp", "backend": "osqp", "horizon": 5, "scenario": "paper-open",
-            "past_limit_on_cpu": 0}
-    older = {k: v for k, v in hunt.items() if k != "past_limit_on_cpu"} | {"horizon": 1}
+            "past_limit_on_cpu": 0, "past_limit_stolen": 0}
+    older = {k: v for k, v in hunt.items() if k != "past_limit_stolen"} | {"horizon": 1}
     lines = [json.dumps(hunt), json.dumps(older), "[1, 2]", json.dumps(hunt | {"horizon": 10})[:25]]
     progress.write_text("\n".join(lines), encoding="utf-8")
     monkeypatch.setattr(module, "PROGRESS", progress)

@@ -13,10 +13,11 @@ The budget has one name per kind on every backend: ``time_limit`` (seconds) and
 (``NATIVE``). A solver that does not stop itself on the clock (``CLOCK = False``:
 DAQP, whose clock is read only inside long inner loops) gets its time limit as
 an iteration cap from its measured cost: a solve of k iterations takes a fixed
-cost plus k times a cost per iteration, both fitted robustly (Theil–Sen) to its
-last solves (a structure's first, slower by its allocations, apart); the cap is
-the limit less the fixed cost over 1.5 times the cost per iteration
-(:meth:`Backend.iteration_cap`). The time limit is the step's: while a step is
+cost plus k times a cost per iteration, measured on the CPU time of its last
+solves (a structure's first, slower by its allocations, apart): the fixed cost
+fitted robustly (Theil–Sen), the cost per iteration bounded by the largest a
+recent solve has shown; the cap is the limit less the fixed cost over 1.5 times
+that bound (:meth:`Backend.iteration_cap`). The time limit is the step's: while a step is
 under way (:meth:`Backend.step_within`, opened by the solver and the control
 loop), every solve of it is handed what is left of the step's limit, a solver
 with a clock that less what a solve spends outside that clock, measured
@@ -140,11 +141,13 @@ class Backend:
             raise OptionError(f"{unknown[0]}: not an option of backend {self.name} ({hint})")
 
     def cost(self) -> tuple[float, float]:
-        """(fixed, per iteration) seconds of a solve, fitted to the last solves: the per-iteration cost the median
-        of the slopes between pairs of solves of different iteration counts (Theil–Sen: a solve slowed by the
-        machine moves it little), the fixed cost the median of what each solve leaves over; with one iteration
-        count only, no fixed cost and the median time per iteration. (0, 0) before any solve. Fitted once per solve
-        recorded."""
+        """(fixed, per iteration) CPU seconds of a solve, measured on the last solves: the fixed cost fitted by
+        Theil–Sen (the median of the slopes between pairs of solves of different iteration counts, then the median
+        of what each solve leaves over at that slope), the cost per iteration the largest of that slope and each
+        solve's own (its time less the fixed cost, over its iterations): an active-set solver's iterations cost
+        several times more in one solve than in another (DAQP's at N = 10: 0.01 to 0.09 ms, measured), so a slope
+        fitted to them all undershoots the dearest, which a cap must cover. With one iteration count only, no fixed
+        cost. (0, 0) before any solve. Fitted once per solve recorded."""
         if self._fit is None:
             self._fit = self._fitted()
         return self._fit
@@ -153,16 +156,19 @@ class Backend:
         if not self._solves:
             return 0.0, 0.0
         t, k = (np.array(v, dtype=float) for v in zip(*self._solves))
+        k = np.maximum(k, 1.0)
         dk, dt = k[:, None] - k[None, :], t[:, None] - t[None, :]
         apart = dk > 0
+        fixed = 0.0
         if apart.any():
             slope = float(np.median(dt[apart] / dk[apart]))
             if slope > 0:
-                return max(0.0, float(np.median(t - slope * k))), slope
-        return 0.0, float(np.median(t / np.maximum(k, 1)))
+                fixed = max(0.0, float(np.median(t - slope * k)))
+        return fixed, float(np.max((t - fixed) / k))
 
     def record_pace(self, seconds: float, iterations: int) -> None:
-        """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` towards :meth:`cost`."""
+        """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` of the CPU
+        (``time.thread_time``: a solve held up by the machine is not a dearer one) towards :meth:`cost`."""
         if iterations >= 1:
             self._solves.append((seconds, iterations))
             self._fit = None
@@ -178,6 +184,12 @@ class Backend:
             yield
         finally:
             self._deadline = outer
+
+    def set_up_within_step(self, seconds: float) -> None:
+        """A set-up of ``seconds`` (a structure's, once; a step rebuilt for a new cap) inside the step under way:
+        not the step's time, so its deadline moves by as much."""
+        if self._deadline is not None:
+            self._deadline += seconds
 
     def time_left(self) -> float | None:
         """Seconds left of the time limit (None: no limit): of the step under way, else the whole limit."""
@@ -203,12 +215,13 @@ class Backend:
             return None
         return max(left - self.outside_clock() - PACE_MARGIN * self.cost()[1], MIN_SLICE)
 
-    def iteration_cap(self) -> int:
+    def iteration_cap(self, left: float | None = None) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock
-        under a time limit what fits in the :meth:`time_left`: that less the fixed :meth:`cost` over
-        :data:`PACE_MARGIN` × the cost per iteration (:data:`FIRST_CAP` before a solve is measured)."""
+        under a time limit what fits in ``left`` seconds (by default the :meth:`time_left`): that less the fixed
+        :meth:`cost` over :data:`PACE_MARGIN` × the cost per iteration (:data:`FIRST_CAP` before a solve is
+        measured)."""
         cap = self.max_iter or self.MAX_ITER
-        left = self.time_left()
+        left = self.time_left() if left is None else left
         if left is None or self.CLOCK:
             return cap
         fixed, per_iteration = self.cost()
@@ -259,9 +272,9 @@ class Backend:
             if new:
                 setup_time = time.perf_counter() - t0
                 t0 = time.perf_counter()
-                if self._deadline is not None:  # a set-up is a structure's, once: not the step's time
-                    self._deadline += setup_time
-            else:
+                self.set_up_within_step(setup_time)
+            cpu = time.thread_time()
+            if not new:
                 self.update(state, data)
             result = self.run(state, data, warm or WarmStart())
         except (RuntimeError, ValueError, ArithmeticError) as exc:  # the solver library gave up
@@ -278,7 +291,7 @@ class Backend:
         left = self.time_left()  # read before our own work on the answer (the certificate): not the solver's time
         overran = left is not None and (left < 0 if self._deadline is not None else solver_time > left)
         if not new:
-            self.record_pace(solver_time, result.iterations)
+            self.record_pace(time.thread_time() - cpu, result.iterations)
             reported = result.extras.get("reported_solve_time_s")
             if reported is not None:
                 self._outside.append(max(solver_time - float(reported), 0.0))

@@ -39,13 +39,14 @@ class ConicStepBackend(Backend):
     LOOP_CERTIFICATE = True  # the step's output 5: its QP's certificate
     plugin: ClassVar[str]
 
-    def conic_options(self, graph: Any) -> dict:
-        """The plugin's options for this graph (tolerances come from ``self.options``)."""
+    def conic_options(self, graph: Any, cap: int) -> dict:
+        """The plugin's options for this graph, at most ``cap`` iterations (tolerances come from ``self.options``)."""
         return {}
 
-    def linearised(self, graph: Any) -> tuple[Any, Any]:
+    def linearised(self, graph: Any, cap: int | None = None) -> tuple[Any, Any]:
         """The two halves of a step apart: ``graph``'s QP as a Function of its inputs (outputs: :data:`QP_KEYS`),
-        and this backend's conic solver for that QP's sparsity (a study times them one by one)."""
+        and this backend's conic solver for that QP's sparsity, capped at ``cap`` iterations (by default
+        :meth:`~mpc_hunt.solving.backends.base.Backend.iteration_cap`'s) (a study times them one by one)."""
         import casadi as ca
 
         qp = [graph.qp[key] for key in QP_KEYS]
@@ -53,15 +54,18 @@ class ConicStepBackend(Backend):
             "capture",
             self.plugin,
             {"h": qp[0].sparsity(), "a": qp[2].sparsity()},
-            {"error_on_fail": False, **self.conic_options(graph)},
+            {"error_on_fail": False, **self.conic_options(graph, self.iteration_cap() if cap is None else cap)},
         )
         return ca.Function("linearise", graph.inputs, qp), solver
 
     def setup(self, data: StageQPData):
+        return self.closed(data.build())
+
+    def closed(self, graph: Any, cap: int | None = None):
+        """``graph`` closed by the conic solver (at most ``cap`` iterations) into the step Function."""
         import casadi as ca
 
-        graph = data.build()
-        linearise, solver = self.linearised(graph)
+        linearise, solver = self.linearised(graph, cap)
         read = ca.Function("read", graph.inputs + [graph.z], [graph.plan, graph.cost])
         inputs = [ca.MX.sym(f"input{i}", s.sparsity()) for i, s in enumerate(graph.inputs)]
         lam_x0, lam_a0 = ca.MX.sym("lam_x0", linearise.size1_out(0)), ca.MX.sym("lam_a0", linearise.size1_out(2))
@@ -94,8 +98,10 @@ class ConicStepBackend(Backend):
         """The Function a control loop evaluates through its buffers (:mod:`mpc_hunt.solving.step`)."""
         return step
 
-    def loop_prepare(self, step) -> None:
-        """Ready ``step`` for its next evaluation (nothing here: a step's options are fixed when it is built)."""
+    def loop_prepare(self, step) -> float:
+        """Ready ``step`` for its next evaluation; the seconds spent rebuilding it (a set-up; 0 here: a step's
+        options are fixed when it is built)."""
+        return 0.0
 
     def loop_status(self, step, buffer) -> tuple[Status, int]:
         """(status, iterations) of the last evaluation of ``step`` through ``buffer``."""

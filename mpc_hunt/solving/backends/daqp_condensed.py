@@ -97,8 +97,9 @@ class DaqpCondensedBackend(Backend):
     def loop_function(self, step: CondensedStep) -> CondensedStep:
         return step
 
-    def loop_prepare(self, step: CondensedStep) -> None:
+    def loop_prepare(self, step: CondensedStep) -> float:
         """Nothing: its step runs DAQP's own cap (it takes no time limit)."""
+        return 0.0
 
     def loop_status(self, step: CondensedStep, buffer) -> tuple[Status, int]:
         if buffer.code == 0:

@@ -10,13 +10,27 @@ over as for any conic plugin, and HPIPM's iterations start from its own point.
 
 from __future__ import annotations
 
-from mpc_hunt.capture.solution import Status
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from mpc_hunt.capture.data import StageQPData
+from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError, UnknownNameError
 from mpc_hunt.solving.backends.conic_step import ConicStepBackend
 
 # HPIPM's modes offered: ``robust`` (LQ factorisations, the default) and ``balance`` (Cholesky: faster with a
 # BLASFEO built for the CPU; its plans differ from robust's within the tolerances).
 MODES = ("robust", "balance")
+
+
+@dataclass
+class CappedStep:
+    """An interpreted HPIPM step, the iteration cap it was built with, and the graph to build it again from."""
+
+    function: Any
+    cap: int
+    graph: Any
 
 
 class HpipmBackend(ConicStepBackend):
@@ -63,10 +77,38 @@ class HpipmBackend(ConicStepBackend):
                     "res_m_max, ...)"
                 ) from None
 
-    def conic_options(self, graph) -> dict:
+    def conic_options(self, graph, cap: int) -> dict:
         N, nx, nu, ng = graph.stages
-        hpipm = {"mode": "robust", "mu0": 1.0, **self.options, "iter_max": self.iteration_cap()}
+        hpipm = {"mode": "robust", "mu0": 1.0, **self.options, "iter_max": cap}
         return {"N": N, "nx": nx, "nu": nu, "ng": ng, "hpipm": hpipm}
+
+    def setup(self, data: StageQPData):
+        graph = data.build()
+        cap = self.iteration_cap()
+        return CappedStep(self.closed(graph, cap), cap, graph)
+
+    def run(self, state, data: StageQPData, warm: WarmStart) -> Solution:
+        return super().run(state.function, data, warm)
+
+    def loop_prepare(self, step) -> float:
+        """Under a time limit, rebuild ``step`` once the iterations that fit in the whole limit, from the measured
+        cost, fall below the cap it was built with (CasADi fixes HPIPM's ``iter_max`` when the step is built, before
+        any of its solves is measured); the seconds spent (a set-up, at most once per halving of the cap), else 0.
+        A step of several QPs keeps within its limit by not starting one that would not fit."""
+        if self.time_limit is None:
+            return 0.0
+        cap = self.iteration_cap(self.time_limit)
+        if 2 * cap > step.cap:
+            return 0.0
+        t0 = time.perf_counter()
+        step.function, step.cap = self.closed(step.graph, cap), cap
+        return time.perf_counter() - t0
+
+    def generated_step(self, step):
+        return step.function
+
+    def loop_function(self, step):
+        return step.function
 
     def failure(self, stats: dict) -> Status:
         return Status.ITERATION_LIMIT if stats.get("return_status") == 1 else Status.ERROR

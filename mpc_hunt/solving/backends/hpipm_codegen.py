@@ -16,8 +16,8 @@ generated HPIPM code (3.8) are rewritten before it is compiled:
 - its iteration cap is a number in the code: each call takes the library's
   (set before it from the time left, :meth:`HpipmCodegenBackend.loop_prepare`),
   at most the generated one, so that under a time limit the cap follows the
-  step's measured cost, where the interpreted step keeps the cap it was built
-  with (before any solve was measured).
+  step's measured cost at each call (the interpreted step is rebuilt when its
+  cap no longer fits, :meth:`HpipmBackend.loop_prepare`).
 
 No compiler, or a failed build: one warning, and the interpreted ``hpipm`` step.
 """
@@ -111,7 +111,7 @@ class HpipmCodegenBackend(HpipmBackend):
 
     def setup(self, data: StageQPData):
         step = super().setup(data)
-        built = compiled(step, patch, self.flags, ("hpipm", "blasfeo"))
+        built = compiled(step.function, patch, self.flags, ("hpipm", "blasfeo"))
         if built is None:
             return step
         function, path = built
@@ -121,7 +121,7 @@ class HpipmCodegenBackend(HpipmBackend):
             library.mpc_hunt_hpipm_status,
             library.mpc_hunt_hpipm_iterations,
             library.mpc_hunt_hpipm_set_iter_max,
-            step,
+            step.function,
         )
 
     def run(self, state, data: StageQPData, warm: WarmStart) -> Solution:
@@ -133,17 +133,16 @@ class HpipmCodegenBackend(HpipmBackend):
         status = Status.OPTIMAL if code == 0 else self.failure({"return_status": code})
         return as_solution(status, "" if code == 0 else f"HPIPM status {code}", int(state.iterations()), outputs)
 
-    def loop_prepare(self, step) -> None:
+    def loop_prepare(self, step) -> float:
         """The next call's iteration cap: what fits in the time left, from the measured cost
-        (:meth:`~mpc_hunt.solving.backends.base.Backend.iteration_cap`)."""
-        if isinstance(step, CompiledStep):
-            step.cap(self.iteration_cap())
+        (:meth:`~mpc_hunt.solving.backends.base.Backend.iteration_cap`); nothing to rebuild."""
+        if not isinstance(step, CompiledStep):
+            return super().loop_prepare(step)
+        step.cap(self.iteration_cap())
+        return 0.0
 
     def generated_step(self, step):
-        return step.source if isinstance(step, CompiledStep) else step
-
-    def loop_function(self, step):
-        return step.function if isinstance(step, CompiledStep) else step
+        return step.source if isinstance(step, CompiledStep) else super().generated_step(step)
 
     def loop_status(self, step, buffer) -> tuple[Status, int]:
         if not isinstance(step, CompiledStep):
