@@ -97,7 +97,8 @@ class CaptureStep:
         """Solve from the arrays; the plan goes into ``plan``. A failed QP leaves in ``plan`` the last usable plan
         of this step (the reference it started from, if none) and returns its status. A step that ran past the
         backend's time limit returns ``time_limit`` (its plan kept); no further QP is started once what is left of
-        the limit would not fit one (:func:`~mpc_hunt.capture.iteration.another_fits`)."""
+        the limit would not fit one (:func:`~mpc_hunt.capture.iteration.another_fits`), nor once it would not fit
+        the longest the next QP may take, where its cap is fixed (:meth:`longest_qp` of the backend)."""
         t0, cpu = time.perf_counter(), time.thread_time()
         self.setup_time = 0.0
         with self.backend.step_within(t0):
@@ -119,7 +120,11 @@ class CaptureStep:
         self.message = ""
         start = time.perf_counter()
         for count in range(iteration.max_qps):
-            if not another_fits(self.backend.time_left(), time.perf_counter() - start, count):
+            left = self.backend.time_left()
+            longest = self.backend.longest_qp(self.step_function) if count else None
+            if not another_fits(left, time.perf_counter() - start, count) or (
+                longest is not None and left is not None and longest > left
+            ):
                 np.copyto(self.plan, self._previous)
                 return Status.TIME_LIMIT
             self.qps = count + 1

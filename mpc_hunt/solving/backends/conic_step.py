@@ -103,6 +103,11 @@ class ConicStepBackend(Backend):
         options are fixed when it is built)."""
         return 0.0
 
+    def longest_qp(self, step) -> float | None:
+        """The longest the next QP of ``step`` may take, in seconds, where its cap is fixed and it reads no clock
+        (None: it keeps within the time left by itself, or there is no limit)."""
+        return None
+
     def loop_status(self, step, buffer) -> tuple[Status, int]:
         """(status, iterations) of the last evaluation of ``step`` through ``buffer``."""
         stats = buffer.stats()

@@ -101,6 +101,10 @@ class DaqpCondensedBackend(Backend):
         """Nothing: its step runs DAQP's own cap (it takes no time limit)."""
         return 0.0
 
+    def longest_qp(self, step: CondensedStep) -> float | None:
+        """None: it takes no time limit."""
+        return None
+
     def loop_status(self, step: CondensedStep, buffer) -> tuple[Status, int]:
         if buffer.code == 0:
             return (Status.OPTIMAL_INACCURATE if buffer.flag == 4 else Status.OPTIMAL), buffer.iterations

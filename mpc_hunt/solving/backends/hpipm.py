@@ -104,6 +104,14 @@ class HpipmBackend(ConicStepBackend):
         step.function, step.cap = self.closed(step.graph, cap), cap
         return time.perf_counter() - t0
 
+    def longest_qp(self, step) -> float | None:
+        """Its fixed cost plus its cap times the cost per iteration, both measured (:meth:`cost`; per step, so that
+        for a step of several QPs it is more than one's), under a time limit."""
+        if self.time_limit is None or not isinstance(step, CappedStep):
+            return None
+        fixed, per_iteration = self.cost()
+        return fixed + step.cap * per_iteration
+
     def generated_step(self, step):
         return step.function
 
