@@ -16,8 +16,8 @@ an iteration cap from its measured cost: a solve of k iterations takes a fixed
 cost plus k times a cost per iteration, measured on the CPU time of its last
 solves (a structure's first, slower by its allocations, apart): the fixed cost
 fitted robustly (Theil–Sen), the cost per iteration bounded by the largest a
-recent solve has shown; the cap is the limit less the fixed cost over 1.5 times
-that bound (:meth:`Backend.iteration_cap`). The time limit is the step's: while a step is
+recent solve of several iterations has shown; the cap is the limit less the
+fixed cost over 1.5 times that bound (:meth:`Backend.iteration_cap`). The time limit is the step's: while a step is
 under way (:meth:`Backend.step_within`, opened by the solver and the control
 loop), every solve of it is handed what is left of the step's limit, a solver
 with a clock that less what a solve spends outside that clock, measured
@@ -55,6 +55,7 @@ CACHE_SIZE = 16  # structures kept set up per backend (the controlled set change
 MAX_ITERATIONS = 1_000_000  # the largest iteration cap taken
 FIRST_CAP = 100  # a clockless solver's cap under a time limit before any time per iteration is measured
 PACE_SOLVES = 32  # the last solves a clockless solver's cost (fixed + per iteration) is fitted to
+BOUND_ITERATIONS = 8  # the fewest iterations of a solve whose own cost per iteration counts towards the bound
 MIN_SLICE = 1e-6  # s: the clock limit a solver is handed when its step's time is already spent (it stops at once)
 BUDGET = ("time_limit", "max_iter")
 
@@ -115,7 +116,7 @@ class Backend:
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
         self._outside: deque[float] = deque(maxlen=PACE_SOLVES)  # s of each solve outside the solver's own clock
         self._outside_fit: float | None = None  # outside_clock(), of the solves recorded so far
-        self._fit: tuple[float, float] | None = None  # cost(), fitted to the solves recorded so far
+        self._fit: tuple[float, float, float] | None = None  # cost() and iteration_time(), of the solves so far
         self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
 
     @classmethod
@@ -141,30 +142,41 @@ class Backend:
             raise OptionError(f"{unknown[0]}: not an option of backend {self.name} ({hint})")
 
     def cost(self) -> tuple[float, float]:
-        """(fixed, per iteration) CPU seconds of a solve, measured on the last solves: the fixed cost fitted by
-        Theil–Sen (the median of the slopes between pairs of solves of different iteration counts, then the median
-        of what each solve leaves over at that slope), the cost per iteration the largest of that slope and each
-        solve's own (its time less the fixed cost, over its iterations): an active-set solver's iterations cost
-        several times more in one solve than in another (DAQP's at N = 10: 0.01 to 0.09 ms, measured), so a slope
-        fitted to them all undershoots the dearest, which a cap must cover. With one iteration count only, no fixed
-        cost. (0, 0) before any solve. Fitted once per solve recorded."""
+        """(fixed, per iteration) CPU seconds of a solve, a bound for a cap, measured on the last solves: the fixed
+        cost fitted by Theil–Sen (the median of the slopes between pairs of solves of different iteration counts,
+        then the median of what each solve leaves over at that slope), the cost per iteration the largest of that
+        slope and the own cost per iteration (its time less the fixed cost, over its iterations) of each solve of at
+        least :data:`BOUND_ITERATIONS`: an active-set solver's iterations cost several times more in one solve than
+        in another (DAQP's at N = 10: 0.01 to 0.09 ms, measured), so a slope fitted to them all undershoots the
+        dearest, which a cap must cover (a short solve's own cost is left out: the fixed cost's noise over a few
+        iterations would lower the cap, which shortens the solves, which lowers it further). With one iteration
+        count only, no fixed cost. (0, 0) before any solve. Fitted once per solve recorded."""
+        return self._fits()[:2]
+
+    def iteration_time(self) -> float:
+        """The typical cost of one iteration (s of CPU): the Theil–Sen slope of :meth:`cost`, not its bound (what a
+        solver with a clock may run past its limit: one iteration)."""
+        return self._fits()[2]
+
+    def _fits(self) -> tuple[float, float, float]:
         if self._fit is None:
             self._fit = self._fitted()
         return self._fit
 
-    def _fitted(self) -> tuple[float, float]:
+    def _fitted(self) -> tuple[float, float, float]:
         if not self._solves:
-            return 0.0, 0.0
+            return 0.0, 0.0, 0.0
         t, k = (np.array(v, dtype=float) for v in zip(*self._solves))
         k = np.maximum(k, 1.0)
         dk, dt = k[:, None] - k[None, :], t[:, None] - t[None, :]
         apart = dk > 0
-        fixed = 0.0
-        if apart.any():
+        fixed, slope = 0.0, float(np.median(t / k))  # one iteration count (or no rising cost): no fixed cost
+        if apart.any() and np.median(dt[apart] / dk[apart]) > 0:
             slope = float(np.median(dt[apart] / dk[apart]))
-            if slope > 0:
-                fixed = max(0.0, float(np.median(t - slope * k)))
-        return fixed, float(np.max((t - fixed) / k))
+            fixed = max(0.0, float(np.median(t - slope * k)))
+        long = k >= BOUND_ITERATIONS
+        own = float(np.max((t[long] - fixed) / k[long])) if long.any() else 0.0
+        return fixed, max(slope, own), slope
 
     def record_pace(self, seconds: float, iterations: int) -> None:
         """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` of the CPU
@@ -199,22 +211,23 @@ class Backend:
 
     def outside_clock(self) -> float:
         """Seconds a solve spends outside the solver's own clock (handing it the data, CVXPY's canonicalisation,
-        reading the answer back): :data:`PACE_MARGIN` × the largest, over the last solves, of each one's time less
-        the solve time its solver reported (0 before any, or for a solver that reports none): a bound, as the cost
-        per iteration is (the median left steps of Clarabel's past their limit by up to 0.7 ms)."""
+        reading the answer back): :data:`PACE_MARGIN` × the median, over the last solves, of each one's time less
+        the solve time its solver reported (0 before any, or for a solver that reports none). Not the largest: one
+        slow canonicalisation would leave CVXPY's next solves no time at all (measured: runs of 33 failed steps)."""
         if self._outside_fit is None:
-            self._outside_fit = PACE_MARGIN * max(self._outside) if self._outside else 0.0
+            self._outside_fit = PACE_MARGIN * float(np.median(self._outside)) if self._outside else 0.0
         return self._outside_fit
 
     def clock_limit(self) -> float | None:
         """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less what
         the solve will spend outside the solver's clock (:meth:`outside_clock`) and less :data:`PACE_MARGIN` × its
-        cost per iteration (:meth:`cost`: a solver reads its clock once an iteration, so it stops up to one
-        iteration past its limit), at least :data:`MIN_SLICE` (None: no limit)."""
+        typical cost per iteration (:meth:`iteration_time`: a solver reads its clock once an iteration, so it stops
+        up to one iteration past its limit; the bound of :meth:`cost` there cost CVXPY's steps at N = 5 runs of up
+        to 60 failed solves), at least :data:`MIN_SLICE` (None: no limit)."""
         left = self.time_left()
         if left is None:
             return None
-        return max(left - self.outside_clock() - PACE_MARGIN * self.cost()[1], MIN_SLICE)
+        return max(left - self.outside_clock() - PACE_MARGIN * self.iteration_time(), MIN_SLICE)
 
     def iteration_cap(self, left: float | None = None) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock

@@ -10,6 +10,7 @@ over as for any conic plugin, and HPIPM's iterations start from its own point.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -22,6 +23,7 @@ from mpc_hunt.solving.backends.conic_step import ConicStepBackend
 # HPIPM's modes offered: ``robust`` (LQ factorisations, the default) and ``balance`` (Cholesky: faster with a
 # BLASFEO built for the CPU; its plans differ from robust's within the tolerances).
 MODES = ("robust", "balance")
+REBUILT_SHARE = 0.75  # of the iterations that fit, the cap a step is rebuilt with (the rest: room for the cost to rise)
 
 
 @dataclass
@@ -93,13 +95,15 @@ class HpipmBackend(ConicStepBackend):
     def loop_prepare(self, step) -> float:
         """Under a time limit, rebuild ``step`` once the iterations that fit in the whole limit, from the measured
         cost, fall below the cap it was built with (CasADi fixes HPIPM's ``iter_max`` when the step is built, before
-        any of its solves is measured); the seconds spent (a set-up, at most once per halving of the cap), else 0.
-        A step of several QPs keeps within its limit by not starting one that would not fit."""
+        any of its solves is measured), with :data:`REBUILT_SHARE` of them, so that the cost may rise by a third
+        before it is rebuilt again; the seconds spent (a set-up), else 0. A step of several QPs keeps within its
+        limit by not starting one that would not fit (:meth:`longest_qp`)."""
         if self.time_limit is None:
             return 0.0
-        cap = self.iteration_cap(self.time_limit)
-        if 2 * cap > step.cap:
+        fits = self.iteration_cap(self.time_limit)
+        if fits >= step.cap:
             return 0.0
+        cap = max(1, math.floor(REBUILT_SHARE * fits))
         t0 = time.perf_counter()
         step.function, step.cap = self.closed(step.graph, cap), cap
         return time.perf_counter() - t0
