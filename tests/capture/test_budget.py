@@ -160,6 +160,36 @@ def test_a_solver_with_a_clock_is_handed_the_time_left_and_stops_when_there_is_n
     assert backend.time_left() == 0.5                      # the step over, the limit is whole again
 
 
+def test_solves_a_clock_stopped_do_not_flatten_the_cost_of_an_iteration():
+    """A solve its own clock stopped took the limit it was handed whatever its iterations cost: fitted with the
+    others, a run of them (alike in time, apart in iterations) pulls the slope towards zero and with it the margin
+    left for a clock's last iteration."""
+    from mpc_hunt.solving.backends.clarabel import ClarabelBackend
+
+    backend = ClarabelBackend(time_limit=0.02)
+    for k in (6, 8, 10, 12):
+        backend.record_pace(1e-3 + 0.5e-3 * k, k)          # ran their course: 0.5 ms an iteration
+    for k in range(30, 38):
+        backend.record_pace(0.018, k, stopped=True)        # stopped at the 18 ms handed, 30 to 37 iterations
+    assert backend.iteration_time() == pytest.approx(0.5e-3)
+    only_stopped = ClarabelBackend(time_limit=0.02)
+    for k in (30, 36):
+        only_stopped.record_pace(0.018, k, stopped=True)  # nothing else: their whole cost per iteration
+    assert only_stopped.iteration_time() == pytest.approx(np.median([0.018 / 30, 0.018 / 36]))
+
+
+def test_a_solve_its_clock_stopped_is_recorded_as_stopped(scenario, monkeypatch):
+    solver = CaptureSolver("qp", "clarabel", time_limit=0.5)
+    problem = problem_at(scenario, 10)
+    solver.solve(problem)                                  # the structure's set-up: nothing measured
+    full = solver.solve(problem).extras["reported_solve_time_s"]
+    assert [stopped for _, _, stopped in solver.backend._solves] == [False]
+    monkeypatch.setattr(solver.backend, "clock_limit", lambda: full / 2)   # Clarabel's clock stops it half-way
+    stopped = solver.solve(problem)
+    assert stopped.status is Status.TIME_LIMIT and stopped.iterations >= 1
+    assert [stopped for _, _, stopped in solver.backend._solves] == [False, True]
+
+
 def test_the_time_outside_a_solvers_clock_is_measured_against_the_time_it_reports(scenario):
     """CVXPY's canonicalisation and read-back lie outside Clarabel's clock: what is subtracted from the time left is
     the margin times the median of each solve's measured time less its reported one (a structure's first apart)."""
@@ -240,7 +270,7 @@ def test_ipopt_budgets_a_solves_first_iteration_as_the_recent_solves_longest():
 def test_the_interpreted_hpipm_step_is_rebuilt_once_its_cap_no_longer_fits(scenario, monkeypatch):
     """CasADi fixes HPIPM's ``iter_max`` when the step is built, before any solve is measured; once the measured
     cost says that fewer iterations fit in the limit, the loop rebuilds the step with three quarters of them (a
-    set-up, not the step's time), and its steps stop there."""
+    set-up, not the step's time), and its steps stop there; once twice its cap fits again, it is raised."""
     problem = problem_at(scenario, 3)
     solver = CaptureSolver("rti", "hpipm", time_limit=0.5)
     free = solver.solve(problem)
@@ -253,6 +283,11 @@ def test_the_interpreted_hpipm_step_is_rebuilt_once_its_cap_no_longer_fits(scena
     assert capped.solve_time < capped.setup_time + 0.5
     kept = solver.solve(problem)
     assert kept.setup_time == 0 and kept.iterations == 4                          # rebuilt once, not at each step
+    monkeypatch.setattr(solver.backend, "cost", lambda: (0.0, 0.045))             # 7 fit: under twice the cap
+    assert solver.solve(problem).setup_time == 0
+    monkeypatch.setattr(solver.backend, "cost", lambda: (0.0, 0.005))             # the dear solves gone: 66 fit
+    raised = solver.solve(problem)                                                # rebuilt with 49
+    assert raised.setup_time > 0 and raised.success and raised.iterations == free.iterations
 
 
 def test_a_step_starts_no_qp_whose_fixed_cap_would_not_fit_what_is_left(scenario, monkeypatch):

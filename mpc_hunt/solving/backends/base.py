@@ -112,7 +112,7 @@ class Backend:
         self.accuracy = accuracy
         self.options = {**self.ACCURACY.get(accuracy, {}), **options}
         self.setups = 0
-        self._solves: deque[tuple[float, int]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations)
+        self._solves: deque[tuple[float, int, bool]] = deque(maxlen=PACE_SOLVES)  # (seconds, iterations, stopped)
         self._cache: OrderedDict[tuple, Any] = OrderedDict()
         self._outside: deque[float] = deque(maxlen=PACE_SOLVES)  # s of each solve outside the solver's own clock
         self._outside_fit: float | None = None  # outside_clock(), of the solves recorded so far
@@ -166,7 +166,11 @@ class Backend:
     def _fitted(self) -> tuple[float, float, float]:
         if not self._solves:
             return 0.0, 0.0, 0.0
-        t, k = (np.array(v, dtype=float) for v in zip(*self._solves))
+        done = [(t, k) for t, k, stopped in self._solves if not stopped]
+        if not done:  # only solves its clock stopped: their whole cost per iteration, an overestimate
+            per_iteration = float(np.median([t / max(k, 1) for t, k, _ in self._solves]))
+            return 0.0, per_iteration, per_iteration
+        t, k = (np.array(v, dtype=float) for v in zip(*done))
         k = np.maximum(k, 1.0)
         dk, dt = k[:, None] - k[None, :], t[:, None] - t[None, :]
         apart = dk > 0
@@ -178,11 +182,15 @@ class Backend:
         own = float(np.max((t[long] - fixed) / k[long])) if long.any() else 0.0
         return fixed, max(slope, own), slope
 
-    def record_pace(self, seconds: float, iterations: int) -> None:
+    def record_pace(self, seconds: float, iterations: int, stopped: bool = False) -> None:
         """Count a solve (not a structure's first) of ``iterations`` that took ``seconds`` of the CPU
-        (``time.thread_time``: a solve held up by the machine is not a dearer one) towards :meth:`cost`."""
+        (``time.thread_time``: a solve held up by the machine is not a dearer one) towards :meth:`cost`.
+        ``stopped``: the solver's own clock ended it, so its time is the limit it was handed, whatever its
+        iterations cost: left out of the fit while a solve that ran its course is in the window (such solves,
+        their times alike and their counts apart, flattened the slope to a tenth of an iteration's cost and
+        Clarabel's steps ran past their limit by up to 1.2 ms, measured)."""
         if iterations >= 1:
-            self._solves.append((seconds, iterations))
+            self._solves.append((seconds, iterations, stopped))
             self._fit = None
 
     @contextmanager
@@ -305,7 +313,9 @@ class Backend:
         left = self.time_left()  # read before our own work on the answer (the certificate): not the solver's time
         overran = left is not None and (left < 0 if self._deadline is not None else solver_time > left)
         if not new:
-            self.record_pace(time.thread_time() - cpu, result.iterations)
+            self.record_pace(
+                time.thread_time() - cpu, result.iterations, self.CLOCK and result.status is Status.TIME_LIMIT
+            )
             reported = result.extras.get("reported_solve_time_s")
             if reported is not None:
                 self._outside.append(max(solver_time - float(reported), 0.0))
