@@ -279,10 +279,11 @@ def run_machine(now: dict) -> dict:
 
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="check the committed settings and table against the code")
+    mode = parser.add_mutually_exclusive_group()
+    mode.add_argument("--check", action="store_true", help="check the committed settings and table against the code")
     parser.add_argument("--workers", type=count(MAX_WORKERS), default=1,
                         help=f"hunts at once (1 to {MAX_WORKERS}; default 1, leaving a core free)")
-    parser.add_argument("--fresh", action="store_true", help="forget the hunts kept in hunts.jsonl and start over")
+    mode.add_argument("--fresh", action="store_true", help="forget the hunts kept in hunts.jsonl and start over")
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(), "studies/realtime", COMMAND)

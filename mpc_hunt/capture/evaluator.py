@@ -20,6 +20,8 @@ from mpc_hunt.world.geometry import norm, saturate
 VIOLATION_NAMES = ("motion_limit", "equal_distance", "obstacle_safety", "separation", "attacker_distance")
 # The families a plan must keep to be applied: Eq. 14 is elastic in every formulation (an L1 penalty, not a bound).
 HARD_CONSTRAINTS = tuple(name for name in VIOLATION_NAMES if name != "equal_distance")
+# The families of the robots' own geometry (Eqs. 13 and 15, the separations), free of the attacker's prediction.
+GEOMETRY_CONSTRAINTS = ("motion_limit", "obstacle_safety", "separation")
 TERM_NAMES = ("force", "ring", "move", "equal_distance")
 ENCLOSE_TERM_NAMES = ("slot", "attacker", "edge", "move")
 

@@ -100,6 +100,32 @@ def _solver_arguments(p: argparse.ArgumentParser, default: dict, which: str) -> 
     p.set_defaults(solver_default=default)
 
 
+def _budget_arguments(p: argparse.ArgumentParser, deadline: str | None = None) -> None:
+    """A capture step's budget, one name for every backend's setting (docs/benchmarks.md, "Budgets"); ``deadline``,
+    where the command runs a loop, prefixes --deadline's help with the runs it applies to."""
+    p.add_argument(
+        "--time-limit",
+        type=positive_float,
+        metavar="SECONDS",
+        help="time limit of each capture-stage step: its solves share it, each handed what is left; a solve "
+        "stopped by it fails (the hunt's own limit is the scenario's time_limit)",
+    )
+    p.add_argument(
+        "--max-iter",
+        type=count(MAX_ITERATIONS),
+        metavar="N",
+        help="iteration cap of each capture-stage solve (every backend's, under this one name)",
+    )
+    if deadline is not None:
+        p.add_argument(
+            "--deadline",
+            type=positive_float,
+            metavar="SECONDS",
+            help=f"{deadline}the step's budget (e.g. 0.02 for 50 Hz): the report counts the steps that took "
+            "longer, beside those longer than the time step T",
+        )
+
+
 def _spec(args, controller: str, options: dict | None = None) -> ControllerSpec:
     """The controller spec the flags name (--formulation, --backend, --horizon; the command's default stage where
     they name none) with ``options``, checked before any work; a refusal names the fields, :func:`main` the flags."""
@@ -161,26 +187,8 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="approach the attacker's current position instead of the predicted intercept",
     )
-    sim.add_argument(
-        "--time-limit",
-        type=positive_float,
-        metavar="SECONDS",
-        help="wall-clock limit of each capture-stage solve (the hunt's is the scenario's time_limit)",
-    )
+    _budget_arguments(sim, deadline="")
     sim.add_argument("--time-budget", type=positive_float, dest="time_limit", help=argparse.SUPPRESS)  # its old name
-    sim.add_argument(
-        "--max-iter",
-        type=count(MAX_ITERATIONS),
-        metavar="N",
-        help="iteration cap of each capture-stage solve (every backend's, under this one name)",
-    )
-    sim.add_argument(
-        "--deadline",
-        type=positive_float,
-        metavar="SECONDS",
-        help="the capture stage's budget per step (e.g. 0.02 for 50 Hz): the report counts the steps "
-        "whose solve took longer, beside those longer than the time step T",
-    )
     sim.add_argument(
         "--score",
         action="store_true",
@@ -209,8 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
         help='JSON state {"attacker": [x, y], "defenders": [[x, y], ...]} to solve at',
     )
     solve.add_argument("--save-state", type=Path, metavar="FILE", help="write the state solved at as JSON")
-    solve.add_argument("--time-limit", type=positive_float, metavar="SECONDS", help="solver time limit")
-    solve.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="solver iteration cap")
+    _budget_arguments(solve)
     solve.add_argument(
         "--accuracy",
         choices=ACCURACIES,
@@ -403,12 +410,7 @@ def _compare_parser(sub) -> None:
         help="own-loop: each hunt runs from where the paper's strategy first reaches the capture stage, "
         "for at most this long (default: 120)",
     )
-    cmp.add_argument(
-        "--deadline",
-        type=positive_float,
-        metavar="SECONDS",
-        help="own-loop: the step's budget (e.g. 0.02 for 50 Hz), counted beside the time step T",
-    )
+    _budget_arguments(cmp, deadline="own-loop: ")
     cmp.add_argument(
         "--abandon-after",
         type=positive_float,
@@ -424,7 +426,6 @@ def _compare_parser(sub) -> None:
         "(default: 1; each "
         "hunt's times are then taken beside the others')",
     )
-    cmp.add_argument("--max-iter", type=count(MAX_ITERATIONS), metavar="N", help="each solve's iteration cap")
     cmp.add_argument(
         "--accuracy",
         choices=ACCURACIES,
@@ -432,12 +433,6 @@ def _compare_parser(sub) -> None:
         default=["default"],
         help="one or more profiles, each run on the same problems: default (ours, per backend), high, "
         "low, solver (each solver's own defaults) (default: default)",
-    )
-    cmp.add_argument(
-        "--time-limit",
-        type=positive_float,
-        metavar="SECONDS",
-        help="handed to each solver call; a failed solve then counts at it in the shifted mean",
     )
     cmp.add_argument(
         "--starts", type=count(MAX_STARTS), default=4, help="starts of the reference multi-start NLP (default: 4)"

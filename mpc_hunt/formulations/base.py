@@ -7,6 +7,7 @@ from typing import ClassVar
 import numpy as np
 
 from mpc_hunt.capture.data import SolvesData
+from mpc_hunt.capture.evaluator import GEOMETRY_CONSTRAINTS
 from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
 from mpc_hunt.capture.structure import Structure
@@ -23,7 +24,10 @@ class Formulation:
     name: ClassVar[str]
     kind: ClassVar[str]
     default_backend: ClassVar[str]
-    exact: ClassVar[frozenset[str]]  # the constraint families (evaluator names) it keeps exactly
+    # The constraint families (evaluator names) it keeps exactly: by default the robots' own geometry, which the
+    # linearised and staged formulations approximate from inside (Eq. 13 an inscribed polygon, Eq. 15 and the
+    # separations linearised at the last plan); Eq. 14 and the attacker distance they linearise or smooth.
+    exact: ClassVar[frozenset[str]] = frozenset(GEOMETRY_CONSTRAINTS)
     per_robot: ClassVar[bool] = False  # one QP per robot (``distributed``), not one for the team
     objectives: ClassVar[tuple[str, ...]] = OBJECTIVES  # the capture objectives it poses
 

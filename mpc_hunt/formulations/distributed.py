@@ -111,7 +111,6 @@ class DistributedFormulation(Formulation):
     # A robot's QP condensed to its 2N controls and solved by DAQP from its last active set: 3x faster than HPIPM
     # on the stage form at the same plans (studies/team_size).
     default_backend = "daqp-condensed"
-    exact = RTIFormulation.exact
     smoothing = RTIFormulation.smoothing
     per_robot = True
     objectives = ("enclose",)  # the paper's objective plans only defenders within R_agg: nothing to distribute

@@ -139,9 +139,6 @@ class MSNLPFormulation(Formulation):
     name = "ms-nlp"
     kind = "ocp-nlp"
     default_backend = "ipopt"
-    # Eq. 14 and the attacker distance hold along the optimiser's (smoothed) prediction of the attacker,
-    # which differs from the paper's while a distance lies within the smoothing band (docs/model.md, E11).
-    exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     smoothing = SMOOTHING
 
     def prepare(self, structure: Structure) -> None:

@@ -211,8 +211,6 @@ class QPFormulation(Formulation):
     name = "qp"
     kind = "qp"
     default_backend = "osqp"
-    # Eq. 14 and the attacker distance are linearised; the inner approximations are exact.
-    exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     exact_motion_cone = False
 
     def prepare(self, structure: Structure) -> None:

@@ -157,8 +157,6 @@ class RTIFormulation(Formulation):
     name = "rti"
     kind = "ocp-qp"
     default_backend = "hpipm"
-    # Eq. 15 and the separations are inner approximations; Eq. 13 an inscribed octagon.
-    exact = frozenset({"motion_limit", "obstacle_safety", "separation"})
     smoothing = SMOOTHING
     # QPs a control step makes and the move that ends them, read by the control loop and the C export:
     # one QP, linearised once (stage-sqp repeats it).

@@ -226,6 +226,7 @@ def test_the_realtime_study_resumes_from_whole_lines_only(tmp_path, monkeypatch,
     monkeypatch.setattr(module, "PROGRESS", progress)
     assert list(module.finished()) == ["qp:osqp N=5 paper-open"]    # an older version's, another's, a cut line: rerun
     usage_error(capsys, "realtime", ["--workers", "3"])
+    assert "not allowed with" in usage_error(capsys, "realtime", ["--check", "--fresh"])   # a check forgets nothing
 
 
 def test_the_realtime_study_rewritten_without_a_hunt_keeps_the_machine_its_hunts_ran_on(tmp_path, monkeypatch):
