@@ -24,9 +24,9 @@ class Formulation:
     name: ClassVar[str]
     kind: ClassVar[str]
     default_backend: ClassVar[str]
-    # The constraint families (evaluator names) it keeps exactly: by default the robots' own geometry, which the
-    # linearised and staged formulations approximate from inside (Eq. 13 an inscribed polygon, Eq. 15 and the
-    # separations linearised at the last plan); Eq. 14 and the attacker distance they linearise or smooth.
+    # The constraint families (evaluator names) it keeps exactly: by default the robots' own geometry, posed as
+    # is or approximated from inside (Eq. 13 an inscribed polygon, Eq. 15 and the separations linearised at the
+    # last plan); Eq. 14 and the attacker distance rest on the attacker's prediction, linearised or smoothed.
     exact: ClassVar[frozenset[str]] = frozenset(GEOMETRY_CONSTRAINTS)
     per_robot: ClassVar[bool] = False  # one QP per robot (``distributed``), not one for the team
     objectives: ClassVar[tuple[str, ...]] = OBJECTIVES  # the capture objectives it poses
