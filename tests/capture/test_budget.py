@@ -240,13 +240,31 @@ def test_ipopt_stops_when_the_time_left_would_not_fit_another_iteration(scenario
     assert late.status is Status.TIME_LIMIT and late.message == "User_Requested_Stop" and late.iterations <= 1
 
 
+def test_clarabel_stops_when_the_time_left_would_not_fit_another_iteration(scenario):
+    """Clarabel reads its clock once an iteration; under a step's limit its termination callback stops it first,
+    as a time_limit, when what is left would not fit another iteration (here: one iteration's time left)."""
+    import time
+
+    solver = CaptureSolver("socp", "clarabel", time_limit=5.0)
+    problem = problem_at(scenario, 10)
+    solver.solve(problem)                                   # the structure's set-up
+    full = solver.solve(problem)
+    assert full.status is Status.OPTIMAL and full.iterations > 3   # 5 s: the callback lets it converge
+    one = full.extras["reported_solve_time_s"] / full.iterations   # about one iteration
+    with solver.backend.step_within(time.perf_counter() - 5.0 + 2 * one):
+        late = solver.formulation.solve(problem, solver.backend, None, None)
+    assert late.status is Status.TIME_LIMIT and late.message == "CallbackTerminated"
+    assert late.iterations < full.iterations and late.solver_time < 2 * one + late.overhead_time + 1e-3
+
+
 def test_ipopt_budgets_a_solves_first_iteration_as_the_recent_solves_longest():
     """Before its first iteration a solve has measured none: the callback budgets it as the longest iteration of the
     recent solves, so a solve whose time left would not fit that one stops at once; one solve's own longest does not
     carry past RECENT_SOLVES solves."""
     import time
 
-    from mpc_hunt.solving.backends.ipopt import RECENT_SOLVES, _deadline
+    from mpc_hunt.solving.backends.ipopt import _deadline
+    from mpc_hunt.solving.backends.iteration_deadline import RECENT_SOLVES
 
     deadline = _deadline(1, 1, 1)
     stop = bytearray(8)

@@ -5,6 +5,11 @@ non-negative cone (u − Ax ≥ 0), each finite lower bound one more (Ax − l �
 and the rows named in ``QPData.cones`` second-order cones (b = u). Presolve is
 off so that the data can be updated in place. An interior-point method does not
 take a starting point: Clarabel is never warm-started (reported as such).
+
+Under a time limit Clarabel is handed what is left of the step's (its ``time_limit``, read once an iteration),
+and its termination callback stops it first when what is left would not fit another iteration
+(:mod:`~mpc_hunt.solving.backends.iteration_deadline`): ``CallbackTerminated``, a ``time_limit``. Handed the
+limit less a fitted cost per iteration, its steps at N = 10 ran past their limit by up to 1.2 ms (measured).
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ import scipy.sparse as sp
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.solving.backends.base import Backend
+from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline
 
 _STATUS = {
     "Solved": Status.OPTIMAL,
@@ -25,6 +31,7 @@ _STATUS = {
     "AlmostDualInfeasible": Status.INFEASIBLE,
     "MaxIterations": Status.ITERATION_LIMIT,
     "MaxTime": Status.TIME_LIMIT,
+    "CallbackTerminated": Status.TIME_LIMIT,  # the deadline's callback (the module's docstring)
 }
 
 
@@ -121,10 +128,14 @@ class ClarabelBackend(Backend):
             clarabel.SecondOrderConeT(k) for k in layout.cone_sizes
         ]
         solver = clarabel.DefaultSolver(data.P, data.q, layout.matrix(data), layout.vector(data), cones, settings)
-        return solver, layout, settings
+        deadline = None
+        if self.time_limit is not None:
+            deadline = IterationDeadline()
+            solver.set_termination_callback(lambda info: deadline.passed())
+        return solver, layout, settings, deadline
 
     def update(self, state, data: QPData) -> None:
-        solver, layout, settings = state
+        solver, layout, settings, _ = state
         if self.time_limit is None:
             solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data))
             return
@@ -132,7 +143,10 @@ class ClarabelBackend(Backend):
         solver.update(P=data.P.data, q=data.q, A=layout.values(data), b=layout.vector(data), settings=settings)
 
     def run(self, state, data: QPData, warm: WarmStart) -> Solution:
-        solver, layout, _ = state
+        solver, layout, _, deadline = state
+        left = self.time_left()
+        if deadline is not None and left is not None:
+            deadline.start(left)
         sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)

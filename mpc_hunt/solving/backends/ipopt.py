@@ -2,15 +2,13 @@
 
 Under a time limit IPOPT gets ``max_wall_time``, fixed when CasADi builds the solver and checked once an
 iteration, so a step could end an iteration past its limit. An iteration callback therefore stops it when what is
-left of the step's limit would not fit another iteration (:data:`~mpc_hunt.capture.iteration.PACE_MARGIN` × the
-longest of this solve's so far and of the recent solves'): IPOPT returns ``User_Requested_Stop``, a ``time_limit``.
+left of the step's limit would not fit another iteration (:mod:`~mpc_hunt.solving.backends.iteration_deadline`):
+IPOPT returns ``User_Requested_Stop``, a ``time_limit``.
 The certificate is computed once the solve's time is taken (:meth:`IpoptBackend.certify`).
 """
 
 from __future__ import annotations
 
-import time
-from collections import deque
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -18,12 +16,10 @@ import numpy as np
 
 from mpc_hunt.capture.certificate import Certificate, bound_violation, complementarity
 from mpc_hunt.capture.data import NLPData
-from mpc_hunt.capture.iteration import PACE_MARGIN
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
 from mpc_hunt.solving.backends.base import Backend
-
-RECENT_SOLVES = 8  # the solves whose longest iteration budgets a new solve's first (under a time limit)
+from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline
 
 _STATUS = {
     "Solve_Succeeded": Status.OPTIMAL,
@@ -165,9 +161,7 @@ def _deadline(nx: int, ng: int, np_: int):
         def __init__(self) -> None:
             ca.Callback.__init__(self)
             self.sizes = {"x": nx, "f": 1, "g": ng, "lam_x": nx, "lam_g": ng, "lam_p": np_}
-            self.until = float("inf")
-            self.last = self.longest = self.carried = 0.0
-            self.earlier: deque[float] = deque(maxlen=RECENT_SOLVES)  # the longest iteration of each recent solve
+            self.pace = IterationDeadline()
             self.construct("deadline", {})
 
         def get_n_in(self):
@@ -186,21 +180,13 @@ def _deadline(nx: int, ng: int, np_: int):
             return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)])
 
         def start(self, left: float) -> None:
-            """A solve starts with ``left`` seconds of its step's limit; its first iteration is budgeted as the
-            longest of the recent solves' (the one before it ended on that iteration's clock)."""
-            if self.longest > 0:
-                self.earlier.append(self.longest)
-            self.last = time.perf_counter()
-            self.until, self.longest, self.carried = self.last + left, 0.0, max(self.earlier, default=0.0)
+            self.pace.start(left)
 
         def has_eval_buffer(self):
             return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate
 
         def eval_buffer(self, arg, res):
-            now = time.perf_counter()
-            self.longest, self.last = max(self.longest, now - self.last), now
-            ahead = PACE_MARGIN * max(self.longest, self.carried)
-            memoryview(res[0]).cast("d")[0] = 1.0 if self.until - now < ahead else 0.0
+            memoryview(res[0]).cast("d")[0] = 1.0 if self.pace.passed() else 0.0
             return 0
 
     return Deadline()

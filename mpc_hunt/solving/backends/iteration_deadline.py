@@ -1,0 +1,40 @@
+"""Stopping a solver between two of its iterations once what is left of the step's limit would not fit another.
+
+A solver handed a time limit reads its clock once an iteration, so it ends up to one iteration past it. One that
+calls back after each iteration (IPOPT's iteration callback, Clarabel's termination callback) is stopped instead
+when the time left would not fit :data:`~mpc_hunt.capture.iteration.PACE_MARGIN` times the longest iteration of
+this solve, or of the last :data:`RECENT_SOLVES` solves (which budget a solve's first iteration): the iterations
+timed as they run, not a cost fitted to earlier solves.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+
+from mpc_hunt.capture.iteration import PACE_MARGIN
+
+RECENT_SOLVES = 8  # the solves whose longest iteration budgets a new solve's first (under a time limit)
+
+
+class IterationDeadline:
+    """The deadline of the solve under way and the iterations timed so far (the module's docstring)."""
+
+    def __init__(self) -> None:
+        self.until = float("inf")
+        self.last = self.longest = self.carried = 0.0
+        self.earlier: deque[float] = deque(maxlen=RECENT_SOLVES)  # the longest iteration of each recent solve
+
+    def start(self, left: float) -> None:
+        """A solve starts with ``left`` seconds of its step's limit; its first iteration is budgeted as the
+        longest of the recent solves' (the one before it ended on that iteration's clock)."""
+        if self.longest > 0:
+            self.earlier.append(self.longest)
+        self.last = time.perf_counter()
+        self.until, self.longest, self.carried = self.last + left, 0.0, max(self.earlier, default=0.0)
+
+    def passed(self) -> bool:
+        """Called after each iteration: whether the solve stops here, the time left not fitting another."""
+        now = time.perf_counter()
+        self.longest, self.last = max(self.longest, now - self.last), now
+        return self.until - now < PACE_MARGIN * max(self.longest, self.carried)
