@@ -37,7 +37,7 @@ from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.bench.own_loop import (ABANDON_AFTER, WINDOW, OwnLoopRun, capture_stage_hunts, hunt_summary,
                                      markdown_table, rows_of, run_tasks)
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.interrupt import stop_keeping
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.sweep.random_scenario import sweep_scenario
@@ -290,7 +290,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.fresh and PROGRESS.exists():
         PROGRESS.unlink()
     machine, kept = describe_machine(), len(finished())
-    with stop_at_once("realtime study"):         # Ctrl-C: at once; every finished hunt is kept in hunts.jsonl
+    with stop_keeping("realtime study", lambda: None):   # Ctrl-C: at once; each finished hunt is in hunts.jsonl
         summaries = run(args.workers)
     machine["load_average_end"] = load_average()
     if kept >= len(tasks()):                      # no hunt ran: rewritten with the machine of the run that ran them
