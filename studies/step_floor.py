@@ -24,7 +24,7 @@ import numpy as np
 
 from mpc_hunt import markdown
 from mpc_hunt.formulations.capture_model import parameter_vector
-from mpc_hunt.formulations.qp import linearised_capture
+from mpc_hunt.formulations.qp import QPFormulation
 from mpc_hunt import CaptureMPC, CaptureProblem
 from mpc_hunt.solving import registry
 from mpc_hunt.capture.solution import WarmStart
@@ -43,7 +43,7 @@ def perfect_warm_start(problems: list) -> dict | None:
         start = mpc.step(problem).start
         if k:
             reference = problem.held_plan() if start is None else start
-            data = linearised_capture(problem.structure).data(("qp", problem.structure), parameter_vector(problem),
+            data = QPFormulation().built(problem.structure).data(("qp", problem.structure), parameter_vector(problem),
                                                               problem.x_from_plan(reference))
             cold = backend.run(backend.setup(data), data, WarmStart(None, None))
             again = backend.run(backend.setup(data), data, cold.duals)

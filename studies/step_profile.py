@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from mpc_hunt.formulations.capture_model import parameter_vector
-from mpc_hunt.formulations.rti import linearised_stages
+from mpc_hunt.formulations.rti import RTIFormulation
 from mpc_hunt.formulations.stage_model import SMOOTHING
 from mpc_hunt import CaptureMPC, CaptureProblem
 from mpc_hunt.solving.backends.conic_step import QP_KEYS
@@ -53,5 +53,5 @@ def rti_profile(problems: list) -> dict:
             pieces["hpipm_ms"].append(1e3 * seconds)
             pieces["hpipm_iterations"].append(hpipm.stats()["iter_count"])
         else:
-            linearise, hpipm = HpipmBackend().linearised(linearised_stages(problem.structure))
+            linearise, hpipm = HpipmBackend().linearised(RTIFormulation().built(problem.structure))
     return {"repeats": REPEATS, **{k: float(np.median(v)) for k, v in pieces.items()}}

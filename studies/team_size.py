@@ -54,7 +54,7 @@ if __name__ == "__main__":      # run as a script: the studies import one anothe
 
 import numpy as np
 
-from mpc_hunt.formulations.rti import linearised_stages
+from mpc_hunt.formulations.rti import RTIFormulation
 from mpc_hunt import CaptureMPC, CaptureSolver, ControllerSpec, builtin_scenario, evaluate, markdown, simulate
 from mpc_hunt.arguments import CommandParser, count, output_folder
 from mpc_hunt.bench.machine import describe_machine, load_average
@@ -126,7 +126,7 @@ class HpipmAlone:
     solved by CasADi's ``hpipm`` plugin with the backend's options; the fastest of :data:`REPEATS` solves."""
 
     def __init__(self, structure):
-        self.linearise, self.hpipm = HpipmBackend().linearised(linearised_stages(structure))
+        self.linearise, self.hpipm = HpipmBackend().linearised(RTIFormulation().built(structure))
 
     def time(self, theta: np.ndarray, reference: np.ndarray) -> float:
         data = dict(zip(QP_KEYS, self.linearise(theta, reference)))

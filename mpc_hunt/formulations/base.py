@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from typing import ClassVar
+from collections.abc import Callable
+from functools import lru_cache
+from typing import Any, ClassVar, Generic, TypeVar
 
 import numpy as np
 
@@ -12,8 +14,15 @@ from mpc_hunt.capture.problem import OBJECTIVES, CaptureProblem
 from mpc_hunt.capture.solution import Solution, WarmStart
 from mpc_hunt.capture.structure import Structure
 
+Built = TypeVar("Built")
 
-class Formulation:
+
+@lru_cache(maxsize=128)
+def _built(construction: Callable[..., Any], structure: Structure, options: tuple) -> Any:
+    return construction(structure, *options)
+
+
+class Formulation(Generic[Built]):
     """Base class: ``name``, the ``kind`` of problem it emits (``nlp``, ``qp``, ``socp``), and ``solve``.
 
     Any backend whose ``accepts`` holds ``kind`` can solve it; ``default_backend``
@@ -30,10 +39,18 @@ class Formulation:
     exact: ClassVar[frozenset[str]] = frozenset(GEOMETRY_CONSTRAINTS)
     per_robot: ClassVar[bool] = False  # one QP per robot (``distributed``), not one for the team
     objectives: ClassVar[tuple[str, ...]] = OBJECTIVES  # the capture objectives it poses
+    # What it builds for a structure (its symbolic functions: seconds for a large team), called with the structure
+    # and ``construction_options``, once: kept for the next solve of that structure.
+    construction: Callable[..., Built]
+    construction_options: ClassVar[tuple] = ()
 
     def prepare(self, structure: Structure) -> None:
         """Build (once, cached) the symbolic functions for ``structure``; timed as set-up."""
-        raise NotImplementedError
+        self.built(structure)
+
+    def built(self, structure: Structure) -> Built:
+        """``construction`` for ``structure``: built on first use, then kept (the last 128 structures)."""
+        return _built(type(self).construction, structure, self.construction_options)
 
     def solve(
         self, problem: CaptureProblem, backend: SolvesData, warm_plan: np.ndarray | None, duals: WarmStart | None

@@ -42,7 +42,7 @@ from mpc_hunt.capture.problem import CaptureProblem
 from mpc_hunt.capture.solution import Solution, Status
 from mpc_hunt.capture.structure import Structure
 from mpc_hunt.formulations.base import Formulation
-from mpc_hunt.formulations.rti import RTIFormulation, linearised_stages
+from mpc_hunt.formulations.rti import RTIFormulation
 from mpc_hunt.formulations.team import Team, robot_structure
 from mpc_hunt.formulations.team_push import team_push
 
@@ -132,7 +132,7 @@ class DistributedFormulation(Formulation):
         return self.robot_step.iteration
 
     def prepare(self, structure: Structure) -> None:
-        linearised_stages(robot_structure(structure))
+        self.robot_step.prepare(robot_structure(structure))
         team_push(structure)
 
     def team(self, problem: CaptureProblem) -> Team:

@@ -21,7 +21,6 @@ system. The optimiser's field is rounded on a band of half-width
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import lru_cache
 
 import casadi as ca
 import numpy as np
@@ -128,24 +127,17 @@ class StagedNLP:
         return w0, lbx, ubx, lbg
 
 
-@lru_cache(maxsize=32)
-def staged_nlp(structure: Structure) -> StagedNLP:
-    return StagedNLP(structure)
-
-
-class MSNLPFormulation(Formulation):
+class MSNLPFormulation(Formulation[StagedNLP]):
     """The true problem in stage form (multiple shooting), warm-started by the shifted plan."""
 
     name = "ms-nlp"
     kind = "ocp-nlp"
     default_backend = "ipopt"
     smoothing = SMOOTHING
-
-    def prepare(self, structure: Structure) -> None:
-        staged_nlp(structure)
+    construction = StagedNLP
 
     def solve(self, problem, backend, warm_plan, duals) -> Solution:
-        nlp = staged_nlp(problem.structure)
+        nlp = self.built(problem.structure)
         theta = np.append(parameter_vector(problem), self.smoothing)
         plan0 = problem.held_plan() if warm_plan is None else warm_plan
         w0, lbx, ubx, lbg = nlp.bounds(theta, problem.x_from_plan(plan0))

@@ -11,7 +11,6 @@ with the attacker propagated through its APF dynamics inside ε and r_ai.
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import lru_cache
 
 import casadi as ca
 import numpy as np
@@ -69,19 +68,15 @@ def arena_bounds(problem: CaptureProblem) -> tuple[np.ndarray, np.ndarray]:
     return np.minimum(arena[:2], here.min(axis=0)), np.maximum(arena[2:], here.max(axis=0))
 
 
-@lru_cache(maxsize=32)
-def constraint_set(structure: Structure):
-    """(g, lbg, ubg, rows to relax, g as a function of (X, θ)) for one structure."""
-    model = capture_model(structure)
-    g, lo, hi, family = nonlinear_constraints(model)
-    relax = np.array([f in RELAXABLE for f in family], dtype=bool)
-    return (
-        g,
-        np.array(lo, dtype=float),
-        np.array(hi, dtype=float),
-        relax,
-        ca.Function("constraints", [model.X, model.theta], [g]),
-    )
+class ConstraintSet:
+    """The constraints of one structure: g(X, θ), its bounds and the rows relaxed to the held plan."""
+
+    def __init__(self, structure: Structure):
+        model = capture_model(structure)
+        self.g, lo, hi, family = nonlinear_constraints(model)
+        self.lower, self.upper = np.array(lo, dtype=float), np.array(hi, dtype=float)
+        self.relax = np.array([f in RELAXABLE for f in family], dtype=bool)
+        self.function = ca.Function("constraints", [model.X, model.theta], [self.g])
 
 
 def relaxed_lower_bounds(lower: np.ndarray, relax: np.ndarray, held_values: np.ndarray) -> np.ndarray:
@@ -96,23 +91,21 @@ def relaxed_lower_bounds(lower: np.ndarray, relax: np.ndarray, held_values: np.n
     return out
 
 
-class NLPFormulation(Formulation):
+class NLPFormulation(Formulation[ConstraintSet]):
     """The true problem, expanded to SX, parametric in the state; warm-started by a shifted plan."""
 
     name = "nlp"
     kind = "nlp"
     default_backend = "ipopt"
     exact = frozenset(VIOLATION_NAMES)
-
-    def prepare(self, structure: Structure) -> None:
-        constraint_set(structure)
+    construction = ConstraintSet
 
     def _nlp(self, structure: Structure) -> dict:
         model = capture_model(structure)
         nc, N = model.nc, model.N
         q = ca.SX.sym("q", N)
         s = ca.SX.sym("s", N * nc)
-        g = constraint_set(structure)[0]
+        g = self.built(structure).g
         equal = []
         for k in range(N):
             for i in range(nc):
@@ -125,12 +118,12 @@ class NLPFormulation(Formulation):
         structure = problem.structure
         model = capture_model(structure)
         nc, N = model.nc, model.N
-        _, lo, hi, relax, g_function = constraint_set(structure)
+        constraints = self.built(structure)
         theta = parameter_vector(problem)
-        held = np.array(g_function(problem.x_from_plan(problem.held_plan()), theta)).ravel()
-        lo = relaxed_lower_bounds(lo, relax, held)
+        held = np.array(constraints.function(problem.x_from_plan(problem.held_plan()), theta)).ravel()
+        lo = relaxed_lower_bounds(constraints.lower, constraints.relax, held)
         lbg = np.concatenate([lo, np.tile([-np.inf, 0.0], N * nc)])
-        ubg = np.concatenate([hi, np.tile([0.0, np.inf], N * nc)])
+        ubg = np.concatenate([constraints.upper, np.tile([0.0, np.inf], N * nc)])
         low, high = arena_bounds(problem)
         lbx = np.concatenate([np.tile(low, N * nc), np.zeros(N + N * nc)])
         ubx = np.concatenate([np.tile(high, N * nc), np.full(N + N * nc, np.inf)])

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import threading
 from dataclasses import replace
-from functools import lru_cache
 
 import casadi as ca
 import numpy as np
@@ -200,27 +199,20 @@ class LinearisedCapture:
         return dense.reshape(cols, rows).T
 
 
-@lru_cache(maxsize=32)
-def linearised_capture(structure: Structure, exact_motion_cone: bool = False) -> LinearisedCapture:
-    return LinearisedCapture(structure, exact_motion_cone)
-
-
-class QPFormulation(Formulation):
+class QPFormulation(Formulation[LinearisedCapture]):
     """One linearisation, one convex QP, solved by a persistent QP backend."""
 
     name = "qp"
     kind = "qp"
     default_backend = "osqp"
-    exact_motion_cone = False
-
-    def prepare(self, structure: Structure) -> None:
-        linearised_capture(structure, self.exact_motion_cone)
+    construction = LinearisedCapture
+    construction_options = (False,)  # Eq. 13 as an inscribed polygon, not its exact cone
 
     def solve_at(
         self, problem: CaptureProblem, backend, reference: np.ndarray, theta: np.ndarray, duals: WarmStart | None
     ) -> Solution:
         """Solve the QP linearised at the plan ``reference``; ``x`` and ``plan`` in absolute positions."""
-        lin = linearised_capture(problem.structure, self.exact_motion_cone)
+        lin = self.built(problem.structure)
         Xref = problem.x_from_plan(reference)
         guess = decision_point(problem, Xref, theta)
         guess[: len(Xref)] = 0.0

@@ -23,7 +23,6 @@ in Python. Where no distance lies in the smoothing band, its QP is ``qp``'s.
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import lru_cache
 
 import casadi as ca
 import numpy as np
@@ -146,28 +145,21 @@ class LinearisedStages:
         self.stages = (N, [nx] * (N + 1), [nu] * N + [0], ng)
 
 
-@lru_cache(maxsize=32)
-def linearised_stages(structure: Structure) -> LinearisedStages:
-    return LinearisedStages(structure)
-
-
-class RTIFormulation(Formulation):
+class RTIFormulation(Formulation[LinearisedStages]):
     """One Gauss–Newton QP per step in stage form; linearisation, QP and plan in one call."""
 
     name = "rti"
     kind = "ocp-qp"
     default_backend = "hpipm"
     smoothing = SMOOTHING
+    construction = LinearisedStages
     # QPs a control step makes and the move that ends them, read by the control loop and the C export:
     # one QP, linearised once (stage-sqp repeats it).
     iteration = ONE_QP
 
-    def prepare(self, structure: Structure) -> None:
-        linearised_stages(structure)
-
     def stage_data(self, structure: Structure, args: tuple = ()) -> StageQPData:
         """The stage QP of ``structure`` for a backend to close, with the inputs ``args`` of one solve."""
-        return StageQPData((self.name, structure), lambda: linearised_stages(structure), args)
+        return StageQPData((self.name, structure), lambda: self.built(structure), args)
 
     def step_inputs(self, problem, warm_plan=None) -> tuple[np.ndarray, np.ndarray]:
         """The step's inputs at ``problem``: θ (the parameter vector, then the smoothing) and the reference

@@ -11,4 +11,4 @@ class SOCPFormulation(QPFormulation):
     name = "socp"
     kind = "socp"
     default_backend = "clarabel"
-    exact_motion_cone = True
+    construction_options = (True,)  # LinearisedCapture's exact_motion_cone

@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 
 from binding_cases import CASES, SYMMETRIC, Case, octagon_slack, on_circle, slack
 from mpc_hunt.formulations.capture_model import parameter_vector
-from mpc_hunt.formulations.qp import POLYGON_SIDES, linearised_capture
+from mpc_hunt.formulations.qp import POLYGON_SIDES, QPFormulation
 from mpc_hunt import CaptureProblem, HuntParameters, Solution, Status, evaluate, solve
 from mpc_hunt.solving import registry
 from mpc_hunt.capture.evaluator import VIOLATION_NAMES
@@ -166,7 +166,7 @@ def test_binding_family_is_kept_on_its_boundary(family, formulation, backend):
 def _qp_rows(problem: CaptureProblem, reference: np.ndarray, family: str):
     """The QP at ``reference`` and, for each row of ``family``: (its coefficients on the positions,
     its lower bound, the (step, defender) blocks it involves)."""
-    lin = linearised_capture(problem.structure)
+    lin = QPFormulation().built(problem.structure)
     Xref = problem.x_from_plan(reference)
     data = lin.data(("rows",), parameter_vector(problem), Xref)
     A = data.A.toarray()

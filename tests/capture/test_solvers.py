@@ -7,7 +7,7 @@ import pytest
 
 from conftest import ATTACKER, DEFENDERS, problem_at, small_scenario
 from mpc_hunt.formulations.capture_model import decision_point, parameter_vector
-from mpc_hunt.formulations.qp import linearised_capture
+from mpc_hunt.formulations.qp import QPFormulation
 from mpc_hunt import (CaptureMPC, CaptureProblem, CaptureSolver, SolverError, Status, UnknownNameError, evaluate, pairs,
                       shift_plan, solve)
 from mpc_hunt.solving import registry
@@ -83,7 +83,7 @@ def test_qp_linearisation_matches_finite_differences_of_the_numpy_model(scenario
     problem = problem_at(scenario, 2)
     reference = problem.held_plan() + 0.01 * np.array([[1.0, 0.5], [-0.5, 1.0], [0.3, -0.8]])
     X = problem.x_from_plan(reference)
-    data = linearised_capture(problem.structure).data(("t",), parameter_vector(problem), X)
+    data = QPFormulation().built(problem.structure).data(("t",), parameter_vector(problem), X)
     P = data.P.toarray()
     P = P + P.T - np.diag(np.diag(P))
     x = decision_point(problem, X)
@@ -142,7 +142,7 @@ def test_the_qp_marks_its_implied_rows_and_daqp_leaves_them_out(scenario):
     """qp's s ≥ 0 rows are implied by Eq. 14's elastic rows: marked, kept by OSQP, left out by DAQP (an active-set
     method cycles on such dependent rows), whose multipliers there are then 0, with the same plan."""
     problem = problem_at(scenario, 3)
-    lin = linearised_capture(problem.structure)
+    lin = QPFormulation().built(problem.structure)
     data = lin.data(("qp", problem.structure), parameter_vector(problem), problem.x_from_plan(problem.held_plan()))
     rows = data.A.toarray()[data.implied]
     n_s = int(data.implied.sum())
