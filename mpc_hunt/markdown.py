@@ -7,11 +7,16 @@ the lines are as short as their cells, so that a committed report stays the text
 
     lines = table(["pair", "N", "ms"], "lrr", [["rti/hpipm", 10, "2.389"]])
     # ['| pair | N | ms |', '| --- | ---: | ---: |', '| rti/hpipm | 10 | 2.389 |']
+
+A report whose rows are dicts declares its columns once, each its header, its cell of a row and its alignment
+(:class:`Column`; :func:`figure` writes a number), and renders them with :func:`columns_table` or
+:func:`columns_plain`: a column's header and cell cannot drift apart.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
 
 RULES = {"l": "---", "r": "---:"}  # a column's alignment, as the rule under the header writes it
 
@@ -47,3 +52,31 @@ def plain(header: Sequence[object], align: str, rows: Iterable[Iterable[object]]
     return "\n".join(
         "  ".join(c.ljust(w) if a == "l" else c.rjust(w) for c, w, a in zip(line, widths, align)) for line in body
     )
+
+
+@dataclass(frozen=True)
+class Column:
+    """A column of a table of dict rows: its ``header``, its ``cell`` of a row, its alignment (``l`` or ``r``)."""
+
+    header: str
+    cell: Callable[[dict], object]
+    align: str = "r"
+
+
+def figure(key: str, fmt: str = "", scale: float = 1.0) -> Callable[[dict], str]:
+    """The cell of ``row[key]`` times ``scale``, written with ``fmt``; "–" where the row has none (None)."""
+    return lambda row: "–" if row.get(key) is None else format(row[key] * scale if scale != 1.0 else row[key], fmt)
+
+
+def columns_table(columns: Sequence[Column], rows: Iterable[dict]) -> list[str]:
+    """:func:`table` of ``rows``, a cell a column."""
+    return table([c.header for c in columns], "".join(c.align for c in columns), _cells(columns, rows))
+
+
+def columns_plain(columns: Sequence[Column], rows: Iterable[dict]) -> str:
+    """:func:`plain` of ``rows``, a cell a column."""
+    return plain([c.header for c in columns], "".join(c.align for c in columns), _cells(columns, rows))
+
+
+def _cells(columns: Sequence[Column], rows: Iterable[dict]) -> Iterable[list[object]]:
+    return ([c.cell(r) for c in columns] for r in rows)

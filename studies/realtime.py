@@ -37,6 +37,7 @@ from mpc_hunt.bench.machine import describe_machine, load_average, machine_lines
 from mpc_hunt.bench.own_loop import (ABANDON_AFTER, WINDOW, OwnLoopRun, capture_stage_hunts, hunt_summary,
                                      markdown_table, rows_of, run_tasks)
 from mpc_hunt.errors import MpcHuntError
+from mpc_hunt.markdown import Column
 from mpc_hunt.interrupt import stop_keeping
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
@@ -130,7 +131,7 @@ def fit(row: dict) -> bool:
 
 
 def table(rows: list[dict]) -> list[str]:
-    return markdown_table(rows, ("fit to embed", lambda r: "yes" if fit(r) else "no"))
+    return markdown_table(rows, Column("fit to embed", lambda r: "yes" if fit(r) else "no", "l"))
 
 
 def settings() -> dict:

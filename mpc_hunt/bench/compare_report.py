@@ -12,6 +12,7 @@ from mpc_hunt.bench.compare import CompareRun
 from mpc_hunt.bench.compare_rows import best_known, gap
 from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.capture.evaluator import ENCLOSE_OBJECTIVE, OBJECTIVE, VIOLATION_NAMES
+from mpc_hunt.markdown import Column, figure
 from mpc_hunt.solving.accuracy import accuracy_table
 
 
@@ -64,70 +65,35 @@ def write_csv(rows: list[dict], path: Path) -> None:
         writer.writerows(rows)
 
 
-def _ms(x: float | None) -> str:
-    return "–" if x is None else f"{x * 1e3:.2f}"
-
-
-def _g(x: float | None, fmt: str = ".2g") -> str:
-    return "–" if x is None else format(x, fmt)
-
-
 COLUMNS = (
-    "pair",
-    "mode",
-    "N",
-    "accuracy",
-    "solves",
-    "success",
-    "median ms",
-    "p95 ms",
-    "sgm ms",
-    "solver ms",
-    "ours ms",
-    "warm ×",
-    "iters",
-    "gap med",
-    "gap p95",
-    "max viol m",
-    "max dual res",
-    "max gap",
+    Column("pair", lambda r: f"{r['formulation']}/{r['backend']}", "l"),
+    Column("mode", figure("mode"), "l"),
+    Column("N", figure("horizon")),
+    Column("accuracy", figure("accuracy")),
+    Column("solves", figure("solves")),
+    Column("success", figure("success_rate", ".0%")),
+    Column("median ms", figure("solve_time_median_s", ".2f", 1e3)),
+    Column("p95 ms", figure("solve_time_p95_s", ".2f", 1e3)),
+    Column("sgm ms", figure("solve_time_shifted_geomean_s", ".2f", 1e3)),
+    Column("solver ms", figure("solver_time_median_s", ".2f", 1e3)),
+    Column("ours ms", figure("overhead_time_median_s", ".2f", 1e3)),
+    Column("warm ×", figure("warm_speedup", ".2f")),
+    Column("iters", figure("iterations_median", "g")),
+    Column("gap med", figure("optimality_gap_median", ".2g")),
+    Column("gap p95", figure("optimality_gap_p95", ".2g")),
+    Column("max viol m", figure("max_violation", ".1e")),
+    Column("max dual res", figure("max_dual_residual", ".1e")),
+    Column("max gap", figure("max_duality_gap", ".1e")),
 )
-
-
-def _cells(r: dict) -> list[str]:
-    speedup = "–" if r.get("warm_speedup") is None else f"{r['warm_speedup']:.2f}"
-    return [
-        f"{r['formulation']}/{r['backend']}",
-        r["mode"],
-        str(r["horizon"]),
-        r["accuracy"],
-        str(r["solves"]),
-        f"{r['success_rate']:.0%}",
-        _ms(r["solve_time_median_s"]),
-        _ms(r["solve_time_p95_s"]),
-        _ms(r["solve_time_shifted_geomean_s"]),
-        _ms(r["solver_time_median_s"]),
-        _ms(r["overhead_time_median_s"]),
-        speedup,
-        _g(r["iterations_median"], "g"),
-        _g(r["optimality_gap_median"]),
-        _g(r["optimality_gap_p95"]),
-        _g(r["max_violation"], ".1e"),
-        _g(r.get("max_dual_residual"), ".1e"),
-        _g(r.get("max_duality_gap"), ".1e"),
-    ]
-
-
-ALIGN = "ll" + "r" * (len(COLUMNS) - 2)  # the pair's names left, the figures right
 
 
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table for the terminal."""
-    return markdown.plain(COLUMNS, ALIGN, map(_cells, rows))
+    return markdown.columns_plain(COLUMNS, rows)
 
 
 def markdown_table(rows: list[dict]) -> list[str]:
-    return markdown.table(COLUMNS, ALIGN, map(_cells, rows))
+    return markdown.columns_table(COLUMNS, rows)
 
 
 def violation_table(rows: list[dict]) -> list[str]:
@@ -140,7 +106,7 @@ def violation_table(rows: list[dict]) -> list[str]:
                 r["mode"],
                 r["horizon"],
                 r["statuses"],
-                *(_g(r[f"max_violation_{n}"], ".1e") for n in VIOLATION_NAMES),
+                *(figure(f"max_violation_{n}", ".1e")(r) for n in VIOLATION_NAMES),
             ]
             for r in rows
         ),

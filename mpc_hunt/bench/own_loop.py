@@ -42,6 +42,7 @@ from mpc_hunt.capture.solution import Status
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.spec import make_controller
 from mpc_hunt.errors import BenchmarkError
+from mpc_hunt.markdown import Column, figure
 from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sim.simulator import check_seconds, simulate
 from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
@@ -361,82 +362,43 @@ def rows(run: OwnLoopRun) -> list[dict]:
     return rows_of([hunt_summary(h) for h in run.hunts], run.pairs, run.horizons, run.tolerance, run.deadline)
 
 
-def _ms(x: float | None) -> str:
-    return "–" if x is None else f"{x * 1e3:.1f}"
-
-
-def _g(x: float | None) -> str:
-    return "–" if x is None else f"{x:.1e}"
+def _hard_violation(r: dict) -> str:
+    hard = [r[f"max_violation_{n}"] for n in HARD if r[f"max_violation_{n}"] is not None]
+    return "–" if not hard else f"{max(hard):.1e}"
 
 
 COLUMNS = (
-    "pair",
-    "N",
-    "captured",
-    "abandoned",
-    "p50 ms",
-    "p95 ms",
-    "p99 ms",
-    "max ms",
-    "> T",
-    "> deadline",
-    "> limit",
-    "> limit on CPU",
-    "set-ups",
-    "max set-up ms",
-    "budget hits",
-    "fallbacks",
-    "streak",
-    "iters",
-    "violating",
-    "max hard viol m",
-    "max primal res",
-    "max dual res",
-    "max gap",
+    Column("pair", lambda r: f"{r['formulation']}/{r['backend']}", "l"),
+    Column("N", figure("horizon")),
+    Column("captured", lambda r: f"{r['captured']}/{r['hunts']}"),
+    Column("abandoned", figure("abandoned")),
+    Column("p50 ms", figure("step_time_p50_s", ".1f", 1e3)),
+    Column("p95 ms", figure("step_time_p95_s", ".1f", 1e3)),
+    Column("p99 ms", figure("step_time_p99_s", ".1f", 1e3)),
+    Column("max ms", figure("step_time_max_s", ".1f", 1e3)),
+    Column("> T", figure("deadline_misses_T")),
+    Column("> deadline", figure("deadline_misses")),
+    Column("> limit", figure("past_limit_and_overhead")),
+    Column("> limit on CPU", figure("past_limit_on_cpu")),
+    Column("set-ups", figure("setups")),
+    Column("max set-up ms", figure("setup_max_s", ".1f", 1e3)),
+    Column("budget hits", figure("budget_hits")),
+    Column("fallbacks", figure("fallbacks")),
+    Column("streak", figure("longest_failure_streak")),
+    Column("iters", figure("iterations_median", "g")),
+    Column("violating", figure("violating_plans")),
+    Column("max hard viol m", _hard_violation),
+    Column("max primal res", figure("max_primal_residual", ".1e")),
+    Column("max dual res", figure("max_dual_residual", ".1e")),
+    Column("max gap", figure("max_duality_gap", ".1e")),
 )
-
-
-def cells(r: dict) -> list[str]:
-    """A row's cells, in :data:`COLUMNS`' order."""
-    hard = [r[f"max_violation_{n}"] for n in HARD if r[f"max_violation_{n}"] is not None]
-    return [
-        f"{r['formulation']}/{r['backend']}",
-        str(r["horizon"]),
-        f"{r['captured']}/{r['hunts']}",
-        str(r["abandoned"]),
-        _ms(r["step_time_p50_s"]),
-        _ms(r["step_time_p95_s"]),
-        _ms(r["step_time_p99_s"]),
-        _ms(r["step_time_max_s"]),
-        str(r["deadline_misses_T"]),
-        "–" if r["deadline_misses"] is None else str(r["deadline_misses"]),
-        "–" if r["past_limit_and_overhead"] is None else str(r["past_limit_and_overhead"]),
-        "–" if r["past_limit_on_cpu"] is None else str(r["past_limit_on_cpu"]),
-        str(r["setups"]),
-        _ms(r["setup_max_s"]),
-        str(r["budget_hits"]),
-        str(r["fallbacks"]),
-        str(r["longest_failure_streak"]),
-        "–" if r["iterations_median"] is None else f"{r['iterations_median']:g}",
-        str(r["violating_plans"]),
-        _g(max(hard) if hard else None),
-        _g(r["max_primal_residual"]),
-        _g(r["max_dual_residual"]),
-        _g(r["max_duality_gap"]),
-    ]
-
-
-ALIGN = "l" + "r" * (len(COLUMNS) - 1)  # the pair left, the figures right
 
 
 def table(rows: list[dict]) -> str:
     """The rows as a plain-text table."""
-    return markdown.plain(COLUMNS, ALIGN, map(cells, rows))
+    return markdown.columns_plain(COLUMNS, rows)
 
 
-def markdown_table(rows: list[dict], extra: tuple[str, Callable[[dict], str]] | None = None) -> list[str]:
-    """The rows as a Markdown table; ``extra``, (its name, its cell of a row): a last column, left-aligned."""
-    header, align = list(COLUMNS), ALIGN
-    if extra is None:
-        return markdown.table(header, align, map(cells, rows))
-    return markdown.table([*header, extra[0]], align + "l", ([*cells(r), extra[1](r)] for r in rows))
+def markdown_table(rows: list[dict], extra: Column | None = None) -> list[str]:
+    """The rows as a Markdown table; ``extra``: a last column."""
+    return markdown.columns_table(COLUMNS if extra is None else (*COLUMNS, extra), rows)
