@@ -129,8 +129,7 @@ class SecondDaqp(DaqpBackend):
 
 class MissingSolver(DaqpBackend):
     name = "missing"
-    package = "no_such_solver_package"
-    install = "no-such-solver"
+    package = "no_such_solver"
 
 
 @pytest.fixture
@@ -150,7 +149,7 @@ def test_a_registered_backend_works_with_every_formulation_of_its_kind(extra_bac
 def test_a_missing_solver_is_listed_with_its_install_hint(extra_backends):
     assert ("qp", "missing") not in registry.pairs()
     assert ("qp", "missing") in registry.pairs(installed_only=False)
-    with pytest.raises(SolverNotFoundError, match="pip install no-such-solver"):
+    with pytest.raises(SolverNotFoundError, match="pip install no_such_solver"):
         CaptureSolver("qp", "missing")
 
 

@@ -755,7 +755,7 @@ def _backends(args) -> int:
         )
     for b in registry.BACKENDS:
         solver = registry.backend_class(b)
-        where = "installed" if registry.installed(b) else f"NOT installed: pip install {solver.install}"
+        where = "installed" if registry.installed(b) else f"NOT installed: pip install {solver.package}"
         only = f"; objective {' or '.join(solver.objectives)} only" if solver.objectives is not None else ""
         print(f"backend {b} (accepts {', '.join(solver.accepts)}{only}): {where}")
     return 0

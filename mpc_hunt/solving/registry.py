@@ -74,7 +74,7 @@ def installed(backend: str) -> bool:
 
 def install_hint(backend: str) -> str:
     cls = backend_class(backend)
-    return f"backend {backend!r} needs the Python package {cls.package!r}: pip install {cls.install}"
+    return f"backend {backend!r} needs the Python package {cls.package!r}: pip install {cls.package}"
 
 
 def compatible_backends(formulation: str) -> list[str]:

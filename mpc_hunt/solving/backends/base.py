@@ -77,8 +77,7 @@ class Backend:
     # The step its C export writes (mpc_hunt.solving.export): "hpipm" (CasADi's, built against this machine's HPIPM
     # and BLASFEO) or "condensed" (with DAQP's sources, for any target); None: no export.
     exports: ClassVar[str | None] = None
-    package: ClassVar[str]  # the solver's import name
-    install: ClassVar[str]  # what to pip install
+    package: ClassVar[str]  # the solver's import name, pip installed by the same name
     ACCURACY: ClassVar[dict[str, dict[str, Any]]] = {}
     TIME_LIMIT: ClassVar[bool] = True  # whether it takes a time limit at all
     CLOCK: ClassVar[bool] = True  # whether the solver stops itself on the clock (else: an iteration cap)

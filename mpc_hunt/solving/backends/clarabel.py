@@ -96,7 +96,6 @@ class ClarabelBackend(Backend):
     name = "clarabel"
     accepts = ("qp", "socp")
     package = "clarabel"
-    install = "clarabel"
     ACCURACY = {
         "default": {},
         "high": {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10},

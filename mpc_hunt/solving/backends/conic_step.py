@@ -34,7 +34,6 @@ class ConicStepBackend(Backend):
 
     accepts = ("ocp-qp",)
     package = "casadi"
-    install = "casadi"
     CLOCK = False  # the step is one CasADi call; its conic plugins read no clock: a time limit is a cap
     LOOP_CERTIFICATE = True  # the step's output 5: its QP's certificate
     plugin: ClassVar[str]

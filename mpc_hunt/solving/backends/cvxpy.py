@@ -51,7 +51,6 @@ class CvxpyBackend(Backend):
     name = "cvxpy"
     accepts = ("qp", "socp")
     package = "cvxpy"
-    install = "cvxpy"
     ACCURACY = ClarabelBackend.ACCURACY  # Clarabel's tolerances (any other solver gets the default)
 
     MAX_ITER = ClarabelBackend.MAX_ITER

@@ -67,7 +67,6 @@ class DaqpBackend(Backend):
     name = "daqp"
     accepts = ("qp",)
     package = "daqp"
-    install = "daqp"
     ACCURACY = {"default": {}, "high": {"primal_tol": 1e-9}, "low": {"primal_tol": 1e-4}}
     CLOCK = False
     MAX_ITER = 10000

@@ -53,7 +53,6 @@ class DaqpCondensedBackend(Backend):
     exports = "condensed"
     objectives = ("enclose",)  # every control weighted: a positive definite condensed Hessian
     package = "daqp"
-    install = "daqp"
     TIME_LIMIT = False  # DAQP's limit needs its profiling build; the board's build has no clock
     ACCURACY = {"default": {}, "high": {}, "low": {}}  # an active-set solution is exact on its active set
 

@@ -38,7 +38,6 @@ class IpoptBackend(Backend):
     name = "ipopt"
     accepts = ("nlp", "ocp-nlp")
     package = "casadi"
-    install = "casadi"
     # IPOPT relaxes every bound by bound_relax_factor (1e-8 by default, in a row's units: 6e-7 m on nlp's
     # Eq. 13 in m², whose r_d² is 6.4e-5 m²; ms-nlp's rows are per step); "high" tightens it.
     ACCURACY = {

@@ -25,7 +25,6 @@ class OsqpBackend(Backend):
     name = "osqp"
     accepts = ("qp",)
     package = "osqp"
-    install = "osqp"
     ACCURACY = {
         "default": {"eps_abs": 1e-7, "eps_rel": 1e-7},
         "high": {"eps_abs": 1e-9, "eps_rel": 1e-9},
