@@ -149,15 +149,64 @@ def test_a_solver_with_a_clock_is_handed_the_time_left_and_stops_when_there_is_n
     backend = solver.backend
     outside, per_iteration = backend.outside_clock(), backend.iteration_time()
     assert 0 < outside < 0.01 and 0 < per_iteration < 1e-3  # (OSQP's iteration: microseconds)
-    assert backend.clock_limit() == pytest.approx(0.5 - outside - PACE_MARGIN * per_iteration)
+    tail = backend.tail()                                  # (a refactorisation for a new rho, if any: see below)
+    assert backend.clock_limit() == pytest.approx(0.5 - outside - PACE_MARGIN * (per_iteration + tail))
     backend.record_pace(0.1, 50)                           # one dear solve: it raises the bound a cap needs,
     assert backend.cost()[1] > 1e-3 and backend.iteration_time() < 1e-3   # not what a clock's last iteration costs
-    assert backend.clock_limit() == pytest.approx(0.5 - outside - PACE_MARGIN * backend.iteration_time())
+    assert backend.clock_limit() == pytest.approx(0.5 - outside - PACE_MARGIN * (backend.iteration_time() + tail))
     with backend.step_within(time.perf_counter() - 1.0):   # a step whose time is spent before its QP starts
         assert backend.clock_limit() == MIN_SLICE
         late = solver.formulation.solve(problem, backend, None, None)
     assert late.status is Status.TIME_LIMIT and late.iterations <= 1
     assert backend.time_left() == 0.5                      # the step over, the limit is whole again
+
+
+def test_osqps_polish_after_its_last_clock_check_is_reserved_from_the_limit_it_is_handed(scenario):
+    """OSQP polishes a solved QP without reading its clock again: the dearest recent polish (its tail) is
+    reserved, with the margin, from the time left it is handed."""
+    solver = CaptureSolver("qp", "osqp", time_limit=0.5)   # polishing on, as the backend runs it
+    problem = problem_at(scenario, 10)
+    solves = [solver.solve(problem) for _ in range(4)]
+    backend = solver.backend
+    assert all(s.status is Status.OPTIMAL for s in solves)
+    assert 0 < backend.tail() < 0.01                       # a polish of this QP: a fraction of a millisecond
+    assert backend.clock_limit() == pytest.approx(
+        0.5 - backend.outside_clock() - PACE_MARGIN * (backend.iteration_time() + backend.tail()))
+    unpolished = CaptureSolver("qp", "osqp", time_limit=0.5, polishing=False, adaptive_rho=False)
+    for _ in range(3):
+        unpolished.solve(problem)
+    assert unpolished.backend.tail() == 0.0                # nothing past its clock: nothing reserved
+
+
+def test_the_work_after_a_solvers_last_call_back_is_reserved_in_the_next_solves():
+    """What a solve ran after its last iteration's call back (IPOPT's and Clarabel's finish), on the CPU, is
+    reserved in the next solves' stops: a solve stops once the time left would not fit it beside an iteration."""
+    import time
+
+    from mpc_hunt.solving.backends.iteration_deadline import RECENT_SOLVES, IterationDeadline
+
+    def busy(seconds: float) -> None:  # CPU time, as the finish is measured
+        end = time.thread_time() + seconds
+        while time.thread_time() < end:
+            pass
+
+    deadline = IterationDeadline()
+    deadline.start(10.0)
+    assert not deadline.passed()
+    busy(0.02)                                              # 20 ms of work after the last call back
+    deadline.finish()
+    deadline.start(0.03)                                    # 30 ms left: an iteration of ~0 ms and 20 ms fit
+    assert not deadline.passed()
+    deadline.finish()
+    deadline.start(0.015)                                   # 15 ms left would not fit the 20 ms finish
+    assert deadline.passed()
+    deadline.finish()
+    for _ in range(RECENT_SOLVES):                          # quick finishes push the dear one out
+        deadline.start(10.0)
+        deadline.passed()
+        deadline.finish()
+    deadline.start(0.015)
+    assert not deadline.passed()
 
 
 def test_solves_a_clock_stopped_do_not_flatten_the_cost_of_an_iteration():

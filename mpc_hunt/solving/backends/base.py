@@ -117,6 +117,7 @@ class Backend:
         self._outside_fit: float | None = None  # outside_clock(), of the solves recorded so far
         self._fit: tuple[float, float, float] | None = None  # cost() and iteration_time(), of the solves so far
         self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
+        self._tails: deque[float] = deque(maxlen=PACE_SOLVES)  # s of CPU a solve ran after its clock's last check
 
     @classmethod
     def option_names(cls) -> frozenset[str] | None:
@@ -225,16 +226,30 @@ class Backend:
             self._outside_fit = PACE_MARGIN * float(np.median(self._outside)) if self._outside else 0.0
         return self._outside_fit
 
+    def record_tail(self, seconds: float) -> None:
+        """Count ``seconds`` of the CPU a solve spent after its solver last read its clock, work the solver does
+        not stop on its limit (OSQP's polish of a solved QP, its refactorisation for a new rho), towards
+        :meth:`tail`."""
+        if seconds > 0:
+            self._tails.append(seconds)
+
+    def tail(self) -> float:
+        """The dearest of the recent solves' tails (:meth:`record_tail`; 0 before any): what a solver with a clock
+        may still run once its clock has said the solve fits, not covered by one iteration."""
+        return max(self._tails, default=0.0)
+
     def clock_limit(self) -> float | None:
         """The limit a solver with a clock is handed for the solve about to run: the :meth:`time_left` less what
         the solve will spend outside the solver's clock (:meth:`outside_clock`) and less :data:`PACE_MARGIN` × its
         typical cost per iteration (:meth:`iteration_time`: a solver reads its clock once an iteration, so it stops
         up to one iteration past its limit; the bound of :meth:`cost` there cost CVXPY's steps at N = 5 runs of up
-        to 60 failed solves), at least :data:`MIN_SLICE` (None: no limit)."""
+        to 60 failed solves) and less :data:`PACE_MARGIN` × its :meth:`tail`, the dearest recent work it did after
+        its last clock check, at least :data:`MIN_SLICE` (None: no limit)."""
         left = self.time_left()
         if left is None:
             return None
-        return max(left - self.outside_clock() - PACE_MARGIN * self.iteration_time(), MIN_SLICE)
+        reserve = self.outside_clock() + PACE_MARGIN * (self.iteration_time() + self.tail())
+        return max(left - reserve, MIN_SLICE)
 
     def iteration_cap(self, left: float | None = None) -> int:
         """The iteration cap of the next solve: ``max_iter`` (else the class's), and for a solver without a clock

@@ -147,6 +147,8 @@ class ClarabelBackend(Backend):
         if deadline is not None and left is not None:
             deadline.start(left)
         sol = solver.solve()
+        if deadline is not None and left is not None:
+            deadline.finish()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)
         return Solution(

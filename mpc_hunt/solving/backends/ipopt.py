@@ -106,6 +106,8 @@ class IpoptBackend(Backend):
         if deadline is not None and left is not None:
             deadline.start(left)
         out = solver(**args)  # CasADi raises RuntimeError on evaluation errors (NaN, …)
+        if deadline is not None and left is not None:
+            deadline.finish()
         stats = solver.stats()
         raw = stats.get("return_status", "unknown")
         x = np.array(out["x"]).ravel()
@@ -180,6 +182,9 @@ def _deadline(nx: int, ng: int, np_: int):
 
         def start(self, left: float) -> None:
             self.pace.start(left)
+
+        def finish(self) -> None:
+            self.pace.finish()
 
         def has_eval_buffer(self):
             return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate
