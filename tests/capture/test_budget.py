@@ -239,18 +239,20 @@ def test_a_solve_its_clock_stopped_is_recorded_as_stopped(scenario, monkeypatch)
     assert [stopped for _, _, stopped in solver.backend._solves] == [False, True]
 
 
-def test_the_time_outside_a_solvers_clock_is_measured_against_the_time_it_reports(scenario):
-    """CVXPY's canonicalisation and read-back lie outside Clarabel's clock: what is subtracted from the time left is
-    the margin times the median of each solve's measured time less its reported one (a structure's first apart)."""
+def test_the_time_outside_a_solvers_clock_is_measured_from_the_limit_it_is_handed(scenario):
+    """CVXPY writes its data, then reads the time left and hands it to Clarabel, then reads the answer back: what
+    is subtracted from the time left is the margin times the median of each solve's time from that read less the
+    solver's reported time, so the canonicalisation before the read, already out of the time left, is not."""
     solver = CaptureSolver("qp", "cvxpy", time_limit=1.0)
     problem = problem_at(scenario, 3)
     solver.solve(problem)
-    outside = []
+    whole = []
     for _ in range(5):
         s = solver.solve(problem)
-        outside.append(s.solver_time - s.extras["reported_solve_time_s"])
-    assert min(outside) > 0
-    assert solver.backend.outside_clock() == pytest.approx(PACE_MARGIN * np.median(outside))
+        whole.append(s.solver_time - s.extras["reported_solve_time_s"])
+    assert min(whole) > 0
+    outside = solver.backend.outside_clock()
+    assert 0 < outside < PACE_MARGIN * np.median(whole) / 2       # (the canonicalisation: most of CVXPY's time)
 
 
 @pytest.mark.parametrize("left,spent,count,starts", [

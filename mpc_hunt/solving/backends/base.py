@@ -118,6 +118,7 @@ class Backend:
         self._fit: tuple[float, float, float] | None = None  # cost() and iteration_time(), of the solves so far
         self._deadline: float | None = None  # perf_counter s by which the step under way must end (None: no step)
         self._tails: deque[float] = deque(maxlen=PACE_SOLVES)  # s of CPU a solve ran after its clock's last check
+        self._handed_at: float | None = None  # perf_counter s the solve under way read its clock_limit (None: not)
 
     @classmethod
     def option_names(cls) -> frozenset[str] | None:
@@ -218,10 +219,11 @@ class Backend:
         return self.time_limit if self._deadline is None else self._deadline - time.perf_counter()
 
     def outside_clock(self) -> float:
-        """Seconds a solve spends outside the solver's own clock (handing it the data, CVXPY's canonicalisation,
-        reading the answer back): :data:`PACE_MARGIN` × the median, over the last solves, of each one's time less
-        the solve time its solver reported (0 before any, or for a solver that reports none). Not the largest: one
-        slow canonicalisation would leave CVXPY's next solves no time at all (measured: runs of 33 failed steps)."""
+        """Seconds a solve spends outside the solver's own clock once it has read its :meth:`clock_limit` (handing
+        the solver the data, reading the answer back): :data:`PACE_MARGIN` × the median, over the last solves, of
+        each one's time from that read less the solve time its solver reported (0 before any, or for a solver that
+        reports none). Not the largest: one slow solve would leave the next ones no time at all (measured with
+        CVXPY's canonicalisation inside: runs of 33 failed steps); CVXPY now reads it after canonicalising."""
         if self._outside_fit is None:
             self._outside_fit = PACE_MARGIN * float(np.median(self._outside)) if self._outside else 0.0
         return self._outside_fit
@@ -248,6 +250,7 @@ class Backend:
         left = self.time_left()
         if left is None:
             return None
+        self._handed_at = time.perf_counter()
         reserve = self.outside_clock() + PACE_MARGIN * (self.iteration_time() + self.tail())
         return max(left - reserve, MIN_SLICE)
 
@@ -309,7 +312,7 @@ class Backend:
                 setup_time = time.perf_counter() - t0
                 t0 = time.perf_counter()
                 self.set_up_within_step(setup_time)
-            cpu = time.thread_time()
+            cpu, self._handed_at = time.thread_time(), None
             if not new:
                 self.update(state, data)
             result = self.run(state, data, warm or WarmStart())
@@ -331,8 +334,9 @@ class Backend:
                 time.thread_time() - cpu, result.iterations, self.CLOCK and result.status is Status.TIME_LIMIT
             )
             reported = result.extras.get("reported_solve_time_s")
-            if reported is not None:
-                self._outside.append(max(solver_time - float(reported), 0.0))
+            if reported is not None:  # from the clock_limit read (what came before it was out of the time left)
+                since = solver_time if self._handed_at is None else t0 + solver_time - self._handed_at
+                self._outside.append(max(since - float(reported), 0.0))
                 self._outside_fit = None
         if result.x is not None and not np.all(np.isfinite(result.x)):
             result = replace(result, x=None, formulation_objective=None, message=f"{result.message} (non-finite x)")
