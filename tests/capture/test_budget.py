@@ -192,6 +192,10 @@ def test_the_work_after_a_solvers_last_call_back_is_reserved_in_the_next_solves(
 
     deadline = IterationDeadline()
     deadline.start(10.0)
+    busy(0.02)
+    deadline.finish()                                       # never called back (a solver made anew): no finish
+    assert not deadline.tails
+    deadline.start(10.0)
     assert not deadline.passed()
     busy(0.02)                                              # 20 ms of work after the last call back
     deadline.finish()
@@ -308,6 +312,23 @@ def test_clarabel_stops_when_the_time_left_would_not_fit_another_iteration(scena
     # Its time is its set-up before the first check (the KKT system's factorisation: 2-4 ms on a loaded machine,
     # measured) and no more: less than the full solve's.
     assert late.iterations < full.iterations and late.solver_time < full.solver_time
+
+
+def test_cvxpy_stops_clarabel_by_its_callback_when_the_time_left_would_not_fit_another_iteration(scenario):
+    """CVXPY keeps the Clarabel solver it made and updates it for the next solve: the deadline's callback is set on
+    it, so under a step's limit it stops between iterations, as a time_limit, as Clarabel run directly does."""
+    import time
+
+    solver = CaptureSolver("socp", "cvxpy", time_limit=5.0)
+    problem = problem_at(scenario, 10)
+    solver.solve(problem)                                   # the structure's set-up: CVXPY makes its solver
+    full = solver.solve(problem)
+    assert full.status is Status.OPTIMAL and full.iterations > 3   # 5 s: the callback lets it converge
+    one = full.extras["reported_solve_time_s"] / full.iterations
+    with solver.backend.step_within(time.perf_counter() - 5.0 + 2 * one):
+        late = solver.formulation.solve(problem, solver.backend, None, None)
+    assert late.status is Status.TIME_LIMIT and late.message == "CallbackTerminated (CLARABEL)"
+    assert late.iterations < full.iterations
 
 
 def test_ipopt_budgets_a_solves_first_iteration_as_the_recent_solves_longest():

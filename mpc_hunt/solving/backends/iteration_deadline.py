@@ -24,6 +24,7 @@ class IterationDeadline:
     def __init__(self) -> None:
         self.until = float("inf")
         self.last = self.longest = self.carried = self.cpu = self.reserve = 0.0
+        self.called = False  # whether the solve under way has called back yet
         self.earlier: deque[float] = deque(maxlen=RECENT_SOLVES)  # the longest iteration of each recent solve
         self.tails: deque[float] = deque(maxlen=RECENT_SOLVES)  # s of CPU each ran after its last call back
 
@@ -32,7 +33,7 @@ class IterationDeadline:
         longest of the recent solves' (the one before it ended on that iteration's clock)."""
         if self.longest > 0:
             self.earlier.append(self.longest)
-        self.last, self.cpu = time.perf_counter(), time.thread_time()
+        self.last, self.cpu, self.called = time.perf_counter(), time.thread_time(), False
         self.until, self.longest, self.carried = self.last + left, 0.0, max(self.earlier, default=0.0)
         self.reserve = max(self.tails, default=0.0)
 
@@ -40,9 +41,12 @@ class IterationDeadline:
         """Called after each iteration: whether the solve stops here, the time left not fitting another."""
         now = time.perf_counter()
         self.longest, self.last, self.cpu = max(self.longest, now - self.last), now, time.thread_time()
+        self.called = True
         return self.until - now < PACE_MARGIN * max(self.longest, self.carried) + self.reserve
 
     def finish(self) -> None:
         """Called when the solve has returned: what it ran after its last call back (on the CPU: a finish held up
-        by the machine is not a dearer one) is reserved in the next solves."""
-        self.tails.append(time.thread_time() - self.cpu)
+        by the machine is not a dearer one) is reserved in the next solves; a solve that never called back (a
+        solver made anew, without the callback) measured none."""
+        if self.called:
+            self.tails.append(time.thread_time() - self.cpu)
