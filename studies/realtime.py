@@ -13,7 +13,7 @@ within it), no run of failed solves was longer than ``STREAK`` steps and no usab
 beyond the tolerance (captures are the paper's controller's, reported beside it).
 Pairs take turns on each hunt. It writes ``studies/realtime/`` (README.md, results.json with the machine's
 description) and the own-loop table of ``docs/benchmarks.md``; each finished hunt goes to ``hunts.jsonl`` as it
-ends, so a stopped run resumes where it stopped (``--fresh`` starts over). 27 minutes on two cores (measured).
+ends, so a stopped run resumes where it stopped (``--fresh`` starts over). 28 minutes on two cores (measured).
 
     python studies/realtime.py [--workers 2]     # run it (or resume) and rewrite studies/realtime/
     python studies/realtime.py --check           # the committed pairs, horizons, hunts and table are the code's

@@ -69,3 +69,14 @@ def test_the_shares_times_and_two_robot_hunts_e16_quotes_are_the_attackers_study
             f"{median[2]} s") in e16
     two = re.search(r"two-robot hunts against `apf` \| (\d+) / (\d+) \|", study)
     assert f"It captures {two[1]} of {two[2]} reachable ones against `apf`" in e16
+
+
+def test_the_own_loops_overruns_quoted_are_the_realtime_studys():
+    """docs/benchmarks.md's reading of the own loop quotes the committed run's counts of late steps."""
+    o = json.loads((ROOT / "studies" / "realtime" / "results.json").read_text())["overruns"]
+    text = " ".join(_section((ROOT / "docs" / "benchmarks.md").read_text(), "### Every pair in its own loop, under").split())
+    assert f"Of the {o['steps']:,} steps, {o['past_budget']:,} went past 0.02 s" in text
+    assert f"{o['past_by_overrun']} by more than 5 ms. {o['past_limit_and_overhead']} took longer than the limit" in text
+    machines = o["past_limit_and_overhead"] - o["past_limit_on_cpu"]
+    assert f"on the wall clock; {machines} of those were the machine's" in text
+    assert f"Counting only the time the process ran, {o['past_limit_on_cpu']} did" in text
