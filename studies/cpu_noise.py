@@ -17,7 +17,6 @@ from __future__ import annotations
 import json
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
@@ -28,6 +27,8 @@ import numpy as np
 from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, machine_lines
+from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.workers import run_local
 from studies.docs_block import read_block, write_block
 from studies.study_check import check_result, run_study
 
@@ -66,8 +67,7 @@ def timed(seconds: float) -> list[float]:
 def measure(seconds: int) -> list[dict]:
     rows = []
     for processes in PROCESSES:
-        with ProcessPoolExecutor(processes) as pool:
-            times = np.concatenate(list(pool.map(timed, [seconds] * processes)))
+        times = np.concatenate(list(run_local([seconds] * processes, timed, processes)))
         median = float(np.median(times))
         rows.append({
             "processes": processes, "runs": int(times.size), "median_s": median,
@@ -131,8 +131,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(), "studies/cpu_noise", COMMAND)
-    results = {"machine": describe_machine(), "settings": {"seconds": args.seconds, "work": list(WORK)},
-               "rows": measure(args.seconds)}
+    with stop_at_once("cpu_noise study"):   # nothing is written before the measurement has ended
+        rows = measure(args.seconds)
+    results = {"machine": describe_machine(), "settings": {"seconds": args.seconds, "work": list(WORK)}, "rows": rows}
     write(results)
     print("\n".join(table(results["rows"])))
     print(f"wrote {OUT / 'README.md'} and the line of docs/benchmarks.md")
