@@ -348,14 +348,14 @@ def test_ipopt_budgets_a_solves_first_iteration_as_the_recent_solves_longest():
         deadline.eval_buffer(None, [stop])
         return memoryview(stop).cast("d")[0]
 
-    deadline.start(10.0)
+    deadline.pace.start(10.0)
     assert iteration(0.05) == 0.0                           # 10 s left: on it goes; its iteration took 50 ms
-    deadline.start(0.06)                                    # 60 ms left < 1.5 × 50 ms: no iteration started
+    deadline.pace.start(0.06)                                    # 60 ms left < 1.5 × 50 ms: no iteration started
     assert iteration() == 1.0
     for _ in range(RECENT_SOLVES):                          # solves of short iterations push the long one out
-        deadline.start(10.0)
+        deadline.pace.start(10.0)
         iteration(0.001)
-    deadline.start(0.06)
+    deadline.pace.start(0.06)
     assert iteration() == 0.0
 
 

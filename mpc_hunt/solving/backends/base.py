@@ -246,7 +246,8 @@ class Backend:
         typical cost per iteration (:meth:`iteration_time`: a solver reads its clock once an iteration, so it stops
         up to one iteration past its limit; the bound of :meth:`cost` there cost CVXPY's steps at N = 5 runs of up
         to 60 failed solves) and less :data:`PACE_MARGIN` × its :meth:`tail`, the dearest recent work it did after
-        its last clock check, at least :data:`MIN_SLICE` (None: no limit)."""
+        its last clock check, at least :data:`MIN_SLICE` (None: no limit). The read is remembered: the solve's time
+        outside its solver's clock is measured from it."""
         left = self.time_left()
         if left is None:
             return None

@@ -20,7 +20,7 @@ import scipy.sparse as sp
 from mpc_hunt.capture.data import QPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.solving.backends.base import Backend
-from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline
+from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline, watched
 
 _STATUS = {
     "Solved": Status.OPTIMAL,
@@ -143,12 +143,8 @@ class ClarabelBackend(Backend):
 
     def run(self, state, data: QPData, warm: WarmStart) -> Solution:
         solver, layout, _, deadline = state
-        left = self.time_left()
-        if deadline is not None and left is not None:
-            deadline.start(left)
-        sol = solver.solve()
-        if deadline is not None and left is not None:
-            deadline.finish()
+        with watched(deadline, self.time_left()):
+            sol = solver.solve()
         raw = str(sol.status).split(".")[-1]
         x = np.array(sol.x)
         return Solution(

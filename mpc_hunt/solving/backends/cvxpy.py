@@ -25,7 +25,7 @@ from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
 from mpc_hunt.solving.backends.base import Backend
 from mpc_hunt.solving.backends.clarabel import ClarabelBackend
-from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline
+from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline, watched
 
 if TYPE_CHECKING:
     import cvxpy as cp
@@ -156,11 +156,9 @@ class CvxpyBackend(Backend):
                 left = None
                 if self.solver in self.BUDGETED and self.time_limit is not None:
                     options["time_limit"], left = self.clock_limit(), self.time_left()
-                if state.deadline is not None and left is not None:
-                    state.deadline.start(left)
-                solution = chain.solve_via_data(state.problem, program, True, False, options)
-                if state.deadline is not None and left is not None:
-                    state.deadline.finish()
+                with watched(state.deadline, left):
+                    solution = chain.solve_via_data(state.problem, program, True, False, options)
+                if state.deadline is not None:
                     _call_back(state, state.deadline)
                 if str(getattr(solution, "status", "")) == CALLED_OFF:  # CVXPY reads it as a solver error
                     return Solution(

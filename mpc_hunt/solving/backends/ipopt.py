@@ -19,7 +19,7 @@ from mpc_hunt.capture.data import NLPData
 from mpc_hunt.capture.solution import Solution, Status, WarmStart
 from mpc_hunt.errors import OptionError
 from mpc_hunt.solving.backends.base import Backend
-from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline
+from mpc_hunt.solving.backends.iteration_deadline import IterationDeadline, watched
 
 _STATUS = {
     "Solve_Succeeded": Status.OPTIMAL,
@@ -102,12 +102,8 @@ class IpoptBackend(Backend):
             args["x0"] = warm.x
         if warm.y is not None and warm.z is not None:
             args["lam_g0"], args["lam_x0"] = warm.y, warm.z
-        left = self.time_left()
-        if deadline is not None and left is not None:
-            deadline.start(left)
-        out = solver(**args)  # CasADi raises RuntimeError on evaluation errors (NaN, …)
-        if deadline is not None and left is not None:
-            deadline.finish()
+        with watched(None if deadline is None else deadline.pace, self.time_left()):
+            out = solver(**args)  # CasADi raises RuntimeError on evaluation errors (NaN, …)
         stats = solver.stats()
         raw = stats.get("return_status", "unknown")
         x = np.array(out["x"]).ravel()
@@ -179,12 +175,6 @@ def _deadline(nx: int, ng: int, np_: int):
 
         def get_sparsity_in(self, i):
             return ca.Sparsity.dense(self.sizes[ca.nlpsol_out(i)])
-
-        def start(self, left: float) -> None:
-            self.pace.start(left)
-
-        def finish(self) -> None:
-            self.pace.finish()
 
         def has_eval_buffer(self):
             return True  # called on raw buffers: no CasADi matrix made of IPOPT's iterate

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import time
 from collections import deque
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 from mpc_hunt.capture.iteration import PACE_MARGIN
 
@@ -50,3 +52,15 @@ class IterationDeadline:
         solver made anew, without the callback) measured none."""
         if self.called:
             self.tails.append(time.thread_time() - self.cpu)
+
+
+@contextmanager
+def watched(deadline: IterationDeadline | None, left: float | None) -> Iterator[None]:
+    """The solve inside the block watched by ``deadline`` from ``left`` seconds of its step's limit (started, then
+    finished once it has returned); nothing without a deadline or a limit."""
+    if deadline is None or left is None:
+        yield
+        return
+    deadline.start(left)
+    yield
+    deadline.finish()
