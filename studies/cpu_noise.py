@@ -30,7 +30,7 @@ from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.workers import run_local
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 OUT = Path(__file__).resolve().parent / "cpu_noise"
 COMMAND = "python studies/cpu_noise.py"
@@ -113,13 +113,17 @@ def write(results: dict) -> None:
 
 
 def check() -> list[str]:
-    committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
+    committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
+    try:
+        if [r["processes"] for r in committed["rows"]] != list(PROCESSES) or committed["settings"]["work"] != list(WORK):
+            return ["results.json: not the processes and workload the study measures"]
+        text, line = readme(committed), headline(committed)
+    except (KeyError, TypeError, StopIteration) as exc:     # a file of another form, or damaged
+        return [f"results.json: not this study's results ({type(exc).__name__}: {exc})"]
     errors = []
-    if [r["processes"] for r in committed["rows"]] != list(PROCESSES) or committed["settings"]["work"] != list(WORK):
-        errors.append("results.json: not the processes and workload the study measures")
-    if (OUT / "README.md").read_text(encoding="utf-8") != readme(committed):
+    if (OUT / "README.md").read_text(encoding="utf-8") != text:
         errors.append("studies/cpu_noise/README.md: not the committed results' text")
-    if read_block("cpu-noise") != headline(committed):
+    if read_block("cpu-noise") != line:
         errors.append("docs/benchmarks.md: its line on the machine's noise is not the committed results'")
     return errors
 

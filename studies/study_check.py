@@ -3,11 +3,13 @@ any run with one line on stderr for an error, never a traceback (:func:`run_stud
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 from typing import Callable
 
 from mpc_hunt.arguments import run_command
+from mpc_hunt.errors import DataFileError
 
 
 def run_study(main: Callable[[], int]) -> int:
@@ -25,3 +27,16 @@ def check_result(errors: list[str], name: str, command: str, shown: int = 20) ->
         return 1
     print(f"{name}: up to date")
     return 0
+
+
+def read_json_file(path: Path, fix: str) -> object:
+    """The data of the JSON file ``path``; a missing, unreadable or not-JSON file is a one-line DataFileError
+    naming it, ending with ``fix``."""
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise DataFileError(f"{path}: no such file; {fix}") from None
+    except OSError as exc:
+        raise DataFileError(f"{path}: cannot read ({exc.strerror or exc}); {fix}") from None
+    except (ValueError, RecursionError) as exc:      # not UTF-8, not JSON, nested too deeply
+        raise DataFileError(f"{path}: not valid JSON ({exc}); {fix}") from None

@@ -66,7 +66,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.world.hunt_state import STATE_FORM, HuntState, state_from_dict
 from mpc_hunt.world.scenario import Defender
 
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 SCENARIO = "paper-obstacles"
 REPEATS = 3                 # HPIPM alone: the fastest of this many solves of each QP (the least disturbed)
@@ -516,19 +516,6 @@ def targets(results: dict) -> list[str]:
 def save_states(path: Path, states: dict[int, list[HuntState]]) -> None:
     path.write_text(json.dumps({str(n): [s.to_dict() for s in hunt] for n, hunt in states.items()}) + "\n",
                     encoding="utf-8")
-
-
-def read_json_file(path: Path, fix: str) -> object:
-    """The data of the JSON file ``path``; a missing, unreadable or not-JSON file is a one-line DataFileError
-    naming it, ending with ``fix``."""
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise DataFileError(f"{path}: no such file; {fix}") from None
-    except OSError as exc:
-        raise DataFileError(f"{path}: cannot read ({exc.strerror or exc}); {fix}") from None
-    except (ValueError, RecursionError) as exc:      # not UTF-8, not JSON, nested too deeply
-        raise DataFileError(f"{path}: not valid JSON ({exc}); {fix}") from None
 
 
 def load_states(path: Path) -> dict[int, list[HuntState]]:
