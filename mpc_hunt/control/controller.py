@@ -7,6 +7,7 @@ steps (the plan it applied); a new hunt gets a new controller.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -58,3 +59,34 @@ def attacker_velocity_estimate(obs: Observation, time_step: float) -> np.ndarray
     if obs.previous_attacker is None:
         return np.zeros(2)
     return (obs.attacker - obs.previous_attacker) / time_step
+
+
+@runtime_checkable
+class BatchRule(Protocol):
+    """A batch's controllers of one kind as one compiled rule (:meth:`BatchedController.batched`)."""
+
+    def commands(
+        self,
+        mine: np.ndarray,
+        p_a: np.ndarray,
+        previous: np.ndarray,
+        p_d: np.ndarray,
+        n: np.ndarray,
+        failed: np.ndarray,
+        velocities: np.ndarray,
+        capture: np.ndarray,
+        intercepts: np.ndarray,
+    ) -> None:
+        """Command every hunt b of ``mine`` from its observation, the batch's arrays: the attacker at ``p_a[b]``,
+        last at ``previous[b]`` (NaN before the first step), the defenders ``p_d[b, :n[b]]``, ``failed[b]``
+        those stopped for good; into ``velocities[b]``, ``capture[b]`` and ``intercepts[b]``."""
+        ...
+
+
+class BatchedController(Controller, Protocol):
+    """A controller whose rule also commands a whole batch of hunts in one call (:mod:`mpc_hunt.sim.batch`)."""
+
+    @staticmethod
+    def batched(controllers: Sequence) -> BatchRule:
+        """The rule of a batch's ``controllers`` of this kind (None where a hunt is commanded otherwise)."""
+        ...

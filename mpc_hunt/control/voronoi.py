@@ -28,68 +28,199 @@ inward part. Every command passes the separation filter (:mod:`mpc_hunt.world.se
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
-from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
-from mpc_hunt.world import attacker
-from mpc_hunt.world.approach import approach_target
-from mpc_hunt.world.arena import kept_clear, safe_velocity
-from mpc_hunt.world.geometry import direction, encloses, norm, saturate
-from mpc_hunt.world.hunting_circle import members
+from mpc_hunt.compiled import kernel
+from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.world.arena import clear_of, kept_clear, safe_of
+from mpc_hunt.world.geometry import capped, encloses, length
+from mpc_hunt.world.hunting_circle import member_arrays
+from mpc_hunt.world.packed import HAS_ARENA, HUNT_RADIUS, MIN_SEPARATION, R_AGG, SIZE, X_MAX, X_MIN, Y_MAX, Y_MIN, T
+from mpc_hunt.world.prediction import meeting_point
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.world.separation import keep_separation
-from mpc_hunt.world.voronoi_cell import Cell, attacker_cell
+from mpc_hunt.world.separation import separated
+from mpc_hunt.world.voronoi_cell import cell_of, shared_edge
 
 
-def _bearing(v: np.ndarray) -> float:
-    return math.atan2(float(v[1]), float(v[0]))
-
-
-def compressed_radius(cell: Cell, p_a: np.ndarray, p_d: np.ndarray, label: int) -> float:
-    """The Voronoi pursuit's distance: to the midpoint of the shared edge, else to the bisector's foot."""
-    edge = cell.shared_edge(label)
-    if edge is None:
-        return 0.5 * float(norm(p_d - p_a))
-    return float(norm(0.5 * (edge[0] + edge[1]) - p_a))
-
-
+@kernel
 def ring_bearings(p_a: np.ndarray, movers: np.ndarray, stationary: np.ndarray) -> np.ndarray:
     """Each mover's bearing in an even spread round ``p_a``, in the order they stand.
 
     With stationary members, the nearest holds bearing 0 of k + 1 places; without, k places are
     turned to the movers' circular mean offset (the least turning that keeps their order).
     """
-    k = len(movers)
-    bearing = np.array([_bearing(q - p_a) for q in movers])
+    k = movers.shape[0]
+    bearing = np.empty(k)
+    for i in range(k):
+        bearing[i] = math.atan2(movers[i, 1] - p_a[1], movers[i, 0] - p_a[0])
     out = np.empty(k)
-    if len(stationary):
-        first = stationary[np.argmin(norm(stationary - p_a))]
-        phi = _bearing(first - p_a)
-        order = np.argsort((bearing - phi) % (2 * math.pi), kind="stable")
-        out[order] = phi + 2 * math.pi * np.arange(1, k + 1) / (k + 1)
+    if stationary.shape[0]:
+        nearest, first = math.inf, 0
+        for j in range(stationary.shape[0]):
+            d = length(stationary[j, 0] - p_a[0], stationary[j, 1] - p_a[1])
+            if d < nearest:
+                nearest, first = d, j
+        phi = math.atan2(stationary[first, 1] - p_a[1], stationary[first, 0] - p_a[0])
+        order = np.argsort((bearing - phi) % (2 * math.pi), kind="mergesort")
+        for place in range(k):
+            out[order[place]] = phi + 2 * math.pi * (place + 1) / (k + 1)
         return out
-    order = np.argsort(bearing % (2 * math.pi), kind="stable")
-    slots = 2 * math.pi * np.arange(k) / k
-    offset = math.atan2(float(np.sum(np.sin(bearing[order] - slots))), float(np.sum(np.cos(bearing[order] - slots))))
-    out[order] = offset + slots
+    order = np.argsort(bearing % (2 * math.pi), kind="mergesort")
+    sin_sum = cos_sum = 0.0
+    for place in range(k):
+        slot = 2 * math.pi * place / k
+        sin_sum += math.sin(bearing[order[place]] - slot)
+        cos_sum += math.cos(bearing[order[place]] - slot)
+    offset = math.atan2(sin_sum, cos_sum)
+    for place in range(k):
+        out[order[place]] = offset + 2 * math.pi * place / k
     return out
 
 
-def route(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
-    """The place at ``angle`` on the circle (``centre``, ``radius``), or, if the straight way crosses the
+@kernel
+def routed(p_d: np.ndarray, cx: float, cy: float, angle: float, radius: float, reach: float) -> tuple[float, float]:
+    """The place at ``angle`` on the circle ((cx, cy), ``radius``), or, if the straight way crosses the
     circle, the tangent point on the near side (at least one step, ``reach``, along it)."""
-    offset = p_d - centre
-    distance, bearing = float(norm(offset)), _bearing(offset)
+    ox, oy = p_d[0] - cx, p_d[1] - cy
+    distance, bearing = length(ox, oy), math.atan2(oy, ox)
     turn = (angle - bearing + math.pi) % (2 * math.pi) - math.pi
     limit = max(math.acos(min(1.0, radius / distance)) if distance > 0 else 0.0, reach / radius)
     if abs(turn) > limit:
         angle = bearing + math.copysign(limit, turn)
-    return centre + radius * direction(angle)
+    return cx + radius * math.cos(angle), cy + radius * math.sin(angle)
+
+
+def route(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
+    """The place at ``angle`` on the circle (``centre``, ``radius``), or, if the straight way crosses the
+    circle, the tangent point on the near side (at least one step, ``reach``, along it): :func:`routed`."""
+    cx, cy = np.asarray(centre, dtype=float)
+    return np.array(routed(np.asarray(p_d, dtype=float), cx, cy, float(angle), float(radius), float(reach)))
+
+
+@kernel
+def voronoi_aims(p_a, previous, P, active, centres, radii, speeds, prm, prediction):
+    """(the movers, each one's circle centre (k, 2), bearing (k,) and radius (k,), whether the attacker is
+    enclosed): where the module's rule sends each mover, before routing round the circle. ``previous`` is the
+    attacker's last observed position (NaN before the first step: no velocity estimate, Eq. 7)."""
+    movers = np.flatnonzero(active)
+    anchors, _, _ = member_arrays(p_a, P, centres, radii, prm[HUNT_RADIUS])
+    n = P.shape[0]
+    failed = np.flatnonzero(~active)
+    stationary = np.empty((failed.shape[0] + anchors.shape[0] - n, 2))
+    for r in range(failed.shape[0]):
+        stationary[r] = P[failed[r]]
+    stationary[failed.shape[0] :] = anchors[n:]
+    everybody = np.empty((n + stationary.shape[0], 2))
+    everybody[:n] = P
+    everybody[n:] = stationary
+    enclosed = encloses(p_a, everybody)
+    if prm[HAS_ARENA]:
+        box = np.array([prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX]])
+    else:  # a square round the attacker reaching R_agg beyond every defender
+        half = 0.0
+        for i in range(n):
+            half = max(half, length(P[i, 0] - p_a[0], P[i, 1] - p_a[1]))
+        half += prm[R_AGG]
+        box = np.array([p_a[0] - half, p_a[1] - half, p_a[0] + half, p_a[1] + half])
+    vertices, labels = cell_of(p_a, P, centres, radii, box)
+    floor = 0.5 * prm[HUNT_RADIUS] if enclosed else prm[R_AGG] + 0.5 * prm[HUNT_RADIUS]
+    k = movers.shape[0]
+    rings = np.empty(k)
+    for r in range(k):
+        i = movers[r]
+        found, a, b = shared_edge(vertices, labels, i)
+        if found:  # the Voronoi pursuit's distance: to the midpoint of the shared edge, else to the bisector's foot
+            compressed = length(0.5 * (a[0] + b[0]) - p_a[0], 0.5 * (a[1] + b[1]) - p_a[1])
+        else:
+            compressed = 0.5 * length(P[i, 0] - p_a[0], P[i, 1] - p_a[1])
+        rings[r] = max(floor, compressed)
+    angles = ring_bearings(p_a, P[movers], stationary)
+    sx = sy = 0.0
+    if enclosed and k:  # the movers' common shift putting the centroid of their places and the stationary
+        count, gx, gy, nx, ny = k, 0.0, 0.0, 0.0, 0.0  # members within R_hunt at the attacker
+        for r in range(k):
+            gx += p_a[0] + rings[r] * math.cos(angles[r])
+            gy += p_a[1] + rings[r] * math.sin(angles[r])
+        for j in range(stationary.shape[0]):
+            if length(stationary[j, 0] - p_a[0], stationary[j, 1] - p_a[1]) <= prm[HUNT_RADIUS]:
+                nx, ny, count = nx + stationary[j, 0], ny + stationary[j, 1], count + 1
+        sx, sy = (p_a[0] - (gx + nx) / count) * count / k, (p_a[1] - (gy + ny) / count) * count / k
+    estimate = math.isfinite(previous[0]) and math.isfinite(previous[1])
+    v_a = np.array([(p_a[0] - previous[0]) / prm[T], (p_a[1] - previous[1]) / prm[T]]) if estimate else np.zeros(2)
+    circles = np.empty((k, 2))
+    for r in range(k):
+        circles[r, 0], circles[r, 1] = p_a[0] + sx, p_a[1] + sy
+        if not enclosed and prediction:
+            found, x, y = meeting_point(p_a, v_a, P[movers[r]], speeds[movers[r]])
+            if found:
+                circles[r, 0], circles[r, 1] = x, y
+    return movers, circles, angles, rings, enclosed
+
+
+@kernel
+def voronoi_command(
+    p_a, previous, P, active, centres, radii, speeds, prm, prediction, velocities, capture, intercepts
+) -> None:
+    """The module's rule for one hunt, into ``velocities`` (n, 2), ``capture`` (n,) and ``intercepts`` (n, 2)."""
+    movers, circles, angles, rings, _ = voronoi_aims(p_a, previous, P, active, centres, radii, speeds, prm, prediction)
+    T_ = prm[T]
+    velocities[:] = 0.0
+    intercepts[:] = np.nan
+    for r in range(movers.shape[0]):
+        i = movers[r]
+        x, y = routed(P[i], circles[r, 0], circles[r, 1], angles[r], rings[r], speeds[i] * T_)
+        x, y = clear_of(x, y, centres, radii, prm)
+        intercepts[i, 0], intercepts[i, 1] = x, y
+        vx, vy = capped((x - P[i, 0]) / T_, (y - P[i, 1]) / T_, speeds[i])
+        velocities[i, 0], velocities[i, 1] = safe_of(P[i], vx, vy, centres, radii, prm)
+    for i in range(P.shape[0]):
+        capture[i] = active[i] and length(p_a[0] - P[i, 0], p_a[1] - P[i, 1]) < prm[R_AGG]
+    separated(P, velocities, active, P, T_, speeds, prm[MIN_SEPARATION])
+
+
+@kernel
+def voronoi_batch(
+    running: np.ndarray,
+    p_a: np.ndarray,
+    previous: np.ndarray,
+    p_d: np.ndarray,
+    n: np.ndarray,
+    failed: np.ndarray,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    m: np.ndarray,
+    speeds: np.ndarray,
+    prm: np.ndarray,
+    prediction: np.ndarray,
+    velocities: np.ndarray,
+    capture: np.ndarray,
+    intercepts: np.ndarray,
+) -> None:
+    """:func:`voronoi_command` for every running hunt of a batch (arrays padded; ``n``, ``m`` their counts)."""
+    for b in range(running.shape[0]):
+        if running[b]:
+            k, j = n[b], m[b]
+            voronoi_command(
+                p_a[b],
+                previous[b],
+                p_d[b, :k],
+                ~failed[b, :k],
+                centres[b, :j],
+                radii[b, :j],
+                speeds[b, :k],
+                prm[b],
+                prediction[b],
+                velocities[b, :k],
+                capture[b, :k],
+                intercepts[b, :k],
+            )
 
 
 class VoronoiController:
-    """Voronoi encirclement, no optimisation (CLI ``--controller voronoi``)."""
+    """Voronoi encirclement, no optimisation (CLI ``--controller voronoi``); a batch of hunts in one call
+    (:meth:`batched`)."""
 
     SUMMARY = (
         "the Voronoi encirclement of the pursuit-evasion literature (area-minimising pursuit, Zhou et al. "
@@ -103,64 +234,70 @@ class VoronoiController:
     def describe(self) -> dict:
         return {"controller": "voronoi", "prediction": self.prediction}
 
+    def _inputs(self, obs: Observation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                                 np.ndarray, np.ndarray, np.ndarray, bool]:  # fmt: skip
+        """The rule's inputs for one hunt: the observation, then what the controller knows of the scenario."""
+        s = self.scenario
+        previous = np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, float)
+        attacker, defenders = np.asarray(obs.attacker, float), np.asarray(obs.defenders, float)
+        return (attacker, previous, defenders, obs.active, s.obstacle_centres, s.obstacle_radii,
+                s.defender_max_speeds, s.packed, self.prediction)  # fmt: skip
+
     def aims(self, obs: Observation) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
         """(the movers, each one's circle centre (k, 2), bearing (k,) and radius (k,), whether the attacker is
         enclosed): where the module's rule sends each mover, before routing round the circle."""
-        s, hunt = self.scenario, self.scenario.hunt
-        p_a, P = obs.attacker, obs.defenders
-        movers = np.flatnonzero(obs.active)
-        stationary = self._stationary(obs)
-        enclosed = encloses(p_a, np.vstack([P, stationary]))
-        cell = attacker_cell(p_a, P, s.obstacle_centres, s.obstacle_radii, self._box(p_a, P))
-        floor = 0.5 * hunt.hunt_radius if enclosed else s.attacker.perception_radius + 0.5 * hunt.hunt_radius
-        radii = np.array([max(floor, compressed_radius(cell, p_a, P[i], int(i))) for i in movers])
-        angles = ring_bearings(p_a, P[movers], stationary)
-        places = p_a + radii[:, None] * direction(angles)
-        shift = self._centring(p_a, places, stationary) if enclosed else np.zeros(2)
-        v_a = attacker_velocity_estimate(obs, hunt.time_step)
-        speeds = s.defender_max_speeds
-        centres = np.array(
-            [p_a + shift if enclosed else approach_target(p_a, v_a, P[i], speeds[i], self.prediction) for i in movers]
-        ).reshape(-1, 2)
-        return movers, centres, angles, radii, enclosed
+        return voronoi_aims(*self._inputs(obs))
 
     def command(self, obs: Observation) -> Command:
-        s, hunt = self.scenario, self.scenario.hunt
-        p_a, P = obs.attacker, obs.defenders
-        movers, centres, angles, radii, _ = self.aims(obs)
-        speeds = s.defender_max_speeds
-        velocities = np.zeros_like(P)
-        intercepts = np.full_like(P, np.nan)
-        for i, centre, angle, radius in zip(movers, centres, angles, radii):
-            target = self.allowed(route(P[i], centre, angle, radius, speeds[i] * hunt.time_step))
-            intercepts[i] = target
-            velocities[i] = safe_velocity(s, P[i], saturate((target - P[i]) / hunt.time_step, speeds[i]))
-        capture = attacker.perceives(s, p_a, P) & obs.active
-        velocities = keep_separation(P, velocities, obs.active, P, hunt.time_step, speeds, hunt.min_separation)
+        P = np.asarray(obs.defenders, float)
+        velocities, capture, intercepts = np.zeros_like(P), np.zeros(len(P), dtype=bool), np.empty_like(P)
+        voronoi_command(*self._inputs(obs), velocities, capture, intercepts)
         return Command(velocities, capture, intercepts)
 
-    def _stationary(self, obs: Observation) -> np.ndarray:
-        """Members that cannot move: failed robots, then the obstacles the success test counts or recruits."""
-        s = self.scenario
-        m = members(obs.attacker, obs.defenders, s.obstacle_centres, s.obstacle_radii, s.hunt.hunt_radius)
-        failed = obs.defenders[~obs.active]
-        return np.vstack([failed, m.anchors[len(obs.defenders) :]])
-
-    def _centring(self, p_a: np.ndarray, places: np.ndarray, stationary: np.ndarray) -> np.ndarray:
-        """The movers' common shift that puts the centroid of their places and the stationary members
-        within R_hunt at the attacker."""
-        near = stationary[norm(stationary - p_a) <= self.scenario.hunt.hunt_radius]
-        count = len(places) + len(near)
-        centroid = (places.sum(axis=0) + near.sum(axis=0)) / count
-        return (p_a - centroid) * count / len(places)
-
-    def _box(self, p_a: np.ndarray, P: np.ndarray) -> tuple[float, float, float, float]:
-        """The arena, or without one a square round the attacker reaching R_agg beyond every defender."""
-        if self.scenario.arena is not None:
-            return self.scenario.arena
-        half = float(np.max(norm(P - p_a))) + self.scenario.attacker.perception_radius
-        return (p_a[0] - half, p_a[1] - half, p_a[0] + half, p_a[1] + half)
+    @staticmethod
+    def batched(controllers: Sequence[VoronoiController | None]) -> VoronoiRule:
+        """The rule of ``controllers`` (None: a hunt commanded otherwise) for a batch, hunt b by its own."""
+        return VoronoiRule(controllers)
 
     def allowed(self, target: np.ndarray) -> np.ndarray:
         """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe."""
         return kept_clear(self.scenario, target)
+
+
+class VoronoiRule:
+    """Each hunt's Voronoi controller's knowledge (its scenario, its prediction setting) as a batch's arrays."""
+
+    def __init__(self, controllers: Sequence[VoronoiController | None]):
+        B = len(controllers)
+        N = max((len(c.scenario.defenders) for c in controllers if c is not None), default=1)
+        M = max((len(c.scenario.obstacles) for c in controllers if c is not None), default=0)
+        self.centres, self.radii = np.zeros((B, M, 2)), np.zeros((B, M))
+        self.m, self.speeds = np.zeros(B, dtype=np.int64), np.ones((B, N))
+        self.prm, self.prediction = np.zeros((B, SIZE)), np.zeros(B, dtype=bool)
+        for b, c in enumerate(controllers):
+            if c is not None:
+                s = c.scenario
+                m = len(s.obstacles)
+                self.m[b], self.centres[b, :m], self.radii[b, :m] = m, s.obstacle_centres, s.obstacle_radii
+                self.speeds[b, : len(s.defenders)], self.prm[b] = s.defender_max_speeds, s.packed
+                self.prediction[b] = c.prediction
+
+    def commands(self, mine: np.ndarray, p_a, previous, p_d, n, failed, velocities, capture, intercepts) -> None:
+        """Every hunt of ``mine`` commanded from its observation (arrays of the batch), in one call."""
+        voronoi_batch(
+            mine,
+            p_a,
+            previous,
+            p_d,
+            n,
+            failed,
+            self.centres,
+            self.radii,
+            self.m,
+            self.speeds,
+            self.prm,
+            self.prediction,
+            velocities,
+            capture,
+            intercepts,
+        )

@@ -49,8 +49,9 @@ from mpc_hunt.envs.defender_env import DefenderEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
 from mpc_hunt.world.behaviours import BEHAVIOURS
-from mpc_hunt.world.behaviours.base import sensed, sensing_radius, undisturbed
+from mpc_hunt.world.behaviours.base import sensed, undisturbed
 from mpc_hunt.world.mlp import MAX_DECISION_STEPS
+from mpc_hunt.world.packed import sensing_radius
 from mpc_hunt.world.scenario import Scenario
 
 BOUND = 1e3  # a view's numbers are within a few REACH; the Box says so loosely

@@ -31,49 +31,57 @@ unreachable too.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
 
 import numpy as np
 
-from mpc_hunt.world import attacker
-from mpc_hunt.world.arena import attacker_escaped
-from mpc_hunt.world.geometry import norm
+from mpc_hunt.compiled import kernel
+from mpc_hunt.sim.world_step import steps
+from mpc_hunt.world.attacker import velocity_of
+from mpc_hunt.world.geometry import length, norm
+from mpc_hunt.world.packed import X_MAX, X_MIN, Y_MAX, Y_MIN, T
 from mpc_hunt.world.scenario import Scenario
-
-
-def undisturbed_path(scenario: Scenario) -> Iterator[np.ndarray]:
-    """The attacker's positions a_0, a_1, … with no defender in sight, until it leaves the arena or time runs out."""
-    T = scenario.hunt.time_step
-    nobody = np.empty((0, 2))
-    p = np.array(scenario.attacker.start, dtype=float)
-    yield p
-    for _ in range(int(math.ceil(scenario.hunt.time_limit / T - 1e-9))):
-        p = p + T * attacker.velocity(scenario, p, nobody)
-        yield p
-        if attacker_escaped(scenario, p) or not np.all(np.isfinite(p)):
-            return
-
 
 SPARE_TIME = 20.0  # s: what a comfortable hunt leaves the defenders to close the circle
 ENCLOSING = 3  # the fewest defenders that can enclose an attacker without an obstacle
 
 
-def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, list[np.ndarray]]:
-    """(the first step at which each defender can be within reach of the undisturbed path, or −1 for never;
-    that path, up to where the attacker leaves or time runs out)."""
-    reach = max(scenario.attacker.perception_radius, scenario.hunt.hunt_radius)
-    starts, speeds = scenario.defender_starts, scenario.defender_max_speeds
-    T = scenario.hunt.time_step
-    first = np.full(len(starts), -1)
-    path = []
-    for k, a in enumerate(undisturbed_path(scenario)):
-        newly = (first < 0) & (norm(a - starts) - reach <= speeds * k * T)
-        first[newly] = k
-        path.append(a)
+@kernel
+def race(p0, starts, speeds, centres, radii, prm, limit, reach):
+    """(the first step at which each defender can be within ``reach`` of the undisturbed path, or −1 for never;
+    that path, a_0 … a_K, up to where the attacker leaves the arena, stops being finite or ``limit`` steps)."""
+    nobody = np.empty((0, 2))
+    path = np.empty((limit + 1, 2))
+    first = np.full(starts.shape[0], -1)
+    p = p0.copy()
+    for k in range(limit + 1):
+        path[k] = p
+        for i in range(starts.shape[0]):
+            if first[i] < 0 and length(p[0] - starts[i, 0], p[1] - starts[i, 1]) - reach <= speeds[i] * k * prm[T]:
+                first[i] = k
+        gone = p[0] < prm[X_MIN] or p[0] > prm[X_MAX] or p[1] < prm[Y_MIN] or p[1] > prm[Y_MAX]
+        if k == limit or (k > 0 and (gone or not (math.isfinite(p[0]) and math.isfinite(p[1])))):
+            return first, path[: k + 1]
+        vx, vy = velocity_of(p, nobody, centres, radii, prm)
+        p = np.array([p[0] + prm[T] * vx, p[1] + prm[T] * vy])
     return first, path
 
 
-def obstacle_in_reach(scenario: Scenario, first: np.ndarray, path: list[np.ndarray]) -> bool:
+def arrival_steps(scenario: Scenario) -> tuple[np.ndarray, np.ndarray]:
+    """(the first step at which each defender can be within reach of the undisturbed path, or −1 for never;
+    that path, up to where the attacker leaves or time runs out): :func:`race`."""
+    s = scenario
+    reach = max(s.attacker.perception_radius, s.hunt.hunt_radius)
+    return race(np.array(s.attacker.start, dtype=float), s.defender_starts, s.defender_max_speeds,
+                s.obstacle_centres, s.obstacle_radii, s.packed, steps(s)[0], reach)  # fmt: skip
+
+
+def undisturbed_path(scenario: Scenario) -> np.ndarray:
+    """The attacker's positions a_0, a_1, … (rows) with no defender in sight, until it leaves the arena or time
+    runs out."""
+    return arrival_steps(scenario)[1]
+
+
+def obstacle_in_reach(scenario: Scenario, first: np.ndarray, path: np.ndarray) -> bool:
     """With fewer than three defenders: can the attacker, at its top speed from where the first defender can
     meet it, come within R_hunt of some obstacle's surface before the time limit (the module's docstring)?
     Always True with three or more."""

@@ -31,9 +31,11 @@ from typing import Any, Callable, Generator, Iterable, Iterator, Sequence
 
 import numpy as np
 
+from mpc_hunt.control.controllers import CONTROLLERS
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import MpcHuntError, SettingError, SweepStopped, WorkersDied
-from mpc_hunt.sim.simulator import simulate
+from mpc_hunt.sim.batch import simulate_batch
+from mpc_hunt.sim.hunt_result import HuntResult
 from mpc_hunt.sweep.outcome import failure_cause, safety_breaches
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_from_dict, ranges_to_dict, sweep_scenario
 from mpc_hunt.sweep.scenario_row import capturable_by_definition, scenario_row
@@ -47,8 +49,9 @@ from mpc_hunt.world.ensemble import perturbed
 # (paper:nlp:ipopt:1) stalls at IPOPT's iteration limit on the field's kink in many random hunts, at up
 # to 0.2 s a solve, which makes it the slowest strategy to sweep; name it to include it.
 DEFAULT_STRATEGIES = ("enclose:rti:hpipm:10", "paper:rti:hpipm:5", "voronoi", "apf")
+BATCH = 32  # hunts of a batched controller run together in one task (docs/engine.md: the batch size measured)
 MAX_TASKS = 10_000_000  # hunts in one sweep, every strategy, attacker and belief (a row each in its SQLite file)
-DASK_IN_FLIGHT = 1_000  # hunts handed to a Dask cluster at once (more are handed as they finish)
+DASK_IN_FLIGHT = 100  # batches of hunts (:func:`batches`) handed to a Dask cluster at once (more as they finish)
 EXACT = Belief().label()
 
 
@@ -87,21 +90,48 @@ class Hunt:
 
 def run_hunt(task: Hunt) -> dict:
     """Run one hunt; its row (plain data). An unexpected exception is a row with cause ``error``."""
-    spec = ControllerSpec.parse(task.strategy)
-    belief = parse_belief(task.belief)
-    scenario, row = _drawn(task)
-    world, belief_rng = hunt_rngs(task.seed, task.index, task.member)
+    return run_hunts([task])[0]
+
+
+def run_hunts(batch: Sequence[Hunt]) -> list[dict]:
+    """Run hunts together, one batch of the engine (:func:`mpc_hunt.sim.batch.simulate_batch`); their rows, in
+    order, each as :func:`run_hunt` would give it alone (a batch changes no hunt). A hunt's ``wall_time_s`` is its
+    share of the batch's time, by its steps. A hunt whose controller cannot be built is a row with cause
+    ``error``; if the batch raises, its hunts run again one by one, so that one hunt's crash is its own row."""
+    rows: list[dict | None] = [None] * len(batch)
+    ready = []  # (place, scenario, row, controller, world)
+    for place, task in enumerate(batch):
+        scenario, row = _drawn(task)
+        world, belief_rng = hunt_rngs(task.seed, task.index, task.member)
+        start = time.perf_counter()
+        try:
+            spec, belief = ControllerSpec.parse(task.strategy), parse_belief(task.belief)
+            ready.append((place, scenario, row, spec.build(scenario, belief=belief, rng=belief_rng), world))
+        except Exception as exc:  # noqa: BLE001 - one hunt's crash is its row, never the sweep's end
+            rows[place] = row | _error(exc, time.perf_counter() - start)
+    if not ready:
+        return [row for row in rows if row is not None]
     start = time.perf_counter()
     try:
-        result = simulate(scenario, spec.build(scenario, belief=belief, rng=belief_rng), rng=world)
-    except Exception as exc:  # noqa: BLE001 - one hunt's crash is its row, never the sweep's end
-        return row | _error(exc, time.perf_counter() - start)
+        results = simulate_batch([r[1] for r in ready], [r[3] for r in ready], [r[4] for r in ready])
+    except Exception as exc:  # noqa: BLE001 - whose crash: each hunt alone tells
+        if len(batch) == 1:
+            return [ready[0][2] | _error(exc, time.perf_counter() - start)]
+        return [row if row is not None else run_hunt(task) for row, task in zip(rows, batch)]
+    elapsed, total = time.perf_counter() - start, max(1, sum(r.steps for r in results))
+    for (place, scenario, row, _, _), result in zip(ready, results):
+        rows[place] = row | _row(result, scenario, elapsed * result.steps / total)
+    return [row for row in rows if row is not None]
+
+
+def _row(result: HuntResult, scenario, wall_time: float) -> dict:
+    """The result part of a hunt's row."""
     cause = failure_cause(result, scenario)
     breach_approach, breach_capture = safety_breaches(result, scenario)
     times = result.solve_times
     T = scenario.hunt.time_step
     outcome = "captured" if cause is None else ("uncapturable" if not capturable_by_definition(scenario) else "failed")
-    return row | {
+    return {
         "outcome": outcome,
         "cause": cause,
         "message": None,
@@ -123,8 +153,33 @@ def run_hunt(task: Hunt) -> dict:
         "solve_time_p95_s": float(np.percentile(times, 95)) if len(times) else None,
         "solve_time_max_s": float(np.max(times)) if len(times) else None,
         "solves_over_time_step": int(np.sum(times > T)),
-        "wall_time_s": time.perf_counter() - start,
+        "wall_time_s": wall_time,
     }
+
+
+def batches(todo: Iterable[Hunt], size: int = BATCH) -> Iterator[list[Hunt]]:
+    """``todo`` in consecutive batches of up to ``size`` hunts whose controllers command a batch in one call
+    (:class:`~mpc_hunt.control.controller.BatchedController`); any other hunt is a batch of its own, so that a
+    stop loses no more than before."""
+    batch: list[Hunt] = []
+    for task in todo:
+        if not _batched(task.strategy):
+            yield [task]
+            continue
+        batch.append(task)
+        if len(batch) == size:
+            yield batch
+            batch = []
+    if batch:
+        yield batch
+
+
+def _batched(strategy: str) -> bool:
+    """Does the controller of ``strategy`` command a batch in one call?"""
+    try:
+        return callable(getattr(CONTROLLERS.get(ControllerSpec.parse(strategy).controller), "batched", None))
+    except MpcHuntError:  # its hunts' rows say what is wrong
+        return False
 
 
 def _drawn(task: Hunt) -> tuple:
@@ -238,10 +293,14 @@ def run_local(
     todo: Iterable, workers: int | None = None, work: Callable[[Any], dict] | None = None
 ) -> Generator[dict, None, None]:
     """Rows as hunts finish, on local worker processes (:func:`mpc_hunt.workers.run_local`); stops cleanly when the
-    caller stops iterating. ``work`` (default :func:`run_hunt`; a module-level function, so that it pickles) turns
-    a task into its row."""
+    caller stops iterating. ``work`` (a module-level function, so that it pickles) turns a task into its row;
+    without it, the hunts run in :func:`batches` (:func:`run_hunts`)."""
     try:
-        yield from workers_run_local(todo, work or run_hunt, workers)
+        if work is not None:
+            yield from workers_run_local(todo, work, workers)
+            return
+        for rows in workers_run_local(batches(todo), run_hunts, workers):
+            yield from rows
     except WorkersDied as exc:
         raise SweepStopped(str(exc)) from None
 
@@ -264,18 +323,18 @@ def connect_dask(scheduler: str):
 
 def run_dask(todo: Iterable[Hunt], client) -> Generator[dict, None, None]:
     """Rows as hunts finish, on the Dask cluster of ``client`` (:func:`connect_dask`), which it closes. At most
-    DASK_IN_FLIGHT hunts are handed over at once; ``todo`` is read as they finish."""
+    DASK_IN_FLIGHT batches of hunts (:func:`batches`) are handed over at once; ``todo`` is read as they finish."""
     from distributed import KilledWorker, as_completed
 
     address = client.scheduler.address
-    pending = iter(todo)
+    pending = batches(todo)
     task_of: dict = {}
     finishing = as_completed()
 
     def hand_over(n: int) -> None:
-        for task in itertools.islice(pending, n):
-            future = client.submit(run_hunt, task, pure=False)
-            task_of[future.key] = (future, task)
+        for batch in itertools.islice(pending, n):
+            future = client.submit(run_hunts, batch, pure=False)
+            task_of[future.key] = (future, batch)
             finishing.add(future)
 
     with client:
@@ -283,15 +342,15 @@ def run_dask(todo: Iterable[Hunt], client) -> Generator[dict, None, None]:
             hand_over(DASK_IN_FLIGHT)
             for future in finishing:
                 try:
-                    row = future.result()
-                except KilledWorker as exc:  # the workers running it died too often: suspect the hunt
-                    row = _drawn(task_of[future.key][1])[1] | _error(exc, None)
+                    rows = future.result()
+                except KilledWorker as exc:  # the workers running it died too often: suspect its hunts
+                    rows = [_drawn(task)[1] | _error(exc, None) for task in task_of[future.key][1]]
                 except MpcHuntError:  # the scenario could not be drawn: the ranges are at fault
                     raise
                 except Exception as exc:  # noqa: BLE001 - anything else is the cluster failing, not a hunt
                     raise SweepStopped(f"the Dask scheduler at {address}: {one_line(exc)}") from None
                 del task_of[future.key]
                 hand_over(1)
-                yield row
+                yield from rows
         finally:
             client.cancel([future for future, _ in task_of.values()])

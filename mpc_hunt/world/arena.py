@@ -13,7 +13,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.geometry import dot2, norm, unit
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.geometry import length
+from mpc_hunt.world.packed import HAS_ARENA, SAFETY, X_MAX, X_MIN, Y_MAX, Y_MIN, T
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
@@ -45,34 +47,59 @@ def attacker_escaped(scenario: Scenario, p_a) -> bool:
     return scenario.arena is not None and beyond_edge(scenario.arena, p_a)
 
 
+@kernel
+def clear_of(x: float, y: float, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray) -> tuple[float, float]:
+    """(x, y) moved into the arena, R_safe from its edges (no arena: infinite edges), and out of every obstacle's
+    R_safe (Eq. 15), the obstacles in turn."""
+    safe = prm[SAFETY]
+    if prm[HAS_ARENA]:
+        x = min(max(x, prm[X_MIN] + safe), prm[X_MAX] - safe)
+        y = min(max(y, prm[Y_MIN] + safe), prm[Y_MAX] - safe)
+    for j in range(radii.shape[0]):
+        ox, oy = x - centres[j, 0], y - centres[j, 1]
+        distance = length(ox, oy)
+        if distance < radii[j] + safe:
+            scale = distance if distance > 0 else 1.0
+            x, y = centres[j, 0] + (radii[j] + safe) * (ox / scale), centres[j, 1] + (radii[j] + safe) * (oy / scale)
+    return x, y
+
+
+@kernel
+def safe_of(p_d: np.ndarray, vx: float, vy: float, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray):
+    """A defender's velocity (vx, vy) at ``p_d`` without its part into an obstacle's R_safe (Eq. 15) or out of
+    the arena, where a step would go there."""
+    T_ = prm[T]
+    for j in range(radii.shape[0]):
+        ix, iy = centres[j, 0] - p_d[0], centres[j, 1] - p_d[1]
+        scale = length(ix, iy)
+        scale = scale if scale > 0 else 1.0
+        ix, iy = ix / scale, iy / scale
+        along = vx * ix + vy * iy
+        if length(p_d[0] + T_ * vx - centres[j, 0], p_d[1] + T_ * vy - centres[j, 1]) < radii[j] + prm[SAFETY]:
+            if along > 0:
+                vx, vy = vx - along * ix, vy - along * iy
+    if prm[HAS_ARENA]:
+        vx = (min(max(p_d[0] + T_ * vx, prm[X_MIN]), prm[X_MAX]) - p_d[0]) / T_
+        vy = (min(max(p_d[1] + T_ * vy, prm[Y_MIN]), prm[Y_MAX]) - p_d[1]) / T_
+    return vx, vy
+
+
 def kept_clear(scenario: Scenario, targets: np.ndarray) -> np.ndarray:
     """``targets`` (…, 2) moved into the arena, R_safe from its edges, and out of every obstacle's R_safe
-    (Eq. 15), the obstacles in turn."""
-    safe = scenario.hunt.safety_distance
+    (Eq. 15), the obstacles in turn (:func:`clear_of`)."""
+    s = scenario
     targets = np.array(targets, dtype=float)
-    if scenario.arena is not None:
-        x_min, y_min, x_max, y_max = scenario.arena
-        targets = np.clip(targets, [x_min + safe, y_min + safe], [x_max - safe, y_max - safe])
-    for c, r in zip(scenario.obstacle_centres, scenario.obstacle_radii):
-        inside = norm(targets - c) < r + safe
-        if np.any(inside):
-            targets = np.where(np.expand_dims(inside, -1), c + (r + safe) * unit(targets - c), targets)
+    for index in np.ndindex(targets.shape[:-1]):
+        x, y = targets[index]
+        targets[index] = clear_of(float(x), float(y), s.obstacle_centres, s.obstacle_radii, s.packed)
     return targets
 
 
 def safe_velocity(scenario: Scenario, p_d: np.ndarray, v: np.ndarray) -> np.ndarray:
     """A defender's velocity ``v`` at ``p_d`` without its part into an obstacle's R_safe (Eq. 15) or out of the
-    arena, where a step would go there."""
-    s = scenario
-    T = s.hunt.time_step
-    for c, r in zip(s.obstacle_centres, s.obstacle_radii):
-        inward = unit(c - p_d)
-        if norm(p_d + T * v - c) < r + s.hunt.safety_distance and dot2(v, inward) > 0:
-            v = v - dot2(v, inward) * inward
-    if s.arena is not None:
-        x_min, y_min, x_max, y_max = s.arena
-        v = (np.clip(p_d + T * v, [x_min, y_min], [x_max, y_max]) - p_d) / T
-    return v
+    arena, where a step would go there (:func:`safe_of`)."""
+    s, p_d = scenario, np.asarray(p_d, dtype=float)
+    return np.array(safe_of(p_d, float(v[0]), float(v[1]), s.obstacle_centres, s.obstacle_radii, s.packed))
 
 
 def arena_rows(

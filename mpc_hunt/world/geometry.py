@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from mpc_hunt.compiled import kernel
+
 
 def norm(v: np.ndarray) -> np.ndarray:
     """Euclidean norm over the last axis."""
@@ -29,12 +31,8 @@ def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
     component before it is measured, so it saturates to ``max_norm`` in its direction rather than to zero; every
     other vector is scaled as before, to the bit."""
     v = np.asarray(v, dtype=float)
-    if v.shape == (2,) and np.ndim(max_norm) == 0:  # one vector (the world's and the evaluator's steps): the same
-        x, y = float(v[0]), float(v[1])  # operations on Python floats, a tenth of the time
-        length = math.sqrt(x * x + y * y)
-        if math.isfinite(length):
-            scale = max_norm / length if length > max_norm else 1.0
-            return np.array([x * scale, y * scale])
+    if v.shape == (2,) and np.ndim(max_norm) == 0:  # one vector: the compiled rule's own
+        return np.array(capped(float(v[0]), float(v[1]), float(max_norm)))
     with np.errstate(over="ignore"):
         n = norm(v)
     scale = np.where(n > max_norm, np.asarray(max_norm) / np.where(n > 0, n, 1.0), 1.0)
@@ -42,8 +40,8 @@ def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
     huge = np.isinf(n) & np.all(np.isfinite(v), axis=-1)
     if np.any(huge):
         largest = np.max(np.abs(v), axis=-1, keepdims=True)
-        capped = unit(v / np.where(largest > 0, largest, 1.0)) * np.expand_dims(np.asarray(max_norm, dtype=float), -1)
-        out = np.where(np.expand_dims(huge, -1), capped, out)
+        scaled = unit(v / np.where(largest > 0, largest, 1.0)) * np.expand_dims(np.asarray(max_norm, dtype=float), -1)
+        out = np.where(np.expand_dims(huge, -1), scaled, out)
     return out
 
 
@@ -59,19 +57,44 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / np.expand_dims(np.where(n > 0, n, 1.0), -1)
 
 
+@kernel
+def length(x: float, y: float) -> float:
+    """|(x, y)|, as :func:`norm` computes it (the same bits)."""
+    return math.sqrt(x * x + y * y)
+
+
+@kernel
+def capped(x: float, y: float, max_norm: float) -> tuple[float, float]:
+    """The 2-vector (x, y) scaled down to norm ``max_norm`` if longer: :func:`saturate` of one vector."""
+    n = math.sqrt(x * x + y * y)
+    if not math.isfinite(n) and math.isfinite(x) and math.isfinite(y):  # the squares overflow: measure it scaled
+        largest = max(abs(x), abs(y))
+        x, y = x / largest, y / largest
+        n = math.sqrt(x * x + y * y)
+        return x / n * max_norm, y / n * max_norm
+    scale = max_norm / n if n > max_norm else 1.0
+    return x * scale, y * scale
+
+
+@kernel
 def encloses(point: np.ndarray, anchors: np.ndarray) -> bool:
-    """True when ``point`` lies strictly inside the convex hull of ``anchors``.
+    """True when ``point`` lies strictly inside the convex hull of ``anchors`` (k, 2).
 
     Equivalent test: the directions from the point to the anchors leave no
     angular gap of half a turn or more (no half-plane through the point holds
     every anchor), so the point cannot leave without passing between them.
     """
-    anchors = np.asarray(anchors, dtype=float)
-    if len(anchors) < 3:
+    k = anchors.shape[0]
+    if k < 3:
         return False
-    d = anchors - point
-    if np.any(norm(d) == 0):
-        return False
-    angles = np.sort(np.arctan2(d[:, 1], d[:, 0]))
-    gaps = np.diff(np.concatenate([angles, angles[:1] + 2 * np.pi]))
-    return bool(np.max(gaps) < np.pi)
+    angles = np.empty(k)
+    for i in range(k):
+        dx, dy = anchors[i, 0] - point[0], anchors[i, 1] - point[1]
+        if math.sqrt(dx * dx + dy * dy) == 0:
+            return False
+        angles[i] = math.atan2(dy, dx)
+    angles.sort()
+    widest = angles[0] + 2 * math.pi - angles[k - 1]
+    for i in range(k - 1):
+        widest = max(widest, angles[i + 1] - angles[i])
+    return widest < math.pi

@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpc_hunt.world.geometry import encloses, norm, saturate, unit
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.geometry import encloses, length, saturate
 
 MIN_MEMBERS = 3
 
@@ -34,27 +35,57 @@ class Members:
         return self.anchors.mean(axis=0)
 
 
+@kernel
+def member_arrays(
+    p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray, obstacle_range: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(anchors (k, 2), distances (k,), the obstacles' indices, ascending) of :func:`members`."""
+    n, m = defenders.shape[0], radii.shape[0]
+    gaps = np.empty(m)
+    for j in range(m):
+        gaps[j] = length(p_a[0] - centres[j, 0], p_a[1] - centres[j, 1]) - radii[j]
+    chosen = np.zeros(m, dtype=np.bool_)
+    count = 0
+    for j in range(m):
+        if gaps[j] <= obstacle_range:
+            chosen[j] = True
+            count += 1
+    if n + count < MIN_MEMBERS:  # recruit the nearest, in order of their gaps (ties by index)
+        for j in np.argsort(gaps, kind="mergesort"):
+            if n + count >= MIN_MEMBERS:
+                break
+            if not chosen[j]:
+                chosen[j] = True
+                count += 1
+    obstacles = np.flatnonzero(chosen)
+    anchors = np.empty((n + count, 2))
+    distances = np.empty(n + count)
+    for i in range(n):
+        anchors[i] = defenders[i]
+        distances[i] = length(p_a[0] - defenders[i, 0], p_a[1] - defenders[i, 1])
+    for k in range(count):
+        j = obstacles[k]
+        tx, ty = p_a[0] - centres[j, 0], p_a[1] - centres[j, 1]
+        scale = length(tx, ty)
+        scale = scale if scale > 0 else 1.0
+        anchors[n + k, 0] = centres[j, 0] + tx / scale * radii[j]
+        anchors[n + k, 1] = centres[j, 1] + ty / scale * radii[j]
+        distances[n + k] = max(gaps[j], 0.0)
+    return anchors, distances, obstacles
+
+
 def members(
     p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray, obstacle_range: float
 ) -> Members:
     """Robots plus obstacles within ``obstacle_range`` of the attacker (recruiting up to three)."""
-    p_a = np.asarray(p_a, dtype=float)
-    defenders = np.asarray(defenders, dtype=float).reshape(-1, 2)
-    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
-    radii = np.asarray(radii, dtype=float)
-    to_attacker = p_a - centres
-    gaps = norm(to_attacker) - radii
-    chosen = [j for j in np.argsort(gaps, kind="stable") if gaps[j] <= obstacle_range]
-    for j in np.argsort(gaps, kind="stable"):
-        if len(defenders) + len(chosen) >= MIN_MEMBERS:
-            break
-        if j not in chosen:
-            chosen.append(int(j))
-    chosen = sorted(int(j) for j in chosen)
-    surface = centres[chosen] + unit(to_attacker[chosen]) * radii[chosen, None]
-    anchors = np.vstack([defenders, surface.reshape(-1, 2)])
-    distances = np.concatenate([norm(p_a - defenders), np.maximum(gaps[chosen], 0.0)])
-    return Members(anchors, distances, tuple(chosen))
+    anchors, distances, obstacles = member_arrays(
+        np.asarray(p_a, dtype=float),
+        np.asarray(defenders, dtype=float).reshape(-1, 2),
+        np.asarray(centres, dtype=float).reshape(-1, 2),
+        np.asarray(radii, dtype=float).reshape(-1),
+        float(obstacle_range),
+    )
+    return Members(anchors, distances, tuple(int(j) for j in obstacles))
 
 
 def desired_velocity(p_a: np.ndarray, target: np.ndarray, max_speed: float, hunt_radius: float) -> np.ndarray:
@@ -79,6 +110,23 @@ class CircleStatus:
     member_count: int
 
 
+@kernel
+def circle_test(p_a, defenders, centres, radii, hunt_radius, centre_tolerance):
+    """(holds, radius, centre offset, enclosed, member count) of :func:`success_test`."""
+    anchors, distances, _ = member_arrays(p_a, defenders, centres, radii, hunt_radius)
+    k = anchors.shape[0]
+    cx = cy = 0.0
+    for i in range(k):
+        cx += anchors[i, 0]
+        cy += anchors[i, 1]
+    cx, cy = cx / k, cy / k
+    offset = length(p_a[0] - cx, p_a[1] - cy)
+    enclosed = encloses(p_a, anchors)
+    radius = distances.max()
+    holds = k >= MIN_MEMBERS and radius <= hunt_radius and enclosed and offset <= centre_tolerance
+    return holds, radius, offset, enclosed, k
+
+
 def success_test(
     p_a: np.ndarray,
     defenders: np.ndarray,
@@ -94,9 +142,12 @@ def success_test(
     of the centroid" together with strict enclosure (the attacker inside the
     members' convex hull), which is what "surrounded" requires.
     """
-    m = members(p_a, defenders, centres, radii, hunt_radius)
-    offset = float(norm(np.asarray(p_a, dtype=float) - m.centre))
-    enclosed = encloses(np.asarray(p_a, dtype=float), m.anchors)
-    radius = float(m.distances.max())
-    holds = len(m.anchors) >= MIN_MEMBERS and radius <= hunt_radius and enclosed and offset <= centre_tolerance
-    return CircleStatus(holds, radius, offset, enclosed, len(m.anchors))
+    holds, radius, offset, enclosed, count = circle_test(
+        np.asarray(p_a, dtype=float),
+        np.asarray(defenders, dtype=float).reshape(-1, 2),
+        np.asarray(centres, dtype=float).reshape(-1, 2),
+        np.asarray(radii, dtype=float).reshape(-1),
+        float(hunt_radius),
+        float(centre_tolerance),
+    )
+    return CircleStatus(bool(holds), float(radius), float(offset), bool(enclosed), int(count))

@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
+from functools import cached_property
 
 import numpy as np
 
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.world.arena import Arena, beyond_edge
 from mpc_hunt.world.behaviours import BEHAVIOURS
+from mpc_hunt.world.packed import parameters
 
 Vector = tuple[float, float]
 
@@ -299,26 +301,36 @@ class Scenario:
             [(f"defenders[{i}].start", d.start) for i, d in enumerate(self.defenders)],
         )
 
-    # Array views used by the model and the simulator.
+    # Array views used by the model and the simulator, made once and read-only.
     @property
     def defender_starts(self) -> np.ndarray:
         return np.array([d.start for d in self.defenders], dtype=float)
 
-    @property
+    @cached_property
     def defender_max_speeds(self) -> np.ndarray:
-        return np.array([d.max_speed for d in self.defenders], dtype=float)
+        return _read_only(np.array([d.max_speed for d in self.defenders], dtype=float))
 
     def failed(self, time: float) -> np.ndarray:
         """Which defenders have stopped for good by ``time`` (``Defender.fails_at``)."""
         return np.array([d.fails_at is not None and time >= d.fails_at for d in self.defenders])
 
-    @property
+    @cached_property
     def obstacle_centres(self) -> np.ndarray:
-        return np.array([o.centre for o in self.obstacles], dtype=float).reshape(-1, 2)
+        return _read_only(np.array([o.centre for o in self.obstacles], dtype=float).reshape(-1, 2))
 
-    @property
+    @cached_property
     def obstacle_radii(self) -> np.ndarray:
-        return np.array([o.radius for o in self.obstacles], dtype=float)
+        return _read_only(np.array([o.radius for o in self.obstacles], dtype=float))
+
+    @cached_property
+    def packed(self) -> np.ndarray:
+        """The parameters as the compiled rules read them (:func:`mpc_hunt.world.packed.parameters`)."""
+        return _read_only(parameters(self))
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    array.flags.writeable = False
+    return array
 
 
 def check_positions(scenario: Scenario, attacker: tuple[str, Vector], defenders: list[tuple[str, Vector]]) -> None:

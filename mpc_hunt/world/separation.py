@@ -22,19 +22,79 @@ caps the speed, then scales v towards 0 until none is broken.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 
-from mpc_hunt.world.geometry import dot2, saturate
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.geometry import capped
 
 
-def _normal(v: np.ndarray) -> np.ndarray:
-    """The unit vector along the 2-vector ``v``; (1, 0) for a zero vector, as two defenders at one point
-    need some direction apart (:func:`~mpc_hunt.world.geometry.unit` keeps it zero). Its length is
-    ``np.hypot``'s, whose last bit the committed hunts depend on."""
-    length = float(np.hypot(*v))
-    return v / length if length > 0 else np.array([1.0, 0.0])
+@kernel
+def apart(x: float, y: float) -> tuple[float, float]:
+    """The unit vector along (x, y); (1, 0) for a zero vector, as two defenders at one point need some direction
+    apart (:func:`~mpc_hunt.world.geometry.unit` keeps it zero)."""
+    length = math.hypot(x, y)
+    return (x / length, y / length) if length > 0 else (1.0, 0.0)
+
+
+@kernel
+def separation_rows(
+    i: int,
+    positions: np.ndarray,
+    unplanned: np.ndarray,
+    planned_next: np.ndarray,
+    time_step: float,
+    min_separation: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The half-planes a · v ≥ b of the module's docstring for the unplanned defender ``i``: (A (r, 2), b (r,)),
+    the planned defenders' rows first."""
+    n = positions.shape[0]
+    A, b = np.empty((n, 2)), np.empty(n)
+    r = 0
+    px, py = positions[i, 0], positions[i, 1]
+    for j in range(n):
+        if not unplanned[j]:
+            nx, ny = apart(px - planned_next[j, 0], py - planned_next[j, 1])
+            gap = nx * (px - planned_next[j, 0]) + ny * (py - planned_next[j, 1])
+            A[r, 0], A[r, 1], b[r] = time_step * nx, time_step * ny, min(min_separation, gap) - gap
+            r += 1
+    for j in range(n):
+        if unplanned[j] and j != i:
+            mx, my = 0.5 * (px + positions[j, 0]), 0.5 * (py + positions[j, 1])
+            nx, ny = apart(px - positions[j, 0], py - positions[j, 1])
+            gap = nx * (px - mx) + ny * (py - my)
+            A[r, 0], A[r, 1], b[r] = time_step * nx, time_step * ny, min(0.5 * min_separation, gap) - gap
+            r += 1
+    return A[:r], b[:r]
+
+
+@kernel
+def onto_rows(vx: float, vy: float, A: np.ndarray, b: np.ndarray, speed: float, aim: float) -> tuple[float, float]:
+    """(vx, vy) projected onto each broken half-plane A[k] · v ≥ b[k] in turn (onto A[k] · v = b[k] + ``aim``),
+    capped at ``speed``, then scaled towards 0 until none is broken (every b ≤ 0, so v = 0 keeps them all)."""
+    for k in range(b.shape[0]):
+        ax, ay = A[k, 0], A[k, 1]
+        if ax * vx + ay * vy < b[k]:
+            c = (b[k] + aim - (ax * vx + ay * vy)) / (ax * ax + ay * ay)
+            vx, vy = vx + c * ax, vy + c * ay
+    vx, vy = capped(vx, vy, speed)
+    scale = 1.0
+    for k in range(b.shape[0]):
+        along = A[k, 0] * vx + A[k, 1] * vy
+        if along < b[k]:
+            scale = min(scale, b[k] / along)
+    return scale * vx, scale * vy
+
+
+@kernel
+def separated(positions, velocities, unplanned, planned_next, time_step, speeds, min_separation) -> None:
+    """:func:`keep_separation` with no further rows, in place."""
+    for i in range(positions.shape[0]):
+        if unplanned[i]:
+            A, b = separation_rows(i, positions, unplanned, planned_next, time_step, min_separation)
+            velocities[i, 0], velocities[i, 1] = onto_rows(velocities[i, 0], velocities[i, 1], A, b, speeds[i], 0.0)
 
 
 def keep_separation(
@@ -56,32 +116,23 @@ def keep_separation(
     separation row could otherwise break.
     """
     out = np.array(velocities, dtype=float)
-    planned = np.flatnonzero(~unplanned)
-    movers = np.flatnonzero(unplanned)
-    for i in movers:
-        p = positions[i]
-        rows = []  # (a, b): a · v ≥ b
-        for j in planned:
-            n = _normal(p - planned_next[j])
-            gap = dot2(n, p - planned_next[j])
-            rows.append((time_step * n, min(min_separation, gap) - gap))
-        for j in movers:
-            if j != i:
-                m, n = 0.5 * (p + positions[j]), _normal(p - positions[j])
-                gap = dot2(n, p - m)
-                rows.append((time_step * n, min(0.5 * min_separation, gap) - gap))
-        if also is not None:
-            rows += also(int(i))
-        out[i] = onto_half_planes(out[i], rows, speeds[i])
+    positions, planned_next = np.asarray(positions, dtype=float), np.asarray(planned_next, dtype=float)
+    unplanned, speeds = np.asarray(unplanned, dtype=bool), np.asarray(speeds, dtype=float)
+    if also is None:
+        separated(positions, out, unplanned, planned_next, float(time_step), speeds, float(min_separation))
+        return out
+    for i in np.flatnonzero(unplanned):
+        A, b = separation_rows(int(i), positions, unplanned, planned_next, float(time_step), float(min_separation))
+        more = also(int(i))
+        if more:
+            A = np.vstack([A, [a for a, _ in more]])
+            b = np.concatenate([b, [c for _, c in more]])
+        out[i] = onto_rows(float(out[i, 0]), float(out[i, 1]), A, b, float(speeds[i]), 0.0)
     return out
 
 
 def onto_half_planes(v: np.ndarray, rows: list[tuple[np.ndarray, float]], speed: float, aim: float = 0.0) -> np.ndarray:
-    """``v`` projected onto each broken half-plane a · v ≥ b of ``rows`` in turn (onto a · v = b + ``aim``),
-    capped at ``speed``, then scaled towards 0 until none is broken (every b ≤ 0, so v = 0 keeps them all)."""
-    for a, b in rows:
-        if dot2(a, v) < b:
-            v = v + (b + aim - dot2(a, v)) / dot2(a, a) * a
-    v = saturate(v, speed)
-    scale = min([1.0] + [b / dot2(a, v) for a, b in rows if dot2(a, v) < b])
-    return scale * v
+    """``v`` projected onto each broken half-plane a · v ≥ b of ``rows`` in turn (:func:`onto_rows`)."""
+    A = np.array([a for a, _ in rows], dtype=float).reshape(-1, 2)
+    b = np.array([c for _, c in rows], dtype=float)
+    return np.array(onto_rows(float(v[0]), float(v[1]), A, b, float(speed), float(aim)))

@@ -17,7 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mpc_hunt.world.geometry import dot2, norm, unit
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.geometry import length
+
+BOX = -(2**30)  # the label of a box edge in the compiled cell (``None`` in a :class:`Cell`)
 
 
 @dataclass(frozen=True)
@@ -32,36 +35,69 @@ class Cell:
 
     def shared_edge(self, label: int) -> tuple[np.ndarray, np.ndarray] | None:
         """The edge the site ``label`` shares with the cell (it is convex: at most one), or None."""
-        m = len(self.vertices)
-        for k, own in enumerate(self.labels):
-            a, b = self.vertices[k], self.vertices[(k + 1) % m]
-            if own == label and norm(b - a) > 0:
-                return a, b
-        return None
+        found, a, b = shared_edge(self.vertices, np.array([BOX if x is None else x for x in self.labels]), label)
+        return (a, b) if found else None
 
 
-def box_cell(box: tuple[float, float, float, float]) -> Cell:
-    """The box (x_min, y_min, x_max, y_max) as a cell with unlabelled edges."""
-    x_min, y_min, x_max, y_max = box
-    vertices = np.array([[x_min, y_min], [x_max, y_min], [x_max, y_max], [x_min, y_max]], dtype=float)
-    return Cell(vertices, (None,) * 4)
-
-
-def clip(cell: Cell, normal: np.ndarray, offset: float, label: int) -> Cell:
-    """``cell`` ∩ {x : normal·x ≤ offset}; the new edge along the line is labelled ``label``."""
-    vertices, labels = [], []
-    m = len(cell.vertices)
+@kernel
+def shared_edge(vertices: np.ndarray, labels: np.ndarray, label: int) -> tuple[bool, np.ndarray, np.ndarray]:
+    """(found, a, b): the edge from a to b the site ``label`` shares with the cell (at most one: it is convex)."""
+    m = vertices.shape[0]
     for k in range(m):
-        p, q, own = cell.vertices[k], cell.vertices[(k + 1) % m], cell.labels[k]
-        sp, sq = dot2(normal, p) - offset, dot2(normal, q) - offset
+        a, b = vertices[k], vertices[(k + 1) % m]
+        if labels[k] == label and length(b[0] - a[0], b[1] - a[1]) > 0:
+            return True, a.copy(), b.copy()
+    return False, np.zeros(2), np.zeros(2)
+
+
+@kernel
+def clip(
+    vertices: np.ndarray, labels: np.ndarray, nx: float, ny: float, offset: float, label: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The polygon ∩ {x : (nx, ny)·x ≤ offset} (Sutherland–Hodgman); the new edge along the line is labelled
+    ``label``."""
+    m = vertices.shape[0]
+    out = np.empty((m + 1, 2))
+    out_labels = np.empty(m + 1, dtype=np.int64)
+    count = 0
+    for k in range(m):
+        p, q, own = vertices[k], vertices[(k + 1) % m], labels[k]
+        sp, sq = nx * p[0] + ny * p[1] - offset, nx * q[0] + ny * q[1] - offset
         if sp <= 0:
-            vertices.append(p)
-            labels.append(own)
+            out[count] = p
+            out_labels[count] = own
+            count += 1
         if (sp <= 0) != (sq <= 0):
-            crossing = p + (sp / (sp - sq)) * (q - p)
-            vertices.append(crossing)
-            labels.append(label if sp <= 0 else own)
-    return Cell(np.array(vertices, dtype=float).reshape(-1, 2), tuple(labels))
+            t = sp / (sp - sq)
+            out[count, 0] = p[0] + t * (q[0] - p[0])
+            out[count, 1] = p[1] + t * (q[1] - p[1])
+            out_labels[count] = label if sp <= 0 else own
+            count += 1
+    return out[:count], out_labels[:count]
+
+
+@kernel
+def cell_of(
+    p_a: np.ndarray, defenders: np.ndarray, centres: np.ndarray, radii: np.ndarray, box: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices, labels) of the attacker's cell w.r.t. every defender and obstacle, within ``box``
+    (x_min, y_min, x_max, y_max): the module's docstring; box edges are labelled :data:`BOX`."""
+    x_min, y_min, x_max, y_max = box[0], box[1], box[2], box[3]
+    vertices = np.array([[x_min, y_min], [x_max, y_min], [x_max, y_max], [x_min, y_max]])
+    labels = np.full(4, BOX, dtype=np.int64)
+    for i in range(defenders.shape[0]):
+        nx, ny = defenders[i, 0] - p_a[0], defenders[i, 1] - p_a[1]
+        if length(nx, ny) > 0:
+            mx, my = 0.5 * (p_a[0] + defenders[i, 0]), 0.5 * (p_a[1] + defenders[i, 1])
+            vertices, labels = clip(vertices, labels, nx, ny, nx * mx + ny * my, i)
+    for j in range(radii.shape[0]):
+        nx, ny = centres[j, 0] - p_a[0], centres[j, 1] - p_a[1]
+        scale = length(nx, ny)
+        scale = scale if scale > 0 else 1.0
+        nx, ny = nx / scale, ny / scale
+        tx, ty = centres[j, 0] - radii[j] * nx, centres[j, 1] - radii[j] * ny
+        vertices, labels = clip(vertices, labels, nx, ny, nx * tx + ny * ty, -1 - j)
+    return vertices, labels
 
 
 def attacker_cell(
@@ -72,13 +108,11 @@ def attacker_cell(
     box: tuple[float, float, float, float],
 ) -> Cell:
     """The attacker's cell w.r.t. every defender and obstacle, within ``box`` (see the module's docstring)."""
-    p_a = np.asarray(p_a, dtype=float)
-    cell = box_cell(box)
-    for i, q in enumerate(np.asarray(defenders, dtype=float).reshape(-1, 2)):
-        n = q - p_a
-        if norm(n) > 0:
-            cell = clip(cell, n, dot2(n, 0.5 * (p_a + q)), i)
-    for j, (c, r) in enumerate(zip(np.asarray(centres, dtype=float).reshape(-1, 2), radii)):
-        n = unit(c - p_a)
-        cell = clip(cell, n, dot2(n, c - r * n), -1 - j)
-    return cell
+    vertices, labels = cell_of(
+        np.asarray(p_a, dtype=float),
+        np.asarray(defenders, dtype=float).reshape(-1, 2),
+        np.asarray(centres, dtype=float).reshape(-1, 2),
+        np.asarray(radii, dtype=float).reshape(-1),
+        np.array(box, dtype=float),
+    )
+    return Cell(vertices, tuple(None if x == BOX else int(x) for x in labels))

@@ -11,7 +11,7 @@ from conftest import capture_stage_scenario
 from mpc_hunt.bench.own_loop import OwnLoopRun, hunt_summary, rows, run_own_loop, table
 from mpc_hunt.cli import main
 from mpc_hunt.errors import BenchmarkError
-from mpc_hunt.sim import simulator
+from mpc_hunt.sim import batch
 
 
 def test_each_pair_runs_its_own_hunt_and_its_row_counts_what_its_loop_met():
@@ -141,7 +141,7 @@ def test_a_step_the_hypervisor_took_time_from_is_the_machines(monkeypatch):
     """Under a deadline, the machine's steal is read around each step; a step past its limit during which the
     hypervisor took the time it overran by is not counted as the step's own on the CPU."""
     ticks = iter(np.arange(0.0, 1e4, 0.5))  # every reading half a second on: each step saw 0.5 s stolen
-    monkeypatch.setattr(simulator, "stolen", lambda: float(next(ticks)))
+    monkeypatch.setattr(batch, "stolen", lambda: float(next(ticks)))
     run = run_own_loop(OwnLoopRun([capture_stage_scenario(3.0)], [("sqp", "osqp")], [3], time_limit=1e-4,
                                   deadline=0.02))
     r = run.hunts[0].result

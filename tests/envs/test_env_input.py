@@ -15,7 +15,8 @@ from mpc_hunt.envs.learning import MAX_TEAM_HUNTS, AttackerViewEnv, TeamHunts
 from mpc_hunt.envs.parallel import ATTACKER, HuntParallelEnv
 from mpc_hunt.errors import MpcHuntError, OptionError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, random_scenario
-from mpc_hunt.world.behaviours.base import sensed, sensing_radius
+from mpc_hunt.world.behaviours.base import sensed
+from mpc_hunt.world.packed import sensing_radius
 
 
 def one_line(exc: pytest.ExceptionInfo, start: str, *words: str) -> str:

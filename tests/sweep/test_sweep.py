@@ -197,7 +197,7 @@ def test_an_exception_inside_a_hunt_is_a_row_with_its_message(monkeypatch):
     def broken(*args, **kwargs):
         raise ZeroDivisionError("no")
 
-    monkeypatch.setattr("mpc_hunt.sweep.runner.simulate", broken)
+    monkeypatch.setattr("mpc_hunt.sweep.runner.simulate_batch", broken)
     row = run_hunt(Hunt("apf", 1, 0, next(iter(tasks(["apf"], 1, 1, QUICK, set()))).ranges))
     assert (row["outcome"], row["cause"], row["message"]) == ("failed", "error", "ZeroDivisionError: no")
     assert set(row) <= set(COLUMNS) and row["scenario_toml"]
@@ -465,18 +465,18 @@ def test_each_hunt_gets_its_attacker_belief_and_generators_whatever_the_strategy
     from mpc_hunt.world.belief import parse_belief
 
     seen = []
-    build, run = ControllerSpec.build, runner.simulate
+    build, run = ControllerSpec.build, runner.simulate_batch
 
     def spy_build(spec, scenario, *, belief, rng):
         seen.append(("controller", scenario.attacker.behaviour, belief, rng.bit_generator.state))
         return build(spec, scenario, belief=belief, rng=rng)
 
-    def spy_simulate(scenario, controller, *, rng):
-        seen.append(("world", scenario.attacker.behaviour, rng.bit_generator.state))
-        return run(scenario, controller, rng=rng)
+    def spy_simulate(scenarios, controllers, rngs):
+        seen.extend(("world", s.attacker.behaviour, rng.bit_generator.state) for s, rng in zip(scenarios, rngs))
+        return run(scenarios, controllers, rngs)
 
     monkeypatch.setattr(ControllerSpec, "build", spy_build)
-    monkeypatch.setattr(runner, "simulate", spy_simulate)
+    monkeypatch.setattr(runner, "simulate_batch", spy_simulate)
     ranges = next(iter(tasks(["apf"], 1, 4, ScenarioRanges(time_limit=1.0), set()))).ranges
     for strategy in ("apf", "voronoi"):
         run_hunt(Hunt(strategy, 4, 1, ranges, attacker="noisy", belief="intent_heading=60"))
@@ -580,3 +580,28 @@ def test_a_resumed_sweep_may_add_an_attacker_and_keeps_what_it_ran(two_by_two, t
     with pytest.raises(SettingError, match="^resume: .*only more strategies, attackers, beliefs may be added") as exc:
         SweepStore(path, {**arguments, "seed": 5}, resume=True)
     assert exc.value.named(flag).endswith("only more --strategy, --attacker, --belief may be added")
+
+
+def test_hunts_run_as_one_batch_give_each_hunt_its_row_alone_and_a_broken_one_disturbs_none(monkeypatch):
+    from mpc_hunt.sweep import runner
+
+    work = list(tasks(["voronoi", "apf"], 3, 5, ScenarioRanges(time_limit=20.0), set(), attackers=["gap", "noisy"]))
+    work.insert(2, Hunt("voronoi:none", 5, 0, work[0].ranges))    # a strategy that cannot be built
+    assert [len(b) for b in runner.batches(work, size=2)] == [2, 1, 1, 1, 2, 1, 1, 2, 1, 1]
+
+    def alone(row):
+        return {k: v for k, v in row.items() if k != "wall_time_s"}
+
+    singly = [alone(run_hunt(t)) for t in work]
+    together = runner.run_hunts(work)
+    assert [alone(r) for r in together] == singly
+    assert together[2]["cause"] == "error" and sum(r["cause"] == "error" for r in together) == 1
+    real = runner.simulate_batch
+
+    def crashing(scenarios, controllers, rngs):        # one hunt's controller crashes the batch it is in
+        if len(scenarios) > 1:
+            raise ZeroDivisionError("one hunt")
+        return real(scenarios, controllers, rngs)
+
+    monkeypatch.setattr(runner, "simulate_batch", crashing)
+    assert [alone(r) for r in runner.run_hunts(work)] == singly

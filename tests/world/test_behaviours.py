@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.world import attacker as apf
 from mpc_hunt.world.behaviours import BEHAVIOURS, make_behaviour
-from mpc_hunt.world.behaviours.base import DEFAULT_SENSING
+from mpc_hunt.world.packed import DEFAULT_SENSING
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.world.scenario_io import dumps_scenario, loads_scenario
@@ -147,12 +147,13 @@ def test_no_steered_evader_moves_towards_an_obstacle_within_0_9_m_of_its_surface
                                                                                    radius):
     # The obstacles' field (Eq. 3, k_o = η = 1, 1 m protective distance) outweighs any wish of at most the sweeps'
     # fastest attacker (0.99 × 0.08 m/s) within 0.9 m of a surface, so flee, gap, voronoi, learned and minimax
-    # (every behaviour built on `steered`) never come within R_hunt = 0.5 m of an obstacle: one can never be a member
+    # (every behaviour built on `wished`) never come within R_hunt = 0.5 m of an obstacle: one can never be a member
     # of their hunting circle (docs/model.md, E13).
-    from mpc_hunt.world.behaviours.base import steered
+    from mpc_hunt.world.behaviours.base import wished
     s = dataclasses.replace(_world("gap", obstacles=(Obstacle(centre=(0.0, 0.0), radius=radius),)),
                             attacker=dataclasses.replace(_world("gap").attacker, max_speed=speed))
     outward = np.array([math.cos(bearing), math.sin(bearing)])
     p = (radius + clearance) * outward
-    v = steered(s, p, speed * np.array([math.cos(wish), math.sin(wish)]))
+    v = np.array(wished(p, speed * math.cos(wish), speed * math.sin(wish), s.obstacle_centres, s.obstacle_radii,
+                        s.packed))
     assert float(v @ outward) >= -1e-12

@@ -10,8 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mpc_hunt.world.field import (FIELD_FLOOR, attacker_resultant, nominal_intent, obstacle_repulsion,
-                            repulsion, surface_offset)
+from mpc_hunt.world import packed
+from mpc_hunt.world.attacker import resultant_of
+from mpc_hunt.world.field import FIELD_FLOOR, nominal_intent, obstacle_repulsion, repulsion
 
 FAST = settings(deadline=None, max_examples=150)
 # Finite floats without subnormals (whose products underflow and defeat relative tolerances).
@@ -159,14 +160,14 @@ def test_obstacle_beyond_protective_distance_from_surface_does_not_push():
 @FAST
 @given(centre=points, radius=floats(min_value=0.05, max_value=5.0),
        gap=floats(min_value=2 * FIELD_FLOOR, max_value=20.0), angle=angles)
-def test_surface_offset_outside_is_distance_to_surface_outward(centre, radius, gap, angle):
+def test_an_obstacle_field_is_measured_from_its_surface_outward(centre, radius, gap, angle):
+    # H of the offset from the surface point nearest p: |offset| = |p − c| − r, along p − c.
     p = centre + polar(radius + gap, angle)
-    off = surface_offset(p, centre[None, :], np.array([radius]))
-    assert off.shape == (1, 2)
     v = p - centre
     dc = np.linalg.norm(v)
-    assert math.isclose(float(np.linalg.norm(off[0])), dc - radius, rel_tol=1e-9, abs_tol=1e-9)
-    assert float(off[0] @ v) > 0
+    offset = v / dc * (dc - radius)
+    np.testing.assert_allclose(obstacle_repulsion(p, centre[None, :], np.array([radius]), 3.0, 1.0),
+                               repulsion(offset, 3.0, 1.0), rtol=1e-9, atol=1e-12)
 
 
 @FAST
@@ -183,8 +184,8 @@ def test_obstacle_pushes_outward_from_inside(centre, radius, depth, angle, prote
     cross = push[0] * outward[1] - push[1] * outward[0]
     assert abs(cross) <= 1e-9 * np.linalg.norm(push) * np.linalg.norm(outward)
     # Offset length is the floor: the push is the (huge) floor value of H.
-    off = surface_offset(p, centre[None, :], np.array([radius]))
-    assert math.isclose(float(np.linalg.norm(off[0])), FIELD_FLOOR, rel_tol=1e-9)
+    np.testing.assert_allclose(push, repulsion(FIELD_FLOOR * outward / np.linalg.norm(outward), protect, 1.0),
+                               rtol=1e-9)
 
 
 def test_obstacle_repulsion_sums_obstacles_and_handles_none():
@@ -231,10 +232,12 @@ def test_nominal_intent_never_exceeds_cap_and_keeps_direction(v, cap):
 
 def _resultant(p_a, defenders, centres, rad, *, nominal=(0.01, 0.0), k_d=1.0, k_o=1.0,
                perception=1.0, protect=1.0, eta=1.0):
-    return attacker_resultant(np.asarray(p_a, float), np.asarray(defenders, float),
-                              np.asarray(centres, float).reshape(-1, 2), np.asarray(rad, float),
-                              nominal=np.asarray(nominal, float), perception_radius=perception,
-                              protective_distance=protect, eta=eta, k_d=k_d, k_o=k_o)
+    prm = np.zeros(packed.SIZE)
+    prm[[packed.NOMINAL_X, packed.NOMINAL_Y]] = nominal
+    prm[packed.K_D], prm[packed.K_O], prm[packed.R_AGG], prm[packed.PROTECTIVE], prm[packed.ETA] = (
+        k_d, k_o, perception, protect, eta)
+    return np.array(resultant_of(np.asarray(p_a, float), np.asarray(defenders, float).reshape(-1, 2),
+                                 np.asarray(centres, float).reshape(-1, 2), np.asarray(rad, float), prm))
 
 
 def test_resultant_is_nominal_when_nothing_is_near():

@@ -7,21 +7,40 @@ over the sensed defenders; with none sensed, its intent.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.behaviours.base import heading, sensed, sensing_radius, undisturbed
-from mpc_hunt.world.geometry import norm
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.behaviours.base import calm, headed, near
+from mpc_hunt.world.geometry import length
+from mpc_hunt.world.packed import SENSING
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
 
+@kernel
 def flee_direction(p_a: np.ndarray, near: np.ndarray) -> np.ndarray:
     """Σ (p_a − p_i) / |p_a − p_i|³: away from each defender, the nearest weighing most."""
-    away = p_a - near
-    return np.sum(away / norm(away)[:, None] ** 3, axis=0)
+    out = np.zeros(2)
+    for i in range(near.shape[0]):
+        ax, ay = p_a[0] - near[i, 0], p_a[1] - near[i, 1]
+        cube = math.pow(length(ax, ay), 3.0)
+        out[0] += ax / cube
+        out[1] += ay / cube
+    return out
+
+
+@kernel
+def flee_velocity(p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray):
+    """The ``flee`` attacker's velocity (the module's docstring)."""
+    sensed = near(p_a, p_d, prm[SENSING])
+    if sensed.shape[0] == 0:
+        return calm(p_a, centres, radii, prm)
+    away = flee_direction(p_a, sensed)
+    return headed(p_a, away[0], away[1], centres, radii, prm)
 
 
 class FleeingAttacker:
@@ -29,10 +48,8 @@ class FleeingAttacker:
 
     def __init__(self, scenario: Scenario, rng: np.random.Generator):
         self.scenario = scenario
-        self.radius = sensing_radius(scenario)
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        near = sensed(p_a, p_d, self.radius)
-        if not len(near):
-            return undisturbed(self.scenario, p_a)
-        return heading(self.scenario, p_a, flee_direction(p_a, near))
+        s = self.scenario
+        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+        return np.array(flee_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed))

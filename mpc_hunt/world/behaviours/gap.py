@@ -16,8 +16,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.behaviours.base import heading, sensed, sensing_radius, undisturbed
-from mpc_hunt.world.field import nominal_intent
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.behaviours.base import calm, headed, near
+from mpc_hunt.world.packed import NOMINAL_X, NOMINAL_Y, SENSING
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
@@ -25,24 +26,42 @@ if TYPE_CHECKING:
 GAP_MARGIN = math.pi / 6  # rad: how far inside the widest gap the intent must point to be kept
 
 
+@kernel
 def widest_gap(p_a: np.ndarray, near: np.ndarray) -> tuple[float, float]:
     """(the bearing of the gap's first edge, its width), counter-clockwise, among the bearings of ``near``."""
-    offsets = near - p_a
-    bearings = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
-    widths = np.diff(np.append(bearings, bearings[0] + 2 * math.pi))
-    j = int(np.argmax(widths))
-    return float(bearings[j]), float(widths[j])
+    k = near.shape[0]
+    bearings = np.empty(k)
+    for i in range(k):
+        bearings[i] = math.atan2(near[i, 1] - p_a[1], near[i, 0] - p_a[0])
+    bearings.sort()
+    start, width = 0.0, -1.0
+    for i in range(k):  # the first of equally wide gaps
+        gap = (bearings[i + 1] if i + 1 < k else bearings[0] + 2 * math.pi) - bearings[i]
+        if gap > width:
+            start, width = bearings[i], gap
+    return start, width
 
 
-def gap_heading(p_a: np.ndarray, near: np.ndarray, intent: np.ndarray) -> float:
-    """The bearing the attacker runs along: its intent's if inside the widest gap with the margin, else the
-    gap's bisector."""
+@kernel
+def gap_heading(p_a: np.ndarray, near: np.ndarray, ix: float, iy: float) -> float:
+    """The bearing the attacker runs along: its intent's (ix, iy) if inside the widest gap with the margin, else
+    the gap's bisector."""
     start, width = widest_gap(p_a, near)
-    if np.hypot(*intent) > 0:
-        into = (math.atan2(intent[1], intent[0]) - start) % (2 * math.pi)
+    if math.hypot(ix, iy) > 0:
+        into = (math.atan2(iy, ix) - start) % (2 * math.pi)
         if GAP_MARGIN <= into <= width - GAP_MARGIN:
             return start + into
     return start + 0.5 * width
+
+
+@kernel
+def gap_velocity(p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray):
+    """The ``gap`` attacker's velocity (the module's docstring)."""
+    sensed = near(p_a, p_d, prm[SENSING])
+    if sensed.shape[0] == 0:
+        return calm(p_a, centres, radii, prm)
+    angle = gap_heading(p_a, sensed, prm[NOMINAL_X], prm[NOMINAL_Y])
+    return headed(p_a, math.cos(angle), math.sin(angle), centres, radii, prm)
 
 
 class GapAttacker:
@@ -50,13 +69,8 @@ class GapAttacker:
 
     def __init__(self, scenario: Scenario, rng: np.random.Generator):
         self.scenario = scenario
-        self.radius = sensing_radius(scenario)
-        a = scenario.attacker
-        self.intent = nominal_intent(np.array(a.nominal_velocity), a.max_speed)
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        near = sensed(p_a, p_d, self.radius)
-        if not len(near):
-            return undisturbed(self.scenario, p_a)
-        angle = gap_heading(p_a, near, self.intent)
-        return heading(self.scenario, p_a, np.array([math.cos(angle), math.sin(angle)]))
+        s = self.scenario
+        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+        return np.array(gap_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed))

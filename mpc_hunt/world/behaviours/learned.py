@@ -25,11 +25,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mpc_hunt.errors import DataFileError, ScenarioError
-from mpc_hunt.world.behaviours.base import heading, sensed, sensing_radius, undisturbed
+from mpc_hunt.world.behaviours.base import heading, sensed, undisturbed
 from mpc_hunt.world.behaviours.flee import flee_direction
 from mpc_hunt.world.behaviours.gap import widest_gap
 from mpc_hunt.world.field import nominal_intent
 from mpc_hunt.world.geometry import norm, unit
+from mpc_hunt.world.packed import sensing_radius
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario

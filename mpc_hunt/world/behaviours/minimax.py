@@ -30,8 +30,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.behaviours.base import heading, sensed, sensing_radius, undisturbed
+from mpc_hunt.world.behaviours.base import heading, sensed, undisturbed
 from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.packed import sensing_radius
 from mpc_hunt.world.reachable_set import dominance
 
 if TYPE_CHECKING:

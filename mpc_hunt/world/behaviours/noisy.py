@@ -1,9 +1,11 @@
 """``noisy``: the paper's attacker plus a bounded random disturbance.
 
 Each step, a velocity drawn uniformly from the disc of radius ``disturbance``
-× v_a (the scenario's ``disturbance``, else ``DEFAULT_DISTURBANCE``) by the
+× v_a (the scenario's ``disturbance``, else
+:data:`~mpc_hunt.world.packed.DEFAULT_DISTURBANCE`) by the
 passed-in random generator is added to the resultant of Eq. 2 before the cap at
-v_a: the model the defenders hold, with a push they cannot predict.
+v_a: the model the defenders hold, with a push they cannot predict. The draws are the hunt's own (:func:`draw`),
+so a hunt moves the same alone or in a batch.
 """
 
 from __future__ import annotations
@@ -13,14 +15,36 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world import attacker
-from mpc_hunt.world.behaviours.base import keep_out
-from mpc_hunt.world.geometry import saturate
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.attacker import resultant_of
+from mpc_hunt.world.behaviours.base import kept_out
+from mpc_hunt.world.geometry import capped
+from mpc_hunt.world.packed import DISTURBANCE, V_A
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
-DEFAULT_DISTURBANCE = 1.0  # of v_a: the disturbance's largest size unless the scenario gives one
+
+def draw(rng: np.random.Generator) -> tuple[float, float]:
+    """One step's draws: (the push's bearing in [0, 2π), the square root of a uniform draw, its length's share)."""
+    return rng.uniform(0.0, 2 * math.pi), math.sqrt(rng.uniform())
+
+
+@kernel
+def noisy_velocity(
+    p_a: np.ndarray,
+    p_d: np.ndarray,
+    centres: np.ndarray,
+    radii: np.ndarray,
+    prm: np.ndarray,
+    angle: float,
+    share: float,
+):
+    """Eq. 2's resultant plus the push of length ``share`` × the disturbance along ``angle``, capped at v_a."""
+    size = prm[DISTURBANCE] * share
+    x, y = resultant_of(p_a, p_d, centres, radii, prm)
+    vx, vy = capped(x + size * math.cos(angle), y + size * math.sin(angle), prm[V_A])
+    return kept_out(p_a, vx, vy, centres, radii, prm)
 
 
 class NoisyAttacker:
@@ -29,12 +53,8 @@ class NoisyAttacker:
     def __init__(self, scenario: Scenario, rng: np.random.Generator):
         self.scenario = scenario
         self.rng = rng
-        given = scenario.attacker.disturbance
-        self.size = (DEFAULT_DISTURBANCE if given is None else given) * scenario.attacker.max_speed
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        angle = self.rng.uniform(0.0, 2 * math.pi)
-        length = self.size * math.sqrt(self.rng.uniform())
-        push = length * np.array([math.cos(angle), math.sin(angle)])
-        v = saturate(attacker.resultant(self.scenario, p_a, p_d) + push, self.scenario.attacker.max_speed)
-        return keep_out(self.scenario, p_a, v)
+        s = self.scenario
+        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+        return np.array(noisy_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed, *draw(self.rng)))

@@ -20,8 +20,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mpc_hunt.world.agent_view import ATTACKER_VIEW, attacker_view
-from mpc_hunt.world.behaviours.base import attacker_move, sensed, sensing_radius, undisturbed
+from mpc_hunt.world.behaviours.base import attacker_move, sensed, undisturbed
 from mpc_hunt.world.mlp import Mlp, ShippedPolicy
+from mpc_hunt.world.packed import sensing_radius
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario

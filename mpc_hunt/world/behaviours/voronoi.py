@@ -14,23 +14,56 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.behaviours.base import sensed, sensing_radius, steered, undisturbed
-from mpc_hunt.world.geometry import saturate
-from mpc_hunt.world.voronoi_cell import attacker_cell
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.behaviours.base import calm, near, wished
+from mpc_hunt.world.geometry import capped
+from mpc_hunt.world.packed import SENSING, V_A, X_MAX, X_MIN, Y_MAX, Y_MIN, T
+from mpc_hunt.world.voronoi_cell import cell_of
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
 
 
-def centroid(vertices: np.ndarray) -> np.ndarray:
+@kernel
+def centroid(vertices: np.ndarray) -> tuple[float, float]:
     """The area centroid of a simple polygon (its vertices in order); the vertices' mean if it has no area."""
-    x, y = vertices[:, 0], vertices[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cross = x * yn - xn * y
-    area = 0.5 * float(np.sum(cross))
+    m = vertices.shape[0]
+    area = cx = cy = 0.0
+    for k in range(m):
+        x, y = vertices[k, 0], vertices[k, 1]
+        xn, yn = vertices[(k + 1) % m, 0], vertices[(k + 1) % m, 1]
+        cross = x * yn - xn * y
+        area += cross
+        cx += (x + xn) * cross
+        cy += (y + yn) * cross
+    area *= 0.5
     if abs(area) < 1e-12:
-        return vertices.mean(axis=0)
-    return np.array([np.sum((x + xn) * cross), np.sum((y + yn) * cross)]) / (6.0 * area)
+        return vertices[:, 0].mean(), vertices[:, 1].mean()
+    return cx / (6.0 * area), cy / (6.0 * area)
+
+
+@kernel
+def sensed_box(p_a: np.ndarray, prm: np.ndarray) -> np.ndarray:
+    """The square of half-side the sensing radius round ``p_a``, cut to the arena (whose edges are infinite when
+    there is none)."""
+    r = prm[SENSING]
+    x_min, y_min = max(p_a[0] - r, prm[X_MIN]), max(p_a[1] - r, prm[Y_MIN])
+    x_max, y_max = min(p_a[0] + r, prm[X_MAX]), min(p_a[1] + r, prm[Y_MAX])
+    return np.array([x_min, y_min, max(x_max, x_min), max(y_max, y_min)])
+
+
+@kernel
+def voronoi_velocity(p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray):
+    """The ``voronoi`` attacker's velocity (the module's docstring)."""
+    sensed = near(p_a, p_d, prm[SENSING])
+    if sensed.shape[0] == 0:
+        return calm(p_a, centres, radii, prm)
+    vertices, _ = cell_of(p_a, sensed, centres, radii, sensed_box(p_a, prm))
+    if vertices.shape[0] == 0:
+        return 0.0, 0.0
+    cx, cy = centroid(vertices)
+    wx, wy = capped((cx - p_a[0]) / prm[T], (cy - p_a[1]) / prm[T], prm[V_A])
+    return wished(p_a, wx, wy, centres, radii, prm)
 
 
 class VoronoiAttacker:
@@ -38,23 +71,8 @@ class VoronoiAttacker:
 
     def __init__(self, scenario: Scenario, rng: np.random.Generator):
         self.scenario = scenario
-        self.radius = sensing_radius(scenario)
-
-    def box(self, p_a: np.ndarray) -> tuple[float, float, float, float]:
-        """The square of half-side the sensing radius round ``p_a``, cut to the arena if there is one."""
-        r = self.radius
-        x_min, y_min, x_max, y_max = p_a[0] - r, p_a[1] - r, p_a[0] + r, p_a[1] + r
-        if self.scenario.arena is not None:
-            ax0, ay0, ax1, ay1 = self.scenario.arena
-            x_min, y_min, x_max, y_max = max(x_min, ax0), max(y_min, ay0), min(x_max, ax1), min(y_max, ay1)
-        return (x_min, y_min, max(x_max, x_min), max(y_max, y_min))
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
         s = self.scenario
-        near = sensed(p_a, p_d, self.radius)
-        if not len(near):
-            return undisturbed(s, p_a)
-        cell = attacker_cell(p_a, near, s.obstacle_centres, s.obstacle_radii, self.box(p_a))
-        if not len(cell.vertices):
-            return np.zeros(2)
-        return steered(s, p_a, saturate((centroid(cell.vertices) - p_a) / s.hunt.time_step, s.attacker.max_speed))
+        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+        return np.array(voronoi_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed))
