@@ -7,7 +7,7 @@ import platform
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
-PACKAGES = ("mpc-hunt", "numpy", "scipy", "casadi", "osqp", "clarabel", "cvxpy", "daqp")
+PACKAGES = ("mpc-hunt", "numpy", "numba", "scipy", "casadi", "osqp", "clarabel", "cvxpy", "daqp")
 
 
 def cpu_model() -> str:
