@@ -45,7 +45,7 @@ from mpc_hunt.sweep.summary import Z95, summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 from studies.sweep_study import (add_study_options, keys, measured_run, missing, quickest_captures, run_file,
                                  still_captured, stop_status)
 
@@ -403,7 +403,7 @@ def write(db: Path, folder: Path, machine: dict, hunts: int, seed: int) -> None:
 
 
 def check(folder: Path) -> list[str]:
-    committed = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    committed = read_json_file(folder / "summary.json", f"rerun {COMMAND}")
     hunts, seed = committed["arguments"]["hunts"], committed["arguments"]["seed"]
     errors = [] if committed["arguments"] == arguments(hunts, seed) else \
         ["summary.json: its strategies, attackers, beliefs or ranges are not the study's"]

@@ -35,7 +35,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.plots.compare_report import write_report
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 OUT = Path(__file__).resolve().parent / "compare"
 HORIZONS, SEED, STARTS, ACCURACY = [1, 5, 10], 0, 4, "default"
@@ -58,7 +58,7 @@ def extra() -> dict:
 
 def check() -> list[str]:
     """What differs between the committed run and the code: inputs, then each N = 1 solve's non-timing outcome."""
-    committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
+    committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
     problems = [p.id for p in builtin_problem_set("default").problems]
     pairs = [f"{f}:{b}" for f, b in registry.pairs(objective="paper")]
     wanted = {"problems": problems, "pairs": pairs, "horizons": HORIZONS,

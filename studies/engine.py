@@ -1,38 +1,54 @@
-"""The batched engine against the engine before it: the same hunts, the same seeds, side by side on two cores.
+"""The batched engine: why its rules are compiled per hunt, and its speed against the engine before it.
 
-Rule-based hunts, ``voronoi`` defenders (3 to 5) against the ``gap`` attacker on the sweep's random scenarios
+First the choice: one rule both ways, the ``gap`` attacker's heading (the bisector of the widest angular gap
+between the defenders it senses), for batches of ``SIZES`` hunts of ``DEFENDERS`` defenders each, some out of
+sensing range: (a) NumPy on arrays with a leading hunt axis, the missing defenders masked; (b) the package's
+compiled rules (``near`` and ``widest_gap``) called hunt by hunt from a compiled loop over the batch. The two
+must agree to 1e-12; the time is µs a hunt, best of ``REPEATS``.
+
+Then the speed: rule-based hunts, ``voronoi`` defenders (3 to 5) against the ``gap`` attacker on the sweep's random scenarios
 of seed ``SEED`` (``studies/engine_worker.py``). The engine before the batched one (commit ``BEFORE``, its
 ``mpc_hunt/`` unpacked from git into a temporary folder) runs ``HUNTS`` of them one by one, as its sweeps did;
 the batched engine runs the same hunts in batches of ``BATCH`` (the sweep's, ``mpc_hunt.sweep.runner.BATCH``),
 then ``MORE`` hunts for its steady rate. Each engine runs on ``WORKERS`` processes at once, each timed inside
 the process once warm (imports, compiled code's cache and a short hunt before the clock starts); a rate is the
 hunts of all processes over the slowest process's seconds. The two engines' hunts must end alike (how, and
-when): the study stops if one differs. Writes ``studies/engine/results.json`` and README.md, and the table in
+when): the study stops if one differs. Last, ``mpc-hunt sweep`` runs ``SWEEP`` such hunts on ``WORKERS``
+processes into a temporary results file, timed whole (the command, start to end) with its rows' exceptions
+counted. Writes ``studies/engine/results.json`` and README.md, and the two tables in
 docs/engine.md.
 
-    python studies/engine.py            # measure (two or three minutes on two cores), write the results
-    python studies/engine.py --check    # the docs' table and the report are the committed results'
+    python studies/engine.py            # measure (about five minutes on two cores), write the results
+    python studies/engine.py --check    # the docs' tables and the report are the committed results'
 """
 
 from __future__ import annotations
 
 import io
 import json
+import math
 import os
 import subprocess
 import sys
 import tarfile
 import tempfile
+import time
 from pathlib import Path
 
 if __name__ == "__main__":      # run as a script: the studies import one another as the package `studies`
     sys.path[0] = str(Path(__file__).resolve().parents[1])
 
+import numpy as np
+
 from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, machine_lines
+from mpc_hunt.compiled import kernel
 from mpc_hunt.errors import DataFileError
 from mpc_hunt.sweep.runner import BATCH
+from mpc_hunt.sweep.store import stored_rows
+from mpc_hunt.world.behaviours.base import near
+from mpc_hunt.world.behaviours.gap import widest_gap
 
 from studies.docs_block import read_block, write_block
 from studies.study_check import check_result, read_json_file, run_study
@@ -42,8 +58,78 @@ OUT = ROOT / "studies" / "engine"
 DOCS = ROOT / "docs" / "engine.md"
 COMMAND = "python studies/engine.py"
 BEFORE = "aba2141bca054dda51a67e3c13d827a12d78ede4"     # the last commit of the engine before the batched one
-SEED, HUNTS, MORE, WORKERS = 46, 64, 2048, 2
+SEED, HUNTS, MORE, WORKERS, SWEEP = 46, 64, 2048, 2, 10_000
 MAX_HUNTS = 10_000
+SIZES, DEFENDERS, SENSING, REPEATS, CHOICE_SEED = (1, 16, 256, 4096), 5, 3.0, 5, 0
+WORK = 200_000      # hunt-evaluations a timing of the choice aims at (fewer for a batch of one)
+
+
+def by_arrays(p_a: np.ndarray, p_d: np.ndarray, radius: float) -> np.ndarray:
+    """(a): the heading of every hunt, NumPy on the whole batch."""
+    B, n, _ = p_d.shape
+    offsets = p_d - p_a[:, None, :]
+    seen = np.sqrt(np.sum(offsets**2, axis=-1)) < radius
+    bearings = np.sort(np.where(seen, np.arctan2(offsets[..., 1], offsets[..., 0]), np.inf), axis=1)
+    k = seen.sum(axis=1)
+    following = np.concatenate([bearings[:, 1:], np.full((B, 1), np.inf)], axis=1)
+    last = np.arange(n)[None, :] == np.maximum(k - 1, 0)[:, None]
+    following = np.where(last, bearings[:, :1] + 2 * math.pi, following)
+    with np.errstate(invalid="ignore"):
+        widths = np.where(np.arange(n)[None, :] < k[:, None], following - bearings, -np.inf)
+    j = np.argmax(widths, axis=1)
+    rows = np.arange(B)
+    with np.errstate(invalid="ignore"):  # a hunt sensing nobody: inf − inf, masked
+        return np.where(k > 0, bearings[rows, j] + 0.5 * widths[rows, j], np.nan)
+
+
+@kernel
+def by_hunt(p_a: np.ndarray, p_d: np.ndarray, radius: float) -> np.ndarray:
+    """(b): the heading of every hunt, the package's compiled rules hunt by hunt."""
+    out = np.full(p_a.shape[0], np.nan)
+    for b in range(p_a.shape[0]):
+        sensed = near(p_a[b], p_d[b], radius)
+        if sensed.shape[0]:
+            start, width = widest_gap(p_a[b], sensed)
+            out[b] = start + 0.5 * width
+    return out
+
+
+def best_time(rule, p_a, p_d, repeats: int) -> float:
+    """µs a hunt of ``rule`` on the batch, best of ``repeats``."""
+    calls = max(1, WORK // len(p_a))
+    best = math.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(calls):
+            rule(p_a, p_d, SENSING)
+        best = min(best, (time.perf_counter() - start) / calls / len(p_a))
+    return 1e6 * best
+
+
+def choice(repeats: int) -> dict:
+    rng = np.random.default_rng(CHOICE_SEED)
+    rows = []
+    for size in SIZES:
+        p_a = rng.uniform(-5, 5, (size, 2))
+        p_d = p_a[:, None, :] + rng.uniform(-4, 4, (size, DEFENDERS, 2))
+        a, b = by_arrays(p_a, p_d, SENSING), by_hunt(p_a, p_d, SENSING)
+        if not np.allclose(a, b, rtol=0, atol=1e-12, equal_nan=True):
+            raise DataFileError("the choice: the two ways of the gap attacker's heading disagree")
+        arrays, hunt = best_time(by_arrays, p_a, p_d, repeats), best_time(by_hunt, p_a, p_d, repeats)
+        rows.append({"batch": size, "arrays_us": arrays, "compiled_us": hunt})
+        print(f"{size}: arrays {arrays:.3f} us, compiled {hunt:.3f} us a hunt", file=sys.stderr, flush=True)
+    return {"settings": {"sizes": list(SIZES), "defenders": DEFENDERS, "repeats": repeats, "seed": CHOICE_SEED},
+            "rows": rows}
+
+
+def choice_table(results: dict) -> str:
+    rows = [[f"{r['batch']}", f"{r['arrays_us']:.3f}", f"{r['compiled_us']:.3f}",
+             f"{r['arrays_us'] / r['compiled_us']:.1f}"] for r in results["rows"]]
+    s = results["settings"]
+    return "\n".join([f"`{COMMAND}` (the choice: the `gap` attacker's heading, {s['defenders']} defenders a hunt; µs a hunt, "
+                      f"best of {s['repeats']}):", "",
+                      *markdown.table(["hunts in the batch", "NumPy, hunt axis", "compiled, hunt by hunt",
+                                       "NumPy / compiled"], "rrrr", rows)]) + "\n"
 
 
 def unpacked(commit: str, folder: Path) -> Path:
@@ -64,8 +150,9 @@ def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int) -> d
     ends."""
     share = -(-hunts // WORKERS)
     env = {**os.environ, "PYTHONPATH": str(path)}
-    runs = [subprocess.Popen([sys.executable, str(ROOT / "studies" / "engine_worker.py"), mode, str(SEED),
-                              str(first + k * share), str(min(share, hunts - k * share)), str(batch)],
+    runs = [subprocess.Popen([sys.executable, str(ROOT / "studies" / "engine_worker.py"), "--mode", mode, "--seed",
+                              str(SEED), "--first", str(first + k * share + 1), "--count",
+                              str(min(share, hunts - k * share)), "--batch", str(batch)],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
             for k in range(WORKERS) if k * share < hunts]
     outputs = []
@@ -84,7 +171,24 @@ def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int) -> d
             "ends": [e for o in outputs for e in o["ends"]]}
 
 
-def measure(hunts: int, more: int) -> dict:
+def sweep(hunts: int) -> dict:
+    """``mpc-hunt sweep`` of ``hunts`` of the study's hunts on ``WORKERS`` processes: its seconds, its rows'
+    exceptions (cause ``error``) and captures."""
+    with tempfile.TemporaryDirectory() as folder:
+        db = Path(folder) / "sweep.db"
+        start = time.perf_counter()
+        run = subprocess.run([sys.executable, "-m", "mpc_hunt.cli", "sweep", "--strategy", "voronoi", "--attacker",
+                              "gap", "--hunts", str(hunts), "--seed", str(SEED), "--set", "n_defenders=[3, 5]",
+                              "--workers", str(WORKERS), "--output", str(db)], capture_output=True, text=True)
+        seconds = time.perf_counter() - start
+        if run.returncode:
+            raise DataFileError(f"mpc-hunt sweep failed: {run.stderr.strip().splitlines()[-1:]}")
+        rows = stored_rows(db)
+    return {"hunts": len(rows), "seconds": seconds, "errors": sum(r["cause"] == "error" for r in rows),
+            "captured": sum(r["outcome"] == "captured" for r in rows)}
+
+
+def measure(hunts: int, more: int, swept: int) -> dict:
     with tempfile.TemporaryDirectory() as folder:
         before = side_by_side(unpacked(BEFORE, Path(folder)), "one", 0, hunts, 1)
         print(f"before: {before['hunts_per_s']:.2f} hunts/s", file=sys.stderr, flush=True)
@@ -99,9 +203,19 @@ def measure(hunts: int, more: int) -> dict:
         ends = run.pop("ends")
         run["outcomes"] = {end: sum(e[0] == end for e in ends) for end in
                            ("captured", "attacker_escaped", "time_limit", "non_finite_state")}
+    swept_run = sweep(swept)
+    print(f"sweep: {swept_run['hunts']} hunts in {swept_run['seconds']:.0f} s, {swept_run['errors']} exceptions",
+          file=sys.stderr, flush=True)
     return {"settings": {"seed": SEED, "hunts": hunts, "more": more, "workers": WORKERS, "batch": BATCH,
                          "before": BEFORE, "pair": "voronoi against gap, 3 to 5 defenders"},
-            "before": before, "batched": now, "batched_more": steady}
+            "before": before, "batched": now, "batched_more": steady, "sweep": swept_run}
+
+
+def report(results: dict, machine: dict) -> str:
+    """The study's README."""
+    return "\n".join(["# The batched engine", "", "## The choice: arrays with a hunt axis, or compiled per hunt", "",
+                      choice_table(results["choice"]), "## Against the engine before it", "", headline(results),
+                      *machine_lines(machine), ""])
 
 
 def headline(results: dict) -> str:
@@ -117,31 +231,36 @@ def headline(results: dict) -> str:
              f"processes at once; before: commit `{s['before'][:12]}`; the same hunts end alike in both):", "",
              *markdown.table(["engine", "hunts", "s", "hunts/s", "steps/s", "vs before", "captured"], "lrrrrrr",
                              rows)]
+    w = results["sweep"]
+    lines += ["", f"`mpc-hunt sweep --strategy voronoi --attacker gap --hunts {w['hunts']} --seed {s['seed']} --set "
+              f"\"n_defenders=[3, 5]\" --workers {s['workers']}`, the whole command: {w['seconds']:.0f} s "
+              f"({w['seconds'] / 60:.1f} min) for {w['hunts']} hunts, {w['errors']} exceptions, {w['captured']} "
+              "captures."]
     return "\n".join(lines) + "\n"
 
 
 def write(results: dict, machine: dict) -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / "results.json").write_text(json.dumps({"machine": machine, **results}, indent=1) + "\n", encoding="utf-8")
-    (OUT / "README.md").write_text("\n".join(["# The batched engine against the engine before it", "",
-                                              headline(results), *machine_lines(machine), ""]), encoding="utf-8")
+    (OUT / "README.md").write_text(report(results, machine), encoding="utf-8")
+    write_block("engine-choice", choice_table(results["choice"]), DOCS)
     write_block("engine-speed", headline(results), DOCS)
 
 
 def check() -> list[str]:
     committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
-    if not isinstance(committed, dict) or not {"settings", "before", "batched", "batched_more", "machine"} <= set(
-            committed):
+    if not isinstance(committed, dict) or not {"settings", "before", "batched", "batched_more", "sweep", "choice",
+                                               "machine"} <= set(committed):
         return ["studies/engine/results.json: not the study's results"]
     errors = []
     s = committed["settings"]
     if (s.get("seed"), s.get("workers"), s.get("batch"), s.get("before")) != (SEED, WORKERS, BATCH, BEFORE):
         errors.append("results.json: measured with other settings than the study's")
     if read_block("engine-speed", DOCS) != headline(committed):
-        errors.append("docs/engine.md: its table is not the committed results'")
-    report = "\n".join(["# The batched engine against the engine before it", "", headline(committed),
-                        *machine_lines(committed["machine"]), ""])
-    if (OUT / "README.md").read_text(encoding="utf-8") != report:
+        errors.append("docs/engine.md: its table of the speed is not the committed results'")
+    if read_block("engine-choice", DOCS) != choice_table(committed["choice"]):
+        errors.append("docs/engine.md: its table of the choice is not the committed results'")
+    if (OUT / "README.md").read_text(encoding="utf-8") != report(committed, committed["machine"]):
         errors.append("studies/engine/README.md: not the committed results' report")
     return errors
 
@@ -152,11 +271,14 @@ def main(argv: list[str] | None = None) -> int:
                         help=f"hunts run by both engines (default {HUNTS})")
     parser.add_argument("--more", type=count(MAX_HUNTS), default=MORE,
                         help=f"more hunts for the batched engine's steady rate (default {MORE})")
+    parser.add_argument("--sweep", type=count(MAX_HUNTS), default=SWEEP,
+                        help=f"hunts of the timed sweep (default {SWEEP})")
     parser.add_argument("--check", action="store_true", help="check the docs' table against the committed results")
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(), "studies/engine", COMMAND)
-    write(measure(args.hunts, args.more), describe_machine())
+    chosen = choice(REPEATS)
+    write({"choice": chosen, **measure(args.hunts, args.more, args.sweep)}, describe_machine())
     print(f"wrote {OUT / 'README.md'} and the table of docs/engine.md")
     return 0
 

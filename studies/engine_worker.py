@@ -1,10 +1,11 @@
 """One process of the engine study (``studies/engine.py``): hunts of the study timed in this process, once warm.
 
 Run by the study with the engine under test first on the path (this tree's, or the engine before the batched one,
-unpacked from git): ``python studies/engine_worker.py MODE SEED FIRST COUNT [BATCH]`` runs hunts FIRST ...
-FIRST + COUNT − 1 of the study (``voronoi`` defenders, 3 to 5, against the ``gap`` attacker, the sweep's random
-scenarios of SEED), MODE ``one`` one by one with ``simulate``, ``batch`` in batches of BATCH with
-``simulate_batch``; prints one JSON line: the seconds they took, their steps, and each hunt's end.
+unpacked from git; so it imports nothing of ``studies``): ``python studies/engine_worker.py --mode M --seed S
+--first F --count C --batch B`` runs C hunts of the study from the F-th (``voronoi`` defenders, 3 to 5, against
+the ``gap`` attacker, the sweep's random scenarios of seed S), M ``one`` one by one with ``simulate``, ``batch``
+in batches of B with ``simulate_batch``; prints one JSON line: the seconds they took, their steps, and each
+hunt's end.
 """
 
 from __future__ import annotations
@@ -13,13 +14,16 @@ import dataclasses
 import json
 import sys
 import time
+from pathlib import Path
 
+from mpc_hunt.arguments import CommandParser, count, run_command, seed
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
 from mpc_hunt.sweep.runner import hunt_rngs
 from mpc_hunt.world.behaviours import with_behaviour
 
 RANGES = ScenarioRanges(n_defenders=(3, 5))
+MAX_HUNTS = 100_000
 WARM_TIME_LIMIT = 5.0       # s of simulated time: the warm-up hunt, before the clock starts
 
 
@@ -45,17 +49,24 @@ def run(mode: str, hunts: list, batch: int) -> list:
     return results
 
 
-def main(argv: list[str]) -> None:
-    mode, seed, first, count = argv[0], int(argv[1]), int(argv[2]), int(argv[3])
-    batch = int(argv[4]) if len(argv) > 4 else 1
-    run(mode, [hunt(seed, first, WARM_TIME_LIMIT)], batch)           # imports, caches, first calls
-    hunts = [hunt(seed, i) for i in range(first, first + count)]
+def main(argv: list[str] | None = None) -> int:
+    parser = CommandParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--mode", choices=("one", "batch"), default="batch",
+                        help="one by one (simulate) or in batches (simulate_batch; the default)")
+    parser.add_argument("--seed", type=seed, default=0, help="the sweep's seed the hunts are drawn from (default 0)")
+    parser.add_argument("--first", type=count(MAX_HUNTS), default=1, help="the first hunt, counted from 1 (default 1)")
+    parser.add_argument("--count", type=count(MAX_HUNTS), default=1, help="how many hunts (default 1)")
+    parser.add_argument("--batch", type=count(MAX_HUNTS), default=1, help="hunts a batch, batch mode (default 1)")
+    args = parser.parse_args(argv)
+    run(args.mode, [hunt(args.seed, args.first - 1, WARM_TIME_LIMIT)], args.batch)  # imports, caches, first calls
+    hunts = [hunt(args.seed, i) for i in range(args.first - 1, args.first - 1 + args.count)]
     start = time.perf_counter()
-    results = run(mode, hunts, batch)
+    results = run(args.mode, hunts, args.batch)
     seconds = time.perf_counter() - start
     print(json.dumps({"seconds": seconds, "steps": sum(len(r.times) - 1 for r in results),
                       "ends": [[r.termination, r.capture_time] for r in results]}))
+    return 0
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    sys.exit(run_command(Path(sys.argv[0]).name, main))

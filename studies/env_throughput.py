@@ -6,8 +6,9 @@ steps with a fixed action (the attacker heading east at full speed) on the rando
 ``REPEATS`` runs: the time of a step, the time of the controller's ``command`` within it (timed by wrapping
 it) and the rest, the environment's own work (the world's step, the capture test, the observation, the
 action's check). Then the same steps vectorised with Gymnasium's vector API on 2 environments (``SyncVectorEnv``
-in one process; ``AsyncVectorEnv`` in a process each, both cores), and ``DefenderEnv`` against the paper's
-attacker for the environment alone. Writes ``studies/env_throughput/results.json`` and README.md, and the table
+in one process; ``AsyncVectorEnv`` in a process each, both cores), then ``BATCHED`` hunts in one call of the
+batched engine's environment (:class:`mpc_hunt.envs.vector.AttackerHunts`, one process), and ``DefenderEnv``
+against the paper's attacker for the environment alone. Writes ``studies/env_throughput/results.json`` and README.md, and the table
 in docs/envs.md.
 
     python studies/env_throughput.py            # measure (a minute or two), write the results and the docs' table
@@ -32,13 +33,13 @@ from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 OUT = Path(__file__).resolve().parent / "env_throughput"
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "envs.md"
 COMMAND = "python studies/env_throughput.py"
 CONTROLLERS = ("voronoi", RECOMMENDED_CONTROLLER)
-STEPS, REPEATS, SEED, VECTOR = 1500, 3, 3, 2
+STEPS, REPEATS, SEED, VECTOR, BATCHED = 1500, 3, 3, 2, 256
 ACTION = np.array([1.0, 0.0])      # the attacker heads east, capped at its v_a
 
 
@@ -95,6 +96,22 @@ def vector_env(controller: str | None, steps: int, asynchronous: bool) -> float:
         envs.close()
 
 
+def batched_env(controller: str, steps: int) -> float:
+    """Steps a second (of all hunts together) of ``BATCHED`` hunts in one AttackerHunts against ``controller``,
+    at least ``steps`` steps and at least one call after a warm-up call."""
+    from mpc_hunt.envs.vector import AttackerHunts
+
+    hunts = AttackerHunts(BATCHED, controller=controller)
+    hunts.reset(seed=SEED)
+    action = np.tile(ACTION * hunts.single_action_space.high, (BATCHED, 1))
+    hunts.step(action)
+    calls = max(1, steps // BATCHED)
+    start = time.perf_counter()
+    for _ in range(calls):
+        hunts.step(action)
+    return BATCHED * calls / (time.perf_counter() - start)
+
+
 def defender_env(steps: int) -> float:
     from mpc_hunt.envs import DefenderEnv
 
@@ -116,12 +133,13 @@ def measure(steps: int, repeats: int) -> dict:
         best = min((one_env(controller, steps) for _ in range(repeats)), key=lambda r: r["step_ms"])
         sync = max(vector_env(controller, steps, False) for _ in range(repeats))
         parallel = max(vector_env(controller, steps, True) for _ in range(repeats))
+        batched = max(batched_env(controller, steps) for _ in range(repeats))
         rows.append({"controller": controller, **best, "steps_per_s": 1e3 / best["step_ms"],
-                     "sync_steps_per_s": sync, "async_steps_per_s": parallel})
+                     "sync_steps_per_s": sync, "async_steps_per_s": parallel, "batched_steps_per_s": batched})
         print(f"{controller}: {1e3 / best['step_ms']:.0f} steps/s", file=sys.stderr, flush=True)
     team = max(defender_env(steps) for _ in range(repeats))
     team_async = max(vector_env(None, steps, True) for _ in range(repeats))
-    return {"settings": {"steps": steps, "repeats": repeats, "seed": SEED, "vector": VECTOR,
+    return {"settings": {"steps": steps, "repeats": repeats, "seed": SEED, "vector": VECTOR, "batched": BATCHED,
                          "controllers": list(CONTROLLERS)},
             "attacker_env": rows, "defender_env": {"steps_per_s": team, "async_steps_per_s": team_async}}
 
@@ -131,15 +149,17 @@ def headline(results: dict) -> str:
     rows = [[f"`AttackerEnv`, defenders `{r['controller']}`", f"{r['steps_per_s']:.0f}",
              f"{r['controller_ms']:.3f} ({100 * r['controller_ms'] / r['step_ms']:.0f} %)",
              f"{r['step_ms'] - r['controller_ms']:.3f}", f"{r['sync_steps_per_s']:.0f}",
-             f"{r['async_steps_per_s']:.0f}"] for r in results["attacker_env"]]
+             f"{r['async_steps_per_s']:.0f}", f"{r['batched_steps_per_s']:.0f}"] for r in results["attacker_env"]]
     rows.append(["`DefenderEnv`, attacker `apf`", f"{d['steps_per_s']:.0f}", "–", f"{1e3 / d['steps_per_s']:.3f}", "–",
-                 f"{d['async_steps_per_s']:.0f}"])
+                 f"{d['async_steps_per_s']:.0f}", "–"])
     lines = [f"`{COMMAND}` ({s['steps']} steps a run, best of {s['repeats']}; {s['vector']} environments "
              "vectorised):", "",
              *markdown.table(["environment", "steps/s, one env", "controller's ms a step",
                               "environment's own ms a step",
                               f"steps/s, {s['vector']} envs in one process (`SyncVectorEnv`)",
-                              f"steps/s, {s['vector']} processes (`AsyncVectorEnv`)"], "lrrrrr", rows)]
+                              f"steps/s, {s['vector']} processes (`AsyncVectorEnv`)",
+                              f"steps/s, {s['batched']} hunts a call (`AttackerHunts`, one process)"], "lrrrrrr",
+                             rows)]
     return "\n".join(lines) + "\n"
 
 
@@ -152,7 +172,7 @@ def write(results: dict, machine: dict) -> None:
 
 
 def check() -> list[str]:
-    committed = json.loads((OUT / "results.json").read_text(encoding="utf-8"))
+    committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
     errors = []
     if committed["settings"]["controllers"] != list(CONTROLLERS):
         errors.append(f"results.json: measured {committed['settings']['controllers']}, the study measures "

@@ -44,7 +44,7 @@ from mpc_hunt.solving.accuracy import VIOLATION_TOLERANCE
 from mpc_hunt.sweep.random_scenario import sweep_scenario
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 OUT = Path(__file__).resolve().parent / "realtime"
 PROGRESS = OUT / "hunts.jsonl"
@@ -253,7 +253,7 @@ def check() -> list[str]:
     path = OUT / "results.json"
     if not path.exists():
         return [f"{path}: missing; run {COMMAND}"]
-    committed = json.loads(path.read_text(encoding="utf-8"))
+    committed = read_json_file(path, f"rerun {COMMAND}")
     errors = [f"settings.{k}: committed {committed['settings'].get(k)!r}, the code runs {v!r}"
               for k, v in settings().items() if committed["settings"].get(k) != v]
     if len(committed["hunts"]) != len(tasks()):
@@ -270,7 +270,7 @@ def run_machine(now: dict) -> dict:
     settings), so that rewriting the results after a change to how they are shown keeps it; else ``now``."""
     path = OUT / "results.json"
     try:
-        committed = json.loads(path.read_text(encoding="utf-8"))
+        committed = read_json_file(path, f"rerun {COMMAND}")
     except (OSError, ValueError):
         return now
     if not isinstance(committed, dict) or committed.get("settings") != settings() or "machine" not in committed:

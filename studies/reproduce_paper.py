@@ -40,7 +40,7 @@ from mpc_hunt.interrupt import stop_at_once
 from mpc_hunt.bench.machine import blas_kernel_families
 from mpc_hunt.plots.hunt import plot_hunt
 
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "reproduction"
 SCENARIOS = ("paper-open", "paper-obstacles")
@@ -341,7 +341,7 @@ def differing(committed: dict, nominal: dict[str, dict]) -> list[str]:
 
 
 def check(out: Path, workers: int) -> list[str]:
-    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    committed = read_json_file(out / "results.json", f"rerun {COMMAND}")
     errors = []
     if (committed["ensemble"]["members"], committed["ensemble"]["scale_m"]) != (MEMBERS, SCALE):
         errors.append(f"results.json: an ensemble of {committed['ensemble']['members']} members at "

@@ -63,7 +63,7 @@ from studies.step_exported import exported_c, exported_lines
 from studies.step_floor import floor_lines, qp_floor
 from studies.step_loop import loop_latency, loop_lines, loop_targets
 from studies.step_profile import rti_profile
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 try:
     from studies.do_mpc_peer import DoMPCPeer
@@ -275,7 +275,7 @@ CHECK_BELOW_MS = 100      # --check reruns the pairs whose committed step is bel
 def check(out: Path) -> list[str]:
     """The committed pairs are the registry's, and rerunning the cheap ones on the committed states gives the
     same failures and median objective (timings are not checked)."""
-    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))["latency"]
+    committed = read_json_file(out / "results.json", "rerun python studies/step_latency.py")["latency"]
     rows = [r for r in committed if (r["formulation"], r["backend"]) != PEER]
     pairs = [(r["formulation"], r["backend"]) for r in rows]
     if pairs != registry.pairs(objective="paper"):

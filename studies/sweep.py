@@ -46,7 +46,7 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import typical_hunts
 
 from studies.docs_block import read_block, write_block
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 from studies.sweep_study import measured_run
 
 OUT = Path(__file__).resolve().parent / "sweep"
@@ -246,7 +246,7 @@ def check() -> list[str]:
               for k, v in arguments().items() if stored.get(k) != v]
     if len(rows) != HUNTS * len(stored["strategies"]):
         errors.append(f"sweep.db: {len(rows)} hunts, not {HUNTS} per strategy (resume it)")
-    committed = json.loads((OUT / "summary.json").read_text(encoding="utf-8"))
+    committed = read_json_file(OUT / "summary.json", f"rerun {COMMAND}")
     summaries = json.loads(json.dumps(summarise(rows)))
     if committed["strategies"] != summaries:
         errors.append("summary.json: not the summary of sweep.db")

@@ -41,7 +41,7 @@ from mpc_hunt.sweep.store import stored_rows
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 from studies.sweep_study import (MAX_HUNTS, add_study_options, keys, measured_run, missing, quickest_captures,
                                  run_file, still_captured, stop_status)
 
@@ -162,7 +162,7 @@ def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -
 
 
 def check(folder: Path) -> list[str]:
-    committed = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    committed = read_json_file(folder / "summary.json", f"rerun {COMMAND}")
     a, t = committed["arguments"]["attackers.db"], committed["arguments"]["teams.db"]
     plan = sweeps(a["hunts"], t["hunts"], a["seed"])
     errors = []

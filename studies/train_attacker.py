@@ -48,7 +48,7 @@ from mpc_hunt.workers import run_local
 from mpc_hunt.world.behaviours.learned import FEATURES, PARAMETERS, LearnedAttacker, shipped_weights
 from mpc_hunt.world.scenario import Scenario
 
-from studies.study_check import check_result, run_study
+from studies.study_check import check_result, read_json_file, run_study
 
 OUT = Path(__file__).resolve().parent / "train_attacker"
 PROGRESS = "generations.jsonl"  # in --output while training runs: the settings, then a line per finished generation
@@ -218,7 +218,7 @@ def write(result: dict, settings: dict, machine: dict, out: Path, weights: Path)
 
 def check(out: Path) -> list[str]:
     """The shipped weights are the committed run's final μ; the committed curve has one row per generation."""
-    committed = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    committed = read_json_file(out / "results.json", f"rerun {COMMAND}")
     errors = []
     if not np.array_equal(np.array(committed["weights"]), shipped_weights()):
         errors.append(f"mpc_hunt/world/behaviours/{PARAMETERS}: not the final weights of results.json")

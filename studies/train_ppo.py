@@ -87,13 +87,13 @@ def learn_imports():
 
 def team_vec_env(hunts: int, seed: int):
     """:class:`TeamHunts` as Stable-Baselines3's ``VecEnv``: one slot per defender, the hunt's reward on each."""
-    from stable_baselines3.common.vec_env import VecEnv
     from gymnasium import spaces
 
     from mpc_hunt.control.ppo_team import TEAM_VIEW
     from mpc_hunt.envs.learning import BOUND, TeamHunts
+    from mpc_hunt.envs.sb3 import plain_vec_env
 
-    class TeamVecEnv(VecEnv):
+    class TeamVecEnv(plain_vec_env()):
         def __init__(self):
             self.hunts = TeamHunts(hunts, TEAM_ATTACKERS, TEAM, DECISION_STEPS, seed)
             super().__init__(self.hunts.agents, spaces.Box(-BOUND, BOUND, (TEAM_VIEW,), np.float64),
@@ -102,9 +102,6 @@ def team_vec_env(hunts: int, seed: int):
 
         def reset(self):
             return self.hunts.reset()
-
-        def step_async(self, actions):
-            self.actions = actions
 
         def step_wait(self):
             views, rewards, dones, hunt_infos = self.hunts.step(self.actions)
@@ -116,21 +113,6 @@ def team_vec_env(hunts: int, seed: int):
                         slot["terminal_observation"] = self.hunts.terminal_views[k][i]
                     infos.append(slot)
             return views, rewards.astype(np.float32), dones, infos
-
-        def close(self):
-            pass
-
-        def get_attr(self, attr_name, indices=None):
-            return [getattr(self, attr_name, None)] * len(self._get_indices(indices))
-
-        def set_attr(self, attr_name, value, indices=None):
-            pass
-
-        def env_method(self, method_name, *args, indices=None, **kwargs):
-            return [None] * len(self._get_indices(indices))
-
-        def env_is_wrapped(self, wrapper_class, indices=None):
-            return [False] * len(self._get_indices(indices))
 
     return TeamVecEnv()
 

@@ -3,6 +3,8 @@
 - :class:`HuntParallelEnv`: PettingZoo ``ParallelEnv``, the attacker and every defender as agents;
 - :class:`AttackerEnv`: Gymnasium, the attacker against a controller of the project (the recommended one);
 - :class:`DefenderEnv`: Gymnasium, the defending team against an attacker behaviour of the world;
+- :class:`AttackerHunts`: many ``AttackerEnv`` hunts stepped in one call by the batched engine
+  (:mod:`mpc_hunt.envs.vector`; Stable-Baselines3 takes it as a ``VecEnv``, :func:`mpc_hunt.envs.sb3.as_vec_env`);
 - :class:`ControllerPolicy`, :class:`PolicyAttacker`: the project's controllers as policies, a policy as the
   simulator's attacker.
 
@@ -24,8 +26,9 @@ from mpc_hunt.envs.attacker_env import AttackerEnv
 from mpc_hunt.envs.defender_env import DefenderEnv
 from mpc_hunt.envs.parallel import HuntParallelEnv
 from mpc_hunt.envs.policies import ControllerPolicy, PolicyAttacker
+from mpc_hunt.envs.vector import AttackerHunts
 
 gymnasium.register("mpc_hunt/Attacker-v0", entry_point="mpc_hunt.envs:AttackerEnv")
 gymnasium.register("mpc_hunt/Defenders-v0", entry_point="mpc_hunt.envs:DefenderEnv")
 
-__all__ = ["AttackerEnv", "ControllerPolicy", "DefenderEnv", "HuntParallelEnv", "PolicyAttacker"]
+__all__ = ["AttackerEnv", "AttackerHunts", "ControllerPolicy", "DefenderEnv", "HuntParallelEnv", "PolicyAttacker"]

@@ -34,40 +34,47 @@ from mpc_hunt.world.scenario import Scenario
 
 
 class Batch:
-    """The world of a batch of hunts as arrays (the module's docstring); the state moves in place."""
+    """The world of a batch of hunts as arrays (the module's docstring); the state moves in place. ``N`` and ``M``
+    (default: the largest team and obstacle set of ``scenarios``) size the padded arrays; a slot takes another
+    hunt with :meth:`put`."""
 
-    def __init__(self, scenarios: Sequence[Scenario], behaviours: Sequence[Behaviour | None]):
+    def __init__(
+        self,
+        scenarios: Sequence[Scenario],
+        behaviours: Sequence[Behaviour | None],
+        N: int | None = None,
+        M: int | None = None,
+    ):
         B = len(scenarios)
+        N = max(len(s.defenders) for s in scenarios) if N is None else N
+        M = max(len(s.obstacles) for s in scenarios) if M is None else M
         self.scenarios = list(scenarios)
-        self.n = np.array([len(s.defenders) for s in scenarios], dtype=np.int64)
-        self.m = np.array([len(s.obstacles) for s in scenarios], dtype=np.int64)
-        N, M = int(self.n.max()), int(self.m.max(initial=0))
-        self.p_a = np.array([s.attacker.start for s in scenarios], dtype=float).reshape(B, 2)
-        self.previous = np.full((B, 2), np.nan)  # the attacker's last position (NaN before the first step)
-        self.p_d = np.zeros((B, N, 2))
-        self.speeds = np.ones((B, N))
-        self.fails_at = np.full((B, N), np.inf)
-        self.centres = np.zeros((B, M, 2))
-        self.radii = np.zeros((B, M))
+        self.n, self.m = np.zeros(B, dtype=np.int64), np.zeros(B, dtype=np.int64)
+        self.p_a, self.previous = np.zeros((B, 2)), np.zeros((B, 2))
+        self.p_d, self.speeds, self.fails_at = np.zeros((B, N, 2)), np.ones((B, N)), np.full((B, N), np.inf)
+        self.centres, self.radii = np.zeros((B, M, 2)), np.zeros((B, M))
         self.prm = np.empty((B, SIZE))
-        for b, s in enumerate(scenarios):
-            n, m = self.n[b], self.m[b]
-            self.p_d[b, :n] = s.defender_starts
-            self.speeds[b, :n] = s.defender_max_speeds
-            self.fails_at[b, :n] = [np.inf if d.fails_at is None else d.fails_at for d in s.defenders]
-            self.centres[b, :m] = s.obstacle_centres
-            self.radii[b, :m] = s.obstacle_radii
-            self.prm[b] = s.packed
-        self.codes = np.array(
-            [
-                CODES.get(s.attacker.behaviour, PYTHON) if given is None else PYTHON
-                for s, given in zip(scenarios, behaviours)
-            ],
-            dtype=np.int64,
-        )
-        limits = [steps(s) for s in scenarios]
-        self.max_steps = np.array([k for k, _ in limits], dtype=np.int64)
-        self.hold = np.array([h for _, h in limits], dtype=np.int64)
+        self.codes = np.zeros(B, dtype=np.int64)
+        self.max_steps, self.hold = np.zeros(B, dtype=np.int64), np.zeros(B, dtype=np.int64)
+        for b, (scenario, given) in enumerate(zip(scenarios, behaviours)):
+            self.put(b, scenario, given is not None)
+
+    def put(self, b: int, s: Scenario, moved_from_python: bool = False) -> None:
+        """Slot b takes the hunt of ``s`` at its start (its attacker moved from Python if ``moved_from_python``,
+        else by its behaviour's compiled rule where there is one)."""
+        n, m = len(s.defenders), len(s.obstacles)
+        self.scenarios[b] = s
+        self.n[b], self.m[b] = n, m
+        self.p_a[b], self.previous[b] = s.attacker.start, np.nan  # no last position before the first step
+        self.p_d[b] = 0.0
+        self.p_d[b, :n], self.speeds[b, :n] = s.defender_starts, s.defender_max_speeds
+        self.fails_at[b] = np.inf
+        self.fails_at[b, :n] = [np.inf if d.fails_at is None else d.fails_at for d in s.defenders]
+        self.centres[b], self.radii[b] = 0.0, 0.0
+        self.centres[b, :m], self.radii[b, :m] = s.obstacle_centres, s.obstacle_radii
+        self.prm[b] = s.packed
+        self.codes[b] = PYTHON if moved_from_python else CODES.get(s.attacker.behaviour, PYTHON)
+        self.max_steps[b], self.hold[b] = steps(s)
 
     def __len__(self) -> int:
         return len(self.scenarios)
@@ -186,7 +193,7 @@ def simulate_batch(
             batch.previous[running] = batch.p_a[running]
             step_batch(
                 running,
-                k,
+                taken,
                 batch.p_a,
                 batch.p_d,
                 batch.n,

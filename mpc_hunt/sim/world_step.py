@@ -86,7 +86,7 @@ def standing_of(
 @kernel
 def step_batch(
     running: np.ndarray,
-    k: int,
+    k: np.ndarray,
     p_a: np.ndarray,
     p_d: np.ndarray,
     n: np.ndarray,
@@ -102,13 +102,13 @@ def step_batch(
     hold: np.ndarray,
     status: np.ndarray,
 ) -> None:
-    """Step ``k`` of every running hunt of a batch (arrays padded, ``n`` and ``m`` their counts): everybody moved
+    """Step ``k[b]`` of every running hunt b of a batch (arrays padded, ``n`` and ``m`` their counts): everybody moved
     (:func:`move`; a defender stopped from its ``fails_at``), then ``status`` and ``held`` (:func:`standing_of`)."""
     for b in range(running.shape[0]):
         if not running[b]:
             continue
         d = p_d[b, : n[b]]
-        stopped = k * prm[b, T] >= fails_at[b, : n[b]]
+        stopped = k[b] * prm[b, T] >= fails_at[b, : n[b]]
         move(p_a[b], d, velocities[b, : n[b]], attacker_velocity[b], stopped, speeds[b, : n[b]], prm[b])
         status[b], held[b] = standing_of(p_a[b], d, centres[b, : m[b]], radii[b, : m[b]], prm[b], held[b], hold[b])
 

@@ -84,6 +84,16 @@ def headed(p_a: np.ndarray, dx: float, dy: float, centres: np.ndarray, radii: np
     return wished(p_a, prm[V_A] * (dx / scale), prm[V_A] * (dy / scale), centres, radii, prm)
 
 
+@kernel
+def attacker_moves(running, actions, p_a, centres, radii, m, prm, out) -> None:
+    """``out[b]``: the velocity ``actions[b]`` of each running hunt b's attacker as the world allows it: capped at
+    its v_a, kept out of every obstacle (arrays of a batch, ``m`` its obstacle counts)."""
+    for b in range(running.shape[0]):
+        if running[b]:
+            x, y = capped(actions[b, 0], actions[b, 1], prm[b, V_A])
+            out[b, 0], out[b, 1] = kept_out(p_a[b], x, y, centres[b, : m[b]], radii[b, : m[b]], prm[b])
+
+
 def sensed(p_a: np.ndarray, p_d: np.ndarray, radius: float) -> np.ndarray:
     """The defenders strictly within ``radius`` of the attacker, shape (k, 2)."""
     return near(np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2), float(radius))
