@@ -13,7 +13,8 @@ the batched engine runs the same hunts in batches of ``BATCH`` (the sweep's, ``m
 then ``MORE`` hunts for its steady rate. Each engine runs on ``WORKERS`` processes at once, each timed inside
 the process once warm (imports, compiled code's cache and a short hunt before the clock starts); a rate is the
 hunts of all processes over the slowest process's seconds. The two engines' hunts must end alike (how, and
-when): the study stops if one differs. Last, ``mpc-hunt sweep`` runs ``SWEEP`` such hunts on ``WORKERS``
+when): the study stops if one differs. Beside them, a process running one hunt with the compiled rules' cache empty
+(compiling them), then one with that cache. Last, ``mpc-hunt sweep`` runs ``SWEEP`` such hunts on ``WORKERS``
 processes into a temporary results file, timed whole (the command, start to end) with its rows' exceptions
 counted. Writes ``studies/engine/results.json`` and README.md, and the two tables in
 docs/engine.md.
@@ -171,6 +172,21 @@ def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int) -> d
             "ends": [e for o in outputs for e in o["ends"]]}
 
 
+def first_runs() -> dict:
+    """Seconds of a process running one short hunt (``engine_worker.py``, one hunt, batch mode) with an empty cache
+    of compiled rules (its own ``NUMBA_CACHE_DIR``), then of a second process with that cache: compiling against
+    loading."""
+    with tempfile.TemporaryDirectory() as folder:
+        env = {**os.environ, "PYTHONPATH": str(ROOT), "NUMBA_CACHE_DIR": folder}
+        seconds = []
+        for _ in range(2):
+            start = time.perf_counter()
+            subprocess.run([sys.executable, str(ROOT / "studies" / "engine_worker.py"), "--seed", str(SEED)], env=env,
+                           check=True, capture_output=True)  # fmt: skip
+            seconds.append(time.perf_counter() - start)
+    return {"cold_s": seconds[0], "cached_s": seconds[1]}
+
+
 def sweep(hunts: int) -> dict:
     """``mpc-hunt sweep`` of ``hunts`` of the study's hunts on ``WORKERS`` processes: its seconds, its rows'
     exceptions (cause ``error``) and captures."""
@@ -231,6 +247,9 @@ def headline(results: dict) -> str:
              f"processes at once; before: commit `{s['before'][:12]}`; the same hunts end alike in both):", "",
              *markdown.table(["engine", "hunts", "s", "hunts/s", "steps/s", "vs before", "captured"], "lrrrrrr",
                              rows)]
+    f = results["first_runs"]
+    lines += ["", f"A process running one hunt with the compiled rules' cache empty took {f['cold_s']:.0f} s (compiling "
+              f"them), the next, with that cache, {f['cached_s']:.1f} s."]
     w = results["sweep"]
     lines += ["", f"`mpc-hunt sweep --strategy voronoi --attacker gap --hunts {w['hunts']} --seed {s['seed']} --set "
               f"\"n_defenders=[3, 5]\" --workers {s['workers']}`, the whole command: {w['seconds']:.0f} s "
@@ -250,7 +269,7 @@ def write(results: dict, machine: dict) -> None:
 def check() -> list[str]:
     committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
     if not isinstance(committed, dict) or not {"settings", "before", "batched", "batched_more", "sweep", "choice",
-                                               "machine"} <= set(committed):
+                                               "first_runs", "machine"} <= set(committed):
         return ["studies/engine/results.json: not the study's results"]
     errors = []
     s = committed["settings"]
@@ -277,8 +296,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(), "studies/engine", COMMAND)
-    chosen = choice(REPEATS)
-    write({"choice": chosen, **measure(args.hunts, args.more, args.sweep)}, describe_machine())
+    chosen, first = choice(REPEATS), first_runs()
+    print(f"first run {first['cold_s']:.1f} s, cached {first['cached_s']:.1f} s", file=sys.stderr, flush=True)
+    write({"choice": chosen, "first_runs": first, **measure(args.hunts, args.more, args.sweep)}, describe_machine())
     print(f"wrote {OUT / 'README.md'} and the table of docs/engine.md")
     return 0
 

@@ -14,35 +14,77 @@ command passes the separation filter (:mod:`mpc_hunt.world.separation`).
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+
 import numpy as np
 
+from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Command, Observation
-from mpc_hunt.control.strategy import approach_commands
-from mpc_hunt.world import attacker
-from mpc_hunt.world.approach import approach_velocity
+from mpc_hunt.control.scenario_rule import ScenarioRule
+from mpc_hunt.control.strategy import approach_stage
+from mpc_hunt.world.approach import approach_of
+from mpc_hunt.world.geometry import length
+from mpc_hunt.world.packed import HUNT_RADIUS, MIN_SEPARATION, R_AGG, T
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.world.separation import keep_separation
+from mpc_hunt.world.separation import separated
 
 
+@kernel
 def circle_targets(p_a: np.ndarray, p_d: np.ndarray, ring_radius: float) -> np.ndarray:
     """Each defender's place on the circle around ``p_a``: its bearing, spread towards 2π / n spacing."""
-    offsets = p_d - p_a
-    bearing = np.arctan2(offsets[:, 1], offsets[:, 0])
-    n = len(p_d)
-    spacing = 2 * np.pi / n
-    turn = np.zeros(n)
+    n = p_d.shape[0]
+    bearing = np.empty(n)
     for i in range(n):
+        bearing[i] = math.atan2(p_d[i, 1] - p_a[1], p_d[i, 0] - p_a[0])
+    spacing = 2 * np.pi / n
+    out = np.empty((n, 2))
+    for i in range(n):
+        turn = 0.0
         for j in range(n):
             if i != j:
                 gap = (bearing[i] - bearing[j] + np.pi) % (2 * np.pi) - np.pi  # in (−π, π]
                 if abs(gap) < spacing:
-                    turn[i] += 0.5 * np.sign(gap or 1.0) * (spacing - abs(gap))
-    angle = bearing + turn
-    return p_a + ring_radius * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+                    turn += 0.5 * (1.0 if gap >= 0 else -1.0) * (spacing - abs(gap))
+        angle = bearing[i] + turn
+        out[i, 0], out[i, 1] = p_a[0] + ring_radius * math.cos(angle), p_a[1] + ring_radius * math.sin(angle)
+    return out
+
+
+@kernel
+def apf_command(p_a, previous, P, active, centres, radii, speeds, prm, prediction, velocities, capture, intercepts):
+    """The module's rule for one hunt, into ``velocities`` (n, 2), ``capture`` (n,) and ``intercepts`` (n, 2)."""
+    n = P.shape[0]
+    for i in range(n):
+        capture[i] = active[i] and length(p_a[0] - P[i, 0], p_a[1] - P[i, 1]) < prm[R_AGG]
+    velocities[:] = 0.0
+    intercepts[:] = np.nan
+    approach_stage(p_a, previous, P, ~capture & active, speeds, centres, radii, prm, prediction, velocities,
+                   intercepts)  # fmt: skip
+    inside = np.flatnonzero(capture)
+    if inside.shape[0]:
+        targets = circle_targets(p_a, P[inside], 0.5 * prm[HUNT_RADIUS])
+        for r in range(inside.shape[0]):
+            i = inside[r]
+            velocities[i, 0], velocities[i, 1] = approach_of(P, i, targets[r, 0], targets[r, 1], speeds[i], centres,
+                                                             radii, prm)  # fmt: skip
+    separated(P, velocities, active, P, prm[T], speeds, prm[MIN_SEPARATION])
+
+
+@kernel
+def apf_batch(running, p_a, previous, p_d, n, failed, centres, radii, m, speeds, prm, prediction, velocities, capture,
+              intercepts) -> None:  # fmt: skip
+    """:func:`apf_command` for every running hunt of a batch (arrays padded; ``n``, ``m`` their counts)."""
+    for b in range(running.shape[0]):
+        if running[b]:
+            k, j = n[b], m[b]
+            apf_command(p_a[b], previous[b], p_d[b, :k], ~failed[b, :k], centres[b, :j], radii[b, :j], speeds[b, :k],
+                        prm[b], prediction[b], velocities[b, :k], capture[b, :k], intercepts[b, :k])  # fmt: skip
 
 
 class EncirclingController:
-    """Potential-field encirclement: the no-optimisation baseline (CLI ``--controller apf``)."""
+    """Potential-field encirclement: the no-optimisation baseline (CLI ``--controller apf``); a batch of hunts in
+    one call (:meth:`batched`)."""
 
     SUMMARY = "the traditional potential-field encirclement, no optimisation"
 
@@ -54,23 +96,14 @@ class EncirclingController:
         return {"controller": "apf", "prediction": self.prediction}
 
     def command(self, obs: Observation) -> Command:
-        s = self.scenario
-        capture = attacker.perceives(s, obs.attacker, obs.defenders) & obs.active
-        velocities, intercepts = approach_commands(s, obs, ~capture & obs.active, self.prediction)
-        inside = np.flatnonzero(capture)
-        if len(inside):
-            targets = circle_targets(obs.attacker, obs.defenders[inside], 0.5 * s.hunt.hunt_radius)
-            speeds = s.defender_max_speeds
-            for target, i in zip(targets, inside):
-                others = np.delete(obs.defenders, i, axis=0)
-                velocities[i] = approach_velocity(s, obs.defenders[i], target, speeds[i], others)
-        velocities = keep_separation(
-            obs.defenders,
-            velocities,
-            obs.active,
-            obs.defenders,
-            s.hunt.time_step,
-            s.defender_max_speeds,
-            s.hunt.min_separation,
-        )
+        s, P = self.scenario, np.asarray(obs.defenders, float)
+        previous = np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, float)
+        velocities, capture, intercepts = np.zeros_like(P), np.zeros(len(P), dtype=bool), np.empty_like(P)
+        apf_command(np.asarray(obs.attacker, float), previous, P, obs.active, s.obstacle_centres, s.obstacle_radii,
+                    s.defender_max_speeds, s.packed, self.prediction, velocities, capture, intercepts)  # fmt: skip
         return Command(velocities, capture, intercepts)
+
+    @staticmethod
+    def batched(controllers: Sequence[EncirclingController | None]) -> ScenarioRule:
+        """The rule of ``controllers`` (None: a hunt commanded otherwise) for a batch, hunt b by its own."""
+        return ScenarioRule(controllers, apf_batch)

@@ -15,45 +15,55 @@ positions and each other.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mpc_hunt.capture.problem import CaptureProblem, checked_horizon
-from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
+from mpc_hunt.compiled import kernel
+from mpc_hunt.control.controller import Command, Observation
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.control.reference import CaptureReference, PaperObjective
 from mpc_hunt.solving import registry
 from mpc_hunt.solving.mpc import CaptureMPC
-from mpc_hunt.world.approach import approach_target, approach_velocity
+from mpc_hunt.world.approach import approach_of
 from mpc_hunt.world.belief import AttackerModel
-from mpc_hunt.world.safety import keep_safety_distance
+from mpc_hunt.world.packed import SAFETY, T
+from mpc_hunt.world.prediction import meeting_point
+from mpc_hunt.world.safety import kept_safe
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import keep_separation
+
+
+@kernel
+def approach_stage(p_a, previous, P, approaching, speeds, centres, radii, prm, prediction, velocities, intercepts):
+    """Into ``velocities`` and ``intercepts``: the ``approaching`` defenders' Eq. 6 towards their intercepts
+    (Eqs. 7–8, the attacker's velocity estimated from ``previous``, NaN before the first step; its position without
+    prediction or intercept), kept out of R_safe (:mod:`mpc_hunt.world.safety`)."""
+    estimate = math.isfinite(previous[0]) and math.isfinite(previous[1])
+    v_a = np.array([(p_a[0] - previous[0]) / prm[T], (p_a[1] - previous[1]) / prm[T]]) if estimate else np.zeros(2)
+    for i in range(P.shape[0]):
+        if approaching[i]:
+            found, tx, ty = meeting_point(p_a, v_a, P[i], speeds[i]) if prediction else (False, 0.0, 0.0)
+            if not found:
+                tx, ty = p_a[0], p_a[1]
+            intercepts[i, 0], intercepts[i, 1] = tx, ty
+            vx, vy = approach_of(P, i, tx, ty, speeds[i], centres, radii, prm)
+            velocities[i, 0], velocities[i, 1] = kept_safe(P[i], vx, vy, centres, radii, prm[SAFETY], prm[T], speeds[i])
 
 
 def approach_commands(
     scenario: Scenario, obs: Observation, approaching: np.ndarray, prediction: bool
 ) -> tuple[np.ndarray, np.ndarray]:
     """Velocities (Eq. 6, kept out of R_safe: :mod:`mpc_hunt.world.safety`) and intercepts (Eqs. 7–8) of the
-    ``approaching`` defenders; zero elsewhere."""
-    speeds = scenario.defender_max_speeds
-    hunt = scenario.hunt
-    velocities = np.zeros_like(obs.defenders)
-    intercepts = np.full_like(obs.defenders, np.nan)
-    v_a = attacker_velocity_estimate(obs, hunt.time_step)
-    for i in np.flatnonzero(approaching):
-        target = approach_target(obs.attacker, v_a, obs.defenders[i], speeds[i], prediction)
-        intercepts[i] = target
-        others = np.delete(obs.defenders, i, axis=0)
-        velocities[i] = keep_safety_distance(
-            obs.defenders[i],
-            approach_velocity(scenario, obs.defenders[i], target, speeds[i], others),
-            scenario.obstacle_centres,
-            scenario.obstacle_radii,
-            hunt.safety_distance,
-            hunt.time_step,
-            speeds[i],
-        )
+    ``approaching`` defenders; zero elsewhere (:func:`approach_stage`)."""
+    s, P = scenario, np.asarray(obs.defenders, dtype=float)
+    velocities, intercepts = np.zeros_like(P), np.full_like(P, np.nan)
+    previous = np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, float)
+    approach_stage(np.asarray(obs.attacker, float), previous, P, np.asarray(approaching, dtype=bool),
+                   s.defender_max_speeds, s.obstacle_centres, s.obstacle_radii, s.packed, prediction, velocities,
+                   intercepts)  # fmt: skip
     return velocities, intercepts
 
 

@@ -34,10 +34,11 @@ import numpy as np
 
 from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.control.scenario_rule import ScenarioRule
 from mpc_hunt.world.arena import clear_of, kept_clear, safe_of
 from mpc_hunt.world.geometry import capped, encloses, length
 from mpc_hunt.world.hunting_circle import member_arrays
-from mpc_hunt.world.packed import HAS_ARENA, HUNT_RADIUS, MIN_SEPARATION, R_AGG, SIZE, X_MAX, X_MIN, Y_MAX, Y_MIN, T
+from mpc_hunt.world.packed import HAS_ARENA, HUNT_RADIUS, MIN_SEPARATION, R_AGG, X_MAX, X_MIN, Y_MAX, Y_MIN, T
 from mpc_hunt.world.prediction import meeting_point
 from mpc_hunt.world.scenario import Scenario
 from mpc_hunt.world.separation import separated
@@ -255,49 +256,10 @@ class VoronoiController:
         return Command(velocities, capture, intercepts)
 
     @staticmethod
-    def batched(controllers: Sequence[VoronoiController | None]) -> VoronoiRule:
+    def batched(controllers: Sequence[VoronoiController | None]) -> ScenarioRule:
         """The rule of ``controllers`` (None: a hunt commanded otherwise) for a batch, hunt b by its own."""
-        return VoronoiRule(controllers)
+        return ScenarioRule(controllers, voronoi_batch)
 
     def allowed(self, target: np.ndarray) -> np.ndarray:
         """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe."""
         return kept_clear(self.scenario, target)
-
-
-class VoronoiRule:
-    """Each hunt's Voronoi controller's knowledge (its scenario, its prediction setting) as a batch's arrays."""
-
-    def __init__(self, controllers: Sequence[VoronoiController | None]):
-        B = len(controllers)
-        N = max((len(c.scenario.defenders) for c in controllers if c is not None), default=1)
-        M = max((len(c.scenario.obstacles) for c in controllers if c is not None), default=0)
-        self.centres, self.radii = np.zeros((B, M, 2)), np.zeros((B, M))
-        self.m, self.speeds = np.zeros(B, dtype=np.int64), np.ones((B, N))
-        self.prm, self.prediction = np.zeros((B, SIZE)), np.zeros(B, dtype=bool)
-        for b, c in enumerate(controllers):
-            if c is not None:
-                s = c.scenario
-                m = len(s.obstacles)
-                self.m[b], self.centres[b, :m], self.radii[b, :m] = m, s.obstacle_centres, s.obstacle_radii
-                self.speeds[b, : len(s.defenders)], self.prm[b] = s.defender_max_speeds, s.packed
-                self.prediction[b] = c.prediction
-
-    def commands(self, mine: np.ndarray, p_a, previous, p_d, n, failed, velocities, capture, intercepts) -> None:
-        """Every hunt of ``mine`` commanded from its observation (arrays of the batch), in one call."""
-        voronoi_batch(
-            mine,
-            p_a,
-            previous,
-            p_d,
-            n,
-            failed,
-            self.centres,
-            self.radii,
-            self.m,
-            self.speeds,
-            self.prm,
-            self.prediction,
-            velocities,
-            capture,
-            intercepts,
-        )

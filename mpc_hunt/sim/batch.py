@@ -28,6 +28,7 @@ from mpc_hunt.solving.step_timing import stolen
 from mpc_hunt.world.behaviours import make_behaviour
 from mpc_hunt.world.behaviours.base import Behaviour
 from mpc_hunt.world.behaviours.batch import CODES, PYTHON, attacker_velocities
+from mpc_hunt.world.behaviours.minimax import DIRECTIONS
 from mpc_hunt.world.behaviours.noisy import draw
 from mpc_hunt.world.packed import SIZE, T
 from mpc_hunt.world.scenario import Scenario
@@ -180,11 +181,13 @@ def simulate_batch(
                 batch.p_a,
                 batch.p_d,
                 batch.n,
+                batch.speeds,
                 batch.centres,
                 batch.radii,
                 batch.m,
                 batch.prm,
                 draws,
+                DIRECTIONS,
                 attacker_v,
             )
             for b in moved_by:

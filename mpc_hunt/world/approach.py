@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.world.field import obstacle_repulsion, repulsion
-from mpc_hunt.world.geometry import saturate
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.field import obstacle_push, push
+from mpc_hunt.world.geometry import capped
+from mpc_hunt.world.packed import ETA, MIN_SEPARATION, OMEGA, PROTECTIVE
 from mpc_hunt.world.prediction import intercept_point
 from mpc_hunt.world.scenario import Scenario
 
@@ -29,16 +31,28 @@ def approach_target(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: fl
     return np.asarray(p_a, dtype=float)
 
 
+@kernel
+def approach_of(p_d, i, tx, ty, speed, centres, radii, prm):
+    """Eq. 6 for defender ``i`` of ``p_d`` (the others repel it) towards (tx, ty), with the sign of docs/model.md,
+    E3, capped at ``speed``; the parameters ``prm`` (:mod:`mpc_hunt.world.packed`)."""
+    p = p_d[i]
+    ax, ay = obstacle_push(p, centres, radii, prm[PROTECTIVE], prm[ETA])
+    dx = dy = 0.0
+    for j in range(p_d.shape[0]):
+        if j != i:
+            hx, hy = push(p[0] - p_d[j, 0], p[1] - p_d[j, 1], 2.0 * prm[MIN_SEPARATION], prm[ETA])
+            dx += hx
+            dy += hy
+    ax, ay = ax + dx, ay + dy
+    w = prm[OMEGA]
+    return capped(w * (tx - p[0]) + (1.0 - w) * ax, w * (ty - p[1]) + (1.0 - w) * ay, speed)
+
+
 def approach_velocity(
     scenario: Scenario, p_d: np.ndarray, target: np.ndarray, speed: float, others: np.ndarray
 ) -> np.ndarray:
     """Eq. 6 with the sign of docs/model.md, E3, capped at ``speed``; ``others`` are the other defenders."""
-    hunt = scenario.hunt
-    avoid = obstacle_repulsion(
-        p_d, scenario.obstacle_centres, scenario.obstacle_radii, hunt.protective_distance, hunt.eta
-    )
-    avoid = avoid + repulsion(
-        p_d - np.asarray(others, dtype=float).reshape(-1, 2), 2.0 * hunt.min_separation, hunt.eta
-    ).sum(axis=0)
-    u = hunt.omega * (np.asarray(target, dtype=float) - p_d) + (1.0 - hunt.omega) * avoid
-    return saturate(u, speed)
+    s = scenario
+    team = np.vstack([np.asarray(p_d, dtype=float).reshape(1, 2), np.asarray(others, dtype=float).reshape(-1, 2)])
+    tx, ty = np.asarray(target, dtype=float)
+    return np.array(approach_of(team, 0, tx, ty, float(speed), s.obstacle_centres, s.obstacle_radii, s.packed))

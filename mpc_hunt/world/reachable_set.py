@@ -19,14 +19,18 @@ part reaches the edge before any obstacle is an *escape* direction, along which
 an attacker that runs now leaves whatever the defenders do.
 
 Everything here is straight-line and worst-case for the defenders' timing
-(obstacles only lengthen their ways), and vectorised over rays and defenders.
+(obstacles only lengthen their ways); the rules are compiled (:mod:`mpc_hunt.compiled`) loops over rays and
+defenders.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from mpc_hunt.compiled import kernel
 
 RAYS = 72  # directions round the attacker (5° apart)
 
@@ -37,48 +41,54 @@ def ray_directions(count: int = RAYS) -> np.ndarray:
     return np.column_stack([np.cos(angles), np.sin(angles)])
 
 
-def defender_reach(
-    p_a: np.ndarray, rays: np.ndarray, defenders: np.ndarray, ratios: np.ndarray, reach: float
-) -> np.ndarray:
+@kernel
+def defender_reach(p_a, rays, defenders, ratios, reach):
     """s_i(u) of the module's docstring, shape (rays, defenders): how far along each ray the attacker gets
     before defender i can be within ``reach`` of it; ``ratios`` are κ_i = v_a / v_i, each in (0, 1)."""
-    d = p_a - defenders  # (n, 2)
-    du = rays @ d.T  # (m, n): d·u
-    c = 1.0 / ratios**2 - 1.0  # (n,)
-    b = reach / ratios - du
-    disc = b**2 - c * (reach**2 - np.sum(d**2, axis=1))
-    return np.maximum((np.sqrt(np.maximum(disc, 0.0)) - b) / c, 0.0)
+    m, n = rays.shape[0], defenders.shape[0]
+    out = np.empty((m, n))
+    for i in range(n):
+        dx, dy = p_a[0] - defenders[i, 0], p_a[1] - defenders[i, 1]
+        c = 1.0 / (ratios[i] * ratios[i]) - 1.0
+        for k in range(m):
+            b = reach / ratios[i] - (rays[k, 0] * dx + rays[k, 1] * dy)
+            disc = b * b - c * (reach * reach - (dx * dx + dy * dy))
+            out[k, i] = max((math.sqrt(max(disc, 0.0)) - b) / c, 0.0)
+    return out
 
 
-def obstacle_block(p_a: np.ndarray, rays: np.ndarray, centres: np.ndarray, radii: np.ndarray) -> np.ndarray:
+@kernel
+def obstacle_block(p_a, rays, centres, radii):
     """How far along each ray the attacker goes before it meets an obstacle's surface (inf where none), (m,)."""
-    if not len(radii):
-        return np.full(len(rays), np.inf)
-    f = p_a - centres  # (q, 2)
-    fu = rays @ f.T  # (m, q)
-    disc = fu**2 - (np.sum(f**2, axis=1) - radii**2)
-    entry = -fu - np.sqrt(np.maximum(disc, 0.0))
-    hit = (disc >= 0) & (entry >= 0)
-    return np.min(np.where(hit, entry, np.inf), axis=1)
+    out = np.full(rays.shape[0], np.inf)
+    for j in range(radii.shape[0]):
+        fx, fy = p_a[0] - centres[j, 0], p_a[1] - centres[j, 1]
+        for k in range(rays.shape[0]):
+            fu = rays[k, 0] * fx + rays[k, 1] * fy
+            disc = fu * fu - ((fx * fx + fy * fy) - radii[j] * radii[j])
+            entry = -fu - math.sqrt(max(disc, 0.0))
+            if disc >= 0 and entry >= 0:
+                out[k] = min(out[k], entry)
+    return out
+
+
+@kernel
+def edge_along(p_a, rays, x_min, y_min, x_max, y_max):
+    """How far along each ray the edge of the arena (x_min, y_min, x_max, y_max) is, (m,): inf along a ray that
+    meets none (an edge at infinity, as an arena that is not there)."""
+    out = np.empty(rays.shape[0])
+    for k in range(rays.shape[0]):
+        ux, uy = rays[k, 0], rays[k, 1]
+        tx = (x_max - p_a[0]) / ux if ux > 0 else ((x_min - p_a[0]) / ux if ux < 0 else np.inf)
+        ty = (y_max - p_a[1]) / uy if uy > 0 else ((y_min - p_a[1]) / uy if uy < 0 else np.inf)
+        out[k] = max(min(tx, ty), 0.0)
+    return out
 
 
 def edge_distance(p_a: np.ndarray, rays: np.ndarray, arena: tuple[float, float, float, float] | None) -> np.ndarray:
     """How far along each ray the arena's edge is (inf without an arena), (m,)."""
-    if arena is None:
-        return np.full(len(rays), np.inf)
-    x_min, y_min, x_max, y_max = arena
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tx = np.where(
-            rays[:, 0] > 0,
-            (x_max - p_a[0]) / rays[:, 0],
-            np.where(rays[:, 0] < 0, (x_min - p_a[0]) / rays[:, 0], np.inf),
-        )
-        ty = np.where(
-            rays[:, 1] > 0,
-            (y_max - p_a[1]) / rays[:, 1],
-            np.where(rays[:, 1] < 0, (y_min - p_a[1]) / rays[:, 1], np.inf),
-        )
-    return np.maximum(np.minimum(tx, ty), 0.0)
+    x_min, y_min, x_max, y_max = (-np.inf, -np.inf, np.inf, np.inf) if arena is None else arena
+    return edge_along(np.asarray(p_a, dtype=float), rays, float(x_min), float(y_min), float(x_max), float(y_max))
 
 
 @dataclass(frozen=True)
@@ -123,14 +133,9 @@ def dominance(
     rays = ray_directions() if rays is None else rays
     defenders = np.asarray(defenders, dtype=float).reshape(-1, 2)
     if len(defenders):
-        defended = np.min(
-            defender_reach(p_a, rays, defenders, attacker_speed / np.asarray(defender_speeds), reach), axis=1
-        )
+        ratios = attacker_speed / np.asarray(defender_speeds, dtype=float)
+        defended = np.min(defender_reach(p_a, rays, defenders, ratios, float(reach)), axis=1)
     else:
         defended = np.full(len(rays), np.inf)
-    return Dominance(
-        rays,
-        defended,
-        obstacle_block(p_a, rays, np.asarray(centres, dtype=float).reshape(-1, 2), np.asarray(radii, dtype=float)),
-        edge_distance(p_a, rays, arena),
-    )
+    centres, radii = np.asarray(centres, dtype=float).reshape(-1, 2), np.asarray(radii, dtype=float).reshape(-1)
+    return Dominance(rays, defended, obstacle_block(p_a, rays, centres, radii), edge_distance(p_a, rays, arena))

@@ -23,26 +23,48 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.world.geometry import norm
-from mpc_hunt.world.separation import onto_half_planes
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.geometry import length
+from mpc_hunt.world.separation import onto_rows
 
 AIM = 1e-12  # m: how far inside a broken row's half-plane a projection aims
 
 
-def _floors(
-    p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """(the distance from ``p`` to each centre, the least distance allowed to it: "never worse than now")."""
-    distances = norm(p - centres)
-    return distances, radii + np.minimum(safety_distance, distances - radii)
+@kernel
+def safety_arrays(p, centres, radii, safety_distance, time_step):
+    """The module's half-planes A[j] · v ≥ b[j] for a defender at ``p``, one per obstacle."""
+    m = radii.shape[0]
+    A, b = np.empty((m, 2)), np.empty(m)
+    for j in range(m):
+        d = length(p[0] - centres[j, 0], p[1] - centres[j, 1])
+        floor = radii[j] + min(safety_distance, d - radii[j])
+        A[j, 0], A[j, 1] = time_step * (p[0] - centres[j, 0]) / d, time_step * (p[1] - centres[j, 1]) / d
+        b[j] = floor - d
+    return A, b
+
+
+@kernel
+def kept_safe(p, vx, vy, centres, radii, safety_distance, time_step, speed):
+    """(vx, vy) for a defender at ``p``, filtered as the module's docstring says (unchanged unless it must be)."""
+    broken = False
+    for j in range(radii.shape[0]):
+        d = length(p[0] - centres[j, 0], p[1] - centres[j, 1])
+        floor = radii[j] + min(safety_distance, d - radii[j])
+        broken = broken or not (
+            length(p[0] + time_step * vx - centres[j, 0], p[1] + time_step * vy - centres[j, 1]) >= floor
+        )
+    if not broken:
+        return vx, vy
+    A, b = safety_arrays(p, centres, radii, safety_distance, time_step)
+    return onto_rows(vx, vy, A, b, speed, AIM)
 
 
 def safety_rows(
     p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float, time_step: float
 ) -> list[tuple[np.ndarray, float]]:
     """The module's half-planes a · v ≥ b for a defender at ``p``, one per obstacle."""
-    distances, floor = _floors(p, centres, radii, safety_distance)
-    return [(time_step * (p - c) / d, f - d) for c, d, f in zip(centres, distances, floor)]
+    A, b = safety_arrays(np.asarray(p, dtype=float), centres, radii, float(safety_distance), float(time_step))
+    return [(A[j], float(b[j])) for j in range(len(b))]
 
 
 def keep_safety_distance(
@@ -54,7 +76,8 @@ def keep_safety_distance(
     time_step: float,
     speed: float,
 ) -> np.ndarray:
-    """``v`` for a defender at ``p``, filtered as the module's docstring says (unchanged unless it must be)."""
-    if np.all(norm(p + time_step * v - centres) >= _floors(p, centres, radii, safety_distance)[1]):
-        return v
-    return onto_half_planes(v, safety_rows(p, centres, radii, safety_distance, time_step), speed, AIM)
+    """``v`` for a defender at ``p``, filtered as the module's docstring says (``v`` itself when unchanged)."""
+    p, centres, radii = np.asarray(p, dtype=float), np.asarray(centres, dtype=float), np.asarray(radii, dtype=float)
+    out = kept_safe(p, float(v[0]), float(v[1]), centres.reshape(-1, 2), radii.reshape(-1), float(safety_distance),
+                    float(time_step), float(speed))  # fmt: skip
+    return v if out == (v[0], v[1]) else np.array(out)

@@ -12,11 +12,11 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
 from mpc_hunt.world.behaviours import with_behaviour
 from mpc_hunt.world.scenario import HuntParameters
 
-# Teams of 2 to 5 and 0 to 3 obstacles, mixed in one batch; attackers compiled and not (minimax moves from Python);
-# controllers batched (voronoi) and not (apf).
+# Teams of 2 to 5 and 0 to 3 obstacles, mixed in one batch; attackers compiled and not (learned moves from Python);
+# controllers of two batched rules (voronoi, apf) and one commanded hunt by hunt (the paper's strategy, a QP a step).
 RANGES = ScenarioRanges(n_defenders=(2, 5), n_obstacles=(0, 3))
-PAIRS = [("voronoi", "gap"), ("apf", "flee"), ("voronoi", "noisy"), ("voronoi", "voronoi"), ("apf", "apf"),
-         ("voronoi", "minimax"), ("voronoi", "flee"), ("voronoi", "apf")]
+PAIRS = [("voronoi", "gap"), ("apf", "flee"), ("voronoi", "noisy"), ("voronoi", "voronoi"), ("apf", "learned"),
+         ("voronoi", "minimax"), ("paper:rti:hpipm:5", "flee"), ("voronoi", "apf")]
 
 
 def _hunts(seed: int, time_limit: float = 60.0):

@@ -19,9 +19,9 @@ obstacles' field and kept out of every obstacle like every behaviour's
 (:func:`~mpc_hunt.world.behaviours.base.heading`).
 
 The search is exhaustive over the rays (a zero-sum game of one move against
-reachable sets, solved exactly on that grid), so it needs no solver; a plan
-costs 1.3–2.0 ms against five defenders and two obstacles on the 2-core
-development machine under load (docs/model.md, E13, gives the command).
+reachable sets, solved exactly on that grid), so it needs no solver; compiled (:mod:`mpc_hunt.compiled`), a plan
+costs microseconds against five defenders and two obstacles (docs/model.md, E13, gives the command and the
+figures).
 """
 
 from __future__ import annotations
@@ -30,29 +30,64 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mpc_hunt.world.behaviours.base import heading, sensed, undisturbed
-from mpc_hunt.world.geometry import norm
-from mpc_hunt.world.packed import sensing_radius
-from mpc_hunt.world.reachable_set import dominance
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.behaviours.base import calm, headed, near
+from mpc_hunt.world.geometry import length
+from mpc_hunt.world.packed import HUNT_RADIUS, SENSING, V_A, X_MAX, X_MIN, Y_MAX, Y_MIN
+from mpc_hunt.world.reachable_set import RAYS, defender_reach, edge_along, obstacle_block, ray_directions
 
 if TYPE_CHECKING:
     from mpc_hunt.world.scenario import Scenario
+
+DIRECTIONS = ray_directions(RAYS)
+
+
+@kernel
+def best_ray(p_a, p_d, top, centres, radii, prm, rays):
+    """The index of the ray of the module's docstring against the defenders at ``p_d``, each at the team's top
+    speed ``top``."""
+    reach, v_a = prm[HUNT_RADIUS], prm[V_A]
+    ratios = np.full(p_d.shape[0], v_a / top)
+    limits = defender_reach(p_a, rays, p_d, ratios, reach)
+    blocked = obstacle_block(p_a, rays, centres, radii)
+    edge = edge_along(p_a, rays, prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX])
+    best, chosen = -np.inf, -1
+    for k in range(rays.shape[0]):  # the widest margin at the edge, over the rays no obstacle closes before it
+        if blocked[k] > edge[k]:
+            ex, ey = p_a[0] + edge[k] * rays[k, 0], p_a[1] + edge[k] * rays[k, 1]
+            arrival = np.inf
+            for i in range(p_d.shape[0]):
+                arrival = min(arrival, (length(ex - p_d[i, 0], ey - p_d[i, 1]) - reach) / top)
+            margin = arrival - edge[k] / v_a
+            if chosen < 0 or margin > best:
+                best, chosen = margin, k
+    if chosen >= 0:
+        return chosen
+    best = -np.inf
+    for k in range(rays.shape[0]):  # else the farthest run before any defender or obstacle closes it
+        extent = min(edge[k], blocked[k])
+        for i in range(p_d.shape[0]):
+            extent = min(extent, limits[k, i])
+        if chosen < 0 or extent > best:
+            best, chosen = extent, k
+    return chosen
+
+
+@kernel
+def minimax_velocity(p_a, p_d, speeds, centres, radii, prm, rays):
+    """The ``minimax`` attacker's velocity (the module's docstring); ``speeds`` the defenders' top speeds."""
+    if near(p_a, p_d, prm[SENSING]).shape[0] == 0:
+        return calm(p_a, centres, radii, prm)
+    k = best_ray(p_a, p_d, speeds.max(), centres, radii, prm, rays)
+    return headed(p_a, rays[k, 0], rays[k, 1], centres, radii, prm)
 
 
 def best_heading(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
     """The unit heading of the module's docstring against the defenders at ``p_d``."""
     s = scenario
-    speeds = np.full(len(p_d), float(np.max(s.defender_max_speeds)))
-    region = dominance(
-        p_a, p_d, speeds, s.attacker.max_speed, s.obstacle_centres, s.obstacle_radii, s.arena, reach=s.hunt.hunt_radius
-    )
-    open_ = region.blocked > region.edge  # no obstacle before the edge
-    if open_.any():
-        exits = p_a + region.edge[:, None] * region.rays  # (m, 2) the edge points
-        arrival = np.min((norm(exits[:, None, :] - p_d[None]) - s.hunt.hunt_radius) / speeds, axis=1)
-        margin = np.where(open_, arrival - region.edge / s.attacker.max_speed, -np.inf)
-        return region.rays[int(np.argmax(margin))]
-    return region.rays[int(np.argmax(region.extent))]
+    p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+    top = float(np.max(s.defender_max_speeds))
+    return DIRECTIONS[best_ray(p_a, p_d, top, s.obstacle_centres, s.obstacle_radii, s.packed, DIRECTIONS)]
 
 
 class MinimaxAttacker:
@@ -60,10 +95,9 @@ class MinimaxAttacker:
 
     def __init__(self, scenario: Scenario, rng: np.random.Generator):
         self.scenario = scenario
-        self.radius = sensing_radius(scenario)
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        p_d = np.asarray(p_d, dtype=float).reshape(-1, 2)
-        if not len(sensed(p_a, p_d, self.radius)):
-            return undisturbed(self.scenario, p_a)
-        return heading(self.scenario, p_a, best_heading(self.scenario, p_a, p_d))
+        s = self.scenario
+        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+        return np.array(minimax_velocity(p_a, p_d, s.defender_max_speeds, s.obstacle_centres, s.obstacle_radii,
+                                         s.packed, DIRECTIONS))  # fmt: skip
