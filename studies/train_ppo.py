@@ -6,9 +6,10 @@ units (ReLU, not SB3's default tanh: the shipped network is evaluated in NumPy w
 every CPU, :mod:`mpc_hunt.world.mlp`), observations normalised by ``VecNormalize``, a decision every
 ``DECISION_STEPS`` steps of the world (0.5 s):
 
-- ``attacker``: :class:`mpc_hunt.envs.learning.AttackerViewEnv` against the recommended controller
-  (``RECOMMENDED_CONTROLLER``), random hunts of the sweep's default ranges with 2 to 5 defenders,
-  ``--workers`` environments in ``SubprocVecEnv`` processes;
+- ``attacker``: :class:`mpc_hunt.envs.learning.AttackerViewEnv`'s hunts against the recommended controller
+  (``RECOMMENDED_CONTROLLER``), random hunts of the sweep's default ranges with 2 to 5 defenders, ``--hunts`` of
+  them in one call of the batched engine (:class:`mpc_hunt.envs.view_hunts.AttackerViewHunts`, hunt k as the
+  single environment reset from the seed + k plays it);
 - ``team``: :class:`mpc_hunt.envs.learning.TeamHunts`, teams of 3 sharing one policy (one ``VecEnv``
   slot per defender), against the world's behaviours ``TEAM_ATTACKERS``, one drawn per hunt; the policy's
   action corrects the Voronoi baseline's velocity (residual policy learning, :mod:`mpc_hunt.control.ppo_team`),
@@ -61,6 +62,7 @@ DECISION_STEPS = 5
 MINUTES = 50
 TEAM = 3
 TEAM_HUNTS = 4
+MAX_ATTACKER_HUNTS = 4096    # the attacker's hunts side by side, at most
 TEAM_ATTACKERS = ("apf", "flee", "gap", "voronoi", "noisy", "learned", "minimax")
 HIDDEN = (64, 64)
 BINS = 12                 # rows of a side's curve in the README
@@ -117,20 +119,15 @@ def team_vec_env(hunts: int, seed: int):
     return TeamVecEnv()
 
 
-def attacker_vec_env(workers: int, seed: int):
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
+def attacker_vec_env(hunts: int, seed: int):
+    """:class:`AttackerViewHunts` (``hunts`` hunts of the view environment in one call of the batched engine) as
+    Stable-Baselines3's ``VecEnv``, hunt k reset from ``seed + k``."""
+    from mpc_hunt.envs.sb3 import as_vec_env
+    from mpc_hunt.envs.view_hunts import AttackerViewHunts
 
-    from mpc_hunt.envs.learning import AttackerViewEnv
-
-    def make(rank: int):
-        def build():
-            env = AttackerViewEnv(controller=RECOMMENDED_CONTROLLER, decision_steps=DECISION_STEPS)
-            env.reset(seed=seed + rank)
-            return env
-        return build
-
-    makers = [make(k) for k in range(workers)]
-    return SubprocVecEnv(makers, start_method="fork") if workers > 1 else DummyVecEnv(makers)
+    venv = as_vec_env(AttackerViewHunts(hunts, controller=RECOMMENDED_CONTROLLER, decision_steps=DECISION_STEPS))
+    venv.seed(seed)
+    return venv
 
 
 def export(policy, obs_rms, clip: float, epsilon: float, side: str, path: Path) -> None:
@@ -165,7 +162,7 @@ def digest(path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def train_side(side: str, minutes: float, workers: int, out: Path, resume: bool) -> dict:
+def train_side(side: str, minutes: float, hunts: int, out: Path, resume: bool) -> dict:
     """Train ``side`` for ``minutes`` of wall time (the module's docstring); its curve and settings."""
     sb3, torch = learn_imports()
     from stable_baselines3 import PPO
@@ -179,7 +176,7 @@ def train_side(side: str, minutes: float, workers: int, out: Path, resume: bool)
         raise MpcHuntError(f"{folder}: no checkpoint of the {side} to resume; train without --resume")
     progress = read_checkpoint(progress_path) if resume else {"elapsed_s": 0.0, "curve": []}
     seed = TRAIN_SEED + (0 if side == "attacker" else 1) + 1000 * len(progress["curve"])
-    venv = attacker_vec_env(workers, seed) if side == "attacker" else team_vec_env(TEAM_HUNTS, seed)
+    venv = attacker_vec_env(hunts, seed) if side == "attacker" else team_vec_env(TEAM_HUNTS, seed)
     if resume:
         try:
             venv = VecNormalize.load(str(folder / "vecnormalize.pkl"), venv)
@@ -242,7 +239,7 @@ def train_side(side: str, minutes: float, workers: int, out: Path, resume: bool)
     settings = {"minutes": minutes, "decision_steps": DECISION_STEPS, "hidden": list(HIDDEN), "activation": "relu",
                 "log_std_init": LOG_STD_INIT[side],
                 "train_seed": TRAIN_SEED, **PPO_SETTINGS[side],
-                **({"against": RECOMMENDED_CONTROLLER, "teams": [2, 3, 4, 5], "workers": workers}
+                **({"against": RECOMMENDED_CONTROLLER, "teams": [2, 3, 4, 5], "hunts": hunts}
                    if side == "attacker" else {"team": TEAM, "hunts": TEAM_HUNTS, "attackers": list(TEAM_ATTACKERS),
                                                "residual": RESIDUAL})}
     return {"side": side, "settings": settings, "curve": progress["curve"], "policy": path.name,
@@ -304,7 +301,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--side", choices=("attacker", "team", "both"), default="both")
     parser.add_argument("--minutes", type=count(600), default=MINUTES, help="wall time per side, 1 to 600")
-    parser.add_argument("--workers", type=count(16), default=2, help="the attacker's environment processes")
+    parser.add_argument("--hunts", type=count(MAX_ATTACKER_HUNTS), default=2,
+                        help="the attacker's hunts stepped at once (one process, the batched engine)")
     parser.add_argument("--output", type=output_folder, default=OUT, help="the study's folder")
     parser.add_argument("--resume", action="store_true", help="continue from the checkpoint in --output")
     parser.add_argument("--check", action="store_true", help="check the committed results against the package")
@@ -314,7 +312,7 @@ def main(argv: list[str] | None = None) -> int:
     learn_imports()
     for side in ("attacker", "team") if args.side == "both" else (args.side,):
         try:
-            result = train_side(side, args.minutes, args.workers, args.output, args.resume)
+            result = train_side(side, args.minutes, args.hunts, args.output, args.resume)
         except KeyboardInterrupt:
             print(f"interrupted: the {side}'s checkpoint is in {args.output / 'checkpoint' / side}; continue with "
                   f"--side {side} --resume", file=sys.stderr)

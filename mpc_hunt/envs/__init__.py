@@ -4,7 +4,8 @@
 - :class:`AttackerEnv`: Gymnasium, the attacker against a controller of the project (the recommended one);
 - :class:`DefenderEnv`: Gymnasium, the defending team against an attacker behaviour of the world;
 - :class:`AttackerHunts`: many ``AttackerEnv`` hunts stepped in one call by the batched engine
-  (:mod:`mpc_hunt.envs.vector`; Stable-Baselines3 takes it as a ``VecEnv``, :func:`mpc_hunt.envs.sb3.as_vec_env`);
+  (:mod:`mpc_hunt.envs.vector`; Stable-Baselines3 takes it as a ``VecEnv``, :func:`mpc_hunt.envs.sb3.as_vec_env`),
+  :class:`AttackerViewHunts` the PPO attacker's training hunts so (:mod:`mpc_hunt.envs.view_hunts`);
 - :class:`ControllerPolicy`, :class:`PolicyAttacker`: the project's controllers as policies, a policy as the
   simulator's attacker.
 
@@ -27,8 +28,17 @@ from mpc_hunt.envs.defender_env import DefenderEnv
 from mpc_hunt.envs.parallel import HuntParallelEnv
 from mpc_hunt.envs.policies import ControllerPolicy, PolicyAttacker
 from mpc_hunt.envs.vector import AttackerHunts
+from mpc_hunt.envs.view_hunts import AttackerViewHunts
 
 gymnasium.register("mpc_hunt/Attacker-v0", entry_point="mpc_hunt.envs:AttackerEnv")
 gymnasium.register("mpc_hunt/Defenders-v0", entry_point="mpc_hunt.envs:DefenderEnv")
 
-__all__ = ["AttackerEnv", "AttackerHunts", "ControllerPolicy", "DefenderEnv", "HuntParallelEnv", "PolicyAttacker"]
+__all__ = [
+    "AttackerEnv",
+    "AttackerHunts",
+    "AttackerViewHunts",
+    "ControllerPolicy",
+    "DefenderEnv",
+    "HuntParallelEnv",
+    "PolicyAttacker",
+]

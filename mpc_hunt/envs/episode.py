@@ -20,17 +20,37 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.envs.observation import observe
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.plots.state import state_image
 from mpc_hunt.sim.world_step import moved, standing, steps
 from mpc_hunt.world.behaviours.base import attacker_move
-from mpc_hunt.world.geometry import norm
+from mpc_hunt.world.geometry import length
 from mpc_hunt.world.scenario import Scenario
 
 OUTCOME = {"captured": -1.0, "attacker_escaped": 1.0, "time_limit": 1.0, "non_finite_state": 0.0}
 NO_ARENA_DIAGONAL = 20.0  # m: Φ's scale for a scenario with no arena
+
+
+def potential_scale(scenario: Scenario) -> float:
+    """Φ's denominator: the arena's diagonal, ``NO_ARENA_DIAGONAL`` without an arena."""
+    arena = scenario.arena
+    return NO_ARENA_DIAGONAL if arena is None else float(np.hypot(arena[2] - arena[0], arena[3] - arena[1]))
+
+
+@kernel
+def mean_distances(p_a: np.ndarray, p_d: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """Each hunt's defenders' mean distance to its attacker (hunt b's first ``n[b]`` rows of ``p_d``), summed in
+    order: Φ's numerator, for one hunt (a batch of one) or many."""
+    out = np.empty(p_a.shape[0])
+    for b in range(p_a.shape[0]):
+        total = 0.0
+        for i in range(n[b]):
+            total += length(p_d[b, i, 0] - p_a[b, 0], p_d[b, i, 1] - p_a[b, 1])
+        out[b] = total / n[b]
+    return out
 
 
 @dataclass(frozen=True)
@@ -58,8 +78,7 @@ class Episode:
         self.defender_velocities = np.zeros_like(self.defenders)
         self.previous_attacker: np.ndarray | None = None
         self.trail = [self.attacker.copy()]
-        arena = scenario.arena
-        self.scale = NO_ARENA_DIAGONAL if arena is None else float(np.hypot(arena[2] - arena[0], arena[3] - arena[1]))
+        self.scale = potential_scale(scenario)
         self.potential = self._potential()
 
     @property
@@ -101,7 +120,8 @@ class Episode:
 
     def _potential(self) -> float:
         """Φ of the module's docstring at the current state."""
-        return float(np.mean(norm(self.defenders - self.attacker))) / self.scale
+        one = np.array([len(self.defenders)])
+        return float(mean_distances(self.attacker[None], self.defenders[None], one)[0]) / self.scale
 
     @property
     def ended(self) -> bool:

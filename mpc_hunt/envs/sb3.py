@@ -1,6 +1,6 @@
 """Vectorised hunts handed to Stable-Baselines3 as its ``VecEnv`` (the optional extra ``[learn]``).
 
-:func:`as_vec_env` wraps an :class:`~mpc_hunt.envs.vector.AttackerHunts`: SB3's ``step_async``/``step_wait`` call
+:func:`as_vec_env` wraps hunts stepped in one call (:class:`Vectorised`): SB3's ``step_async``/``step_wait`` call
 its ``step`` once for every hunt, and its ``reset`` seeds hunt k with ``seed + k`` (``VecEnv.seed``), so PPO
 steps ``num_envs`` hunts per call in one process. :func:`plain_vec_env` is the ``VecEnv`` base both it and the
 team's training environment (studies/train_ppo.py) build on: one process, no wrapped environments to reach.
@@ -8,10 +8,25 @@ team's training environment (studies/train_ppo.py) build on: one process, no wra
 
 from __future__ import annotations
 
-import numpy as np
+from typing import Protocol
 
-from mpc_hunt.envs.vector import AttackerHunts
+import numpy as np
+from gymnasium import spaces
+
 from mpc_hunt.errors import MpcHuntError
+
+
+class Vectorised(Protocol):
+    """Hunts stepped in one call: :class:`~mpc_hunt.envs.vector.AttackerHunts`,
+    :class:`~mpc_hunt.envs.view_hunts.AttackerViewHunts`."""
+
+    num_envs: int
+    single_observation_space: spaces.Space
+    single_action_space: spaces.Box
+
+    def reset(self, seed: int | None = None) -> np.ndarray: ...
+
+    def step(self, actions) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict]]: ...
 
 
 def plain_vec_env() -> type:
@@ -47,7 +62,7 @@ def plain_vec_env() -> type:
     return PlainVecEnv
 
 
-def as_vec_env(hunts: AttackerHunts):
+def as_vec_env(hunts: Vectorised):
     """``hunts`` as Stable-Baselines3's ``VecEnv`` (the module's docstring)."""
 
     class HuntsVecEnv(plain_vec_env()):  # type: ignore[misc]

@@ -7,31 +7,17 @@ from mpc_hunt.envs import AttackerEnv
 from mpc_hunt.envs.vector import MAX_ENVS, AttackerHunts
 from mpc_hunt.errors import ActionError, OptionError
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
+from plays_alike import plays_alike
 
 SHORT = ScenarioRanges(time_limit=12.0)     # hunts end often: the resets are exercised
 
 
 @pytest.mark.parametrize("controller", ["voronoi", "apf"])        # a batched rule, and one commanded hunt by hunt
 def test_each_hunt_plays_what_an_attacker_env_plays_through_its_ends_and_resets(controller):
-    B, seed = 3, 20
+    B = 3
     hunts = AttackerHunts(B, ranges=SHORT, controller=controller)
     envs = [AttackerEnv(ranges=SHORT, controller=controller) for _ in range(B)]
-    observations = hunts.reset(seed=seed)
-    for k, env in enumerate(envs):
-        np.testing.assert_array_equal(env.reset(seed=seed + k)[0], observations[k])
-    rng, ends = np.random.default_rng(0), 0
-    for _ in range(400):
-        actions = rng.uniform(-0.1, 0.1, (B, 2))
-        observations, rewards, dones, infos = hunts.step(actions)
-        for k, env in enumerate(envs):
-            o, r, terminated, truncated, info = env.step(actions[k])
-            assert dones[k] == (terminated or truncated) and rewards[k] == r
-            assert infos[k]["termination"] == info["termination"]
-            if dones[k]:
-                ends += 1
-                np.testing.assert_array_equal(infos[k]["terminal_observation"], o)
-                o, _ = env.reset()
-            np.testing.assert_array_equal(observations[k], o)
+    ends = plays_alike(hunts, envs, 20, 400, lambda rng: rng.uniform(-0.1, 0.1, (B, 2)))
     assert ends >= B
 
 
@@ -52,14 +38,14 @@ def test_a_step_before_reset_and_a_bad_action_for_one_hunt_move_nothing():
         hunts.step(np.zeros((4, 2)))
     hunts.reset(seed=1)
     hunts.step(np.full((4, 2), 0.01))
-    before = (hunts.batch.p_a.copy(), hunts.batch.p_d.copy(), hunts.steps.copy())
+    before = (hunts.slots.batch.p_a.copy(), hunts.slots.batch.p_d.copy(), hunts.slots.steps.copy())
     actions = np.full((4, 2), 0.01)
     actions[2, 1] = np.nan
     with pytest.raises(ActionError, match=r"^actions\[2\]: not finite"):
         hunts.step(actions)
     with pytest.raises(ActionError, match=r"^actions: shape \(3, 2\)"):
         hunts.step(np.zeros((3, 2)))
-    after = (hunts.batch.p_a, hunts.batch.p_d, hunts.steps)
+    after = (hunts.slots.batch.p_a, hunts.slots.batch.p_d, hunts.slots.steps)
     for a, b in zip(before, after):
         np.testing.assert_array_equal(a, b)
 
