@@ -18,17 +18,7 @@ from mpc_hunt.compiled import kernel
 from mpc_hunt.world.field import obstacle_push, push
 from mpc_hunt.world.geometry import capped
 from mpc_hunt.world.packed import ETA, MIN_SEPARATION, OMEGA, PROTECTIVE
-from mpc_hunt.world.prediction import intercept_point
 from mpc_hunt.world.scenario import Scenario
-
-
-def approach_target(p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, speed: float, prediction: bool) -> np.ndarray:
-    """p'_di: the predicted intercept, or the attacker's position without prediction."""
-    if prediction:
-        point = intercept_point(p_a, v_a, p_d, speed)
-        if point is not None:
-            return point
-    return np.asarray(p_a, dtype=float)
 
 
 @kernel

@@ -42,11 +42,6 @@ def margin(arena: Arena, points) -> np.ndarray:
     return np.minimum(np.minimum(x - x_min, x_max - x), np.minimum(y - y_min, y_max - y))
 
 
-def attacker_escaped(scenario: Scenario, p_a) -> bool:
-    """Has the attacker at ``p_a`` left the scenario's arena? Never, when the scenario has no arena."""
-    return scenario.arena is not None and beyond_edge(scenario.arena, p_a)
-
-
 @kernel
 def clear_of(x: float, y: float, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray) -> tuple[float, float]:
     """(x, y) moved into the arena, R_safe from its edges (no arena: infinite edges), and out of every obstacle's

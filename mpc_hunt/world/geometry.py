@@ -14,16 +14,6 @@ def norm(v: np.ndarray) -> np.ndarray:
     return np.sqrt(np.sum(np.asarray(v, dtype=float) ** 2, axis=-1))
 
 
-def dot2(a, b) -> float:
-    """a·b of two 2-vectors, in a fixed order of operations.
-
-    ``a @ b`` calls BLAS, whose kernel (and so the last bit of the sum) OpenBLAS
-    picks per CPU; the closed loop amplifies such bits into different hunts
-    (docs/robustness.md, "Where the bits come from").
-    """
-    return float(a[0]) * float(b[0]) + float(a[1]) * float(b[1])
-
-
 def saturate(v: np.ndarray, max_norm: float | np.ndarray) -> np.ndarray:
     """Scale ``v`` (last axis) down so that its norm is at most ``max_norm``.
 

@@ -129,10 +129,3 @@ def keep_separation(
             b = np.concatenate([b, [c for _, c in more]])
         out[i] = onto_rows(float(out[i, 0]), float(out[i, 1]), A, b, float(speeds[i]), 0.0)
     return out
-
-
-def onto_half_planes(v: np.ndarray, rows: list[tuple[np.ndarray, float]], speed: float, aim: float = 0.0) -> np.ndarray:
-    """``v`` projected onto each broken half-plane a · v ≥ b of ``rows`` in turn (:func:`onto_rows`)."""
-    A = np.array([a for a, _ in rows], dtype=float).reshape(-1, 2)
-    b = np.array([c for _, c in rows], dtype=float)
-    return np.array(onto_rows(float(v[0]), float(v[1]), A, b, float(speed), float(aim)))

@@ -10,7 +10,6 @@ from hypothesis import strategies as st
 
 from mpc_hunt import builtin_scenario
 from mpc_hunt.world.ensemble import SCALE, band, outside_band, perturbed, widened
-from mpc_hunt.world.geometry import dot2
 from strategies import floats
 
 values = st.lists(floats(min_value=-1e3, max_value=1e3), min_size=1, max_size=20)
@@ -49,8 +48,3 @@ def test_the_band_widens_by_its_width_or_the_floor(xs, fraction, floor):
     assert outside_band(None, b, fraction, floor) and outside_band(1.0, None, fraction, floor)
     assert not outside_band(None, None, fraction, floor)
 
-
-@given(st.tuples(floats(min_value=-1e100, max_value=1e100), floats(min_value=-1e100, max_value=1e100)),
-       st.tuples(floats(min_value=-1e100, max_value=1e100), floats(min_value=-1e100, max_value=1e100)))
-def test_dot2_is_the_two_products_summed_in_order(a, b):
-    assert dot2(np.array(a), np.array(b)) == a[0] * b[0] + a[1] * b[1]

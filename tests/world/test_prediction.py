@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -9,7 +10,9 @@ import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 
-from mpc_hunt.world.approach import approach_target, approach_velocity
+from mpc_hunt.control.controller import Observation
+from mpc_hunt.control.strategy import approach_commands
+from mpc_hunt.world.approach import approach_velocity
 from mpc_hunt.world.prediction import intercept_point, intercept_time
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 from mpc_hunt.world.scenario_io import builtin_scenario
@@ -161,12 +164,20 @@ def test_defender_already_on_the_attacker_meets_at_time_zero():
 
 # --- approach_target / approach_velocity (Eq. 6) -----------------------------------------------
 
+def _approach_target(p_a, v_a, p_d, speed, prediction):
+    """The approaching stage's target p'_di (its intercept output) for one defender at ``p_d``."""
+    scenario = _open_scenario()
+    scenario = dataclasses.replace(scenario, defenders=(dataclasses.replace(scenario.defenders[0], max_speed=speed),))
+    obs = Observation(0.1, np.asarray(p_a), np.asarray(p_a) - 0.1 * np.asarray(v_a), np.asarray(p_d)[None])
+    return approach_commands(scenario, obs, np.array([True]), prediction)[1][0]
+
+
 def test_approach_target_without_prediction_is_attacker_position():
     p_a, v_a, p_d = np.array([1.0, 14.0]), np.array([0.02, -0.02]), np.array([1.0, 1.0])
-    out = approach_target(p_a, v_a, p_d, 0.08, prediction=False)
+    out = _approach_target(p_a, v_a, p_d, 0.08, prediction=False)
     np.testing.assert_array_equal(out, p_a)
     # With prediction the target differs: the predicted intercept.
-    predicted = approach_target(p_a, v_a, p_d, 0.08, prediction=True)
+    predicted = _approach_target(p_a, v_a, p_d, 0.08, prediction=True)
     np.testing.assert_allclose(predicted, intercept_point(p_a, v_a, p_d, 0.08), rtol=1e-12)
     assert np.linalg.norm(predicted - p_a) > 0.1
 
@@ -174,7 +185,7 @@ def test_approach_target_without_prediction_is_attacker_position():
 def test_approach_target_falls_back_to_attacker_position_without_intercept():
     p_a, v_a, p_d = np.array([5.0, 0.0]), np.array([2.0, 0.0]), np.zeros(2)
     assert intercept_point(p_a, v_a, p_d, 1.0) is None
-    np.testing.assert_array_equal(approach_target(p_a, v_a, p_d, 1.0, prediction=True), p_a)
+    np.testing.assert_array_equal(_approach_target(p_a, v_a, p_d, 1.0, prediction=True), p_a)
 
 
 def _open_scenario(omega: float = 0.5) -> Scenario:
