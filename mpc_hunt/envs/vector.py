@@ -31,7 +31,7 @@ from mpc_hunt.errors import ActionError, OptionError
 from mpc_hunt.world.packed import NOMINAL_X, NOMINAL_Y, T
 from mpc_hunt.world.scenario import Scenario
 
-MAX_ENVS = 65_536  # hunts side by side: about 2 kB of arrays each
+MAX_ENVS = 16_384  # hunts side by side: about 36 kB each (its scenario, its controller, its rows), 600 MB in all
 
 
 class AttackerHunts:

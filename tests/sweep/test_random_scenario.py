@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mpc_hunt.world.arena import attacker_escaped, beyond_edge
+from mpc_hunt.sim.world_step import ESCAPED, stand
+from mpc_hunt.world.arena import beyond_edge
 from mpc_hunt.errors import ScenarioError
 from mpc_hunt.sweep.random_scenario import (ScenarioRanges, dumps_ranges, load_ranges, loads_ranges, random_scenario,
                                       ranges_from_dict, ranges_to_dict, ranges_with, sweep_rng, sweep_scenario)
@@ -291,6 +292,12 @@ def test_paper_scenarios_have_no_arena_and_never_escape():
         s = builtin_scenario(name)
         assert s.arena is None
         assert not attacker_escaped(s, np.array([1e5, -1e5]))
+
+
+def attacker_escaped(s, p) -> bool:
+    """Does the world's judgement (:func:`mpc_hunt.sim.world_step.stand`) say the attacker at ``p`` escaped?"""
+    return bool(stand(np.asarray(p, dtype=float), s.defender_starts, s.obstacle_centres, s.obstacle_radii,
+                      s.packed) == ESCAPED)
 
 
 @pytest.mark.parametrize("p, escaped", [
