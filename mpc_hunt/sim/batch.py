@@ -94,6 +94,31 @@ class Commands:
         self.intercepts = np.full((B, N, 2), np.nan)
 
 
+class Paths:
+    """Everybody's positions (steps 0..k), and each step's capture-stage flags and intercepts, of a batch's hunts:
+    arrays grown as the hunts go on (doubled when full), since a hunt's time limit may allow far more steps than it
+    takes."""
+
+    def __init__(self, p_a: np.ndarray, p_d: np.ndarray, room: int = 1024):
+        B, N = p_d.shape[:2]
+        self.attacker, self.defenders = np.full((B, room + 1, 2), np.nan), np.full((B, room + 1, N, 2), np.nan)
+        self.stages, self.intercepts = np.zeros((B, room, N), dtype=bool), np.full((B, room, N, 2), np.nan)
+        self.attacker[:, 0], self.defenders[:, 0] = p_a, p_d
+
+    def record(self, k: int, running: np.ndarray, p_a: np.ndarray, p_d: np.ndarray, out: Commands) -> None:
+        """Step k of the ``running`` hunts: the positions it led to, its commands' flags and intercepts."""
+        if k == self.stages.shape[1]:
+            self.attacker, self.defenders = _doubled(self.attacker, np.nan), _doubled(self.defenders, np.nan)
+            self.stages, self.intercepts = _doubled(self.stages, False), _doubled(self.intercepts, np.nan)
+        self.attacker[running, k + 1], self.defenders[running, k + 1] = p_a[running], p_d[running]
+        self.stages[running, k], self.intercepts[running, k] = out.capture_stage[running], out.intercepts[running]
+
+
+def _doubled(array: np.ndarray, fill) -> np.ndarray:
+    """``array`` with as many more steps (axis 1) again, filled with ``fill``."""
+    return np.concatenate([array, np.full_like(array[:, -array.shape[1] :], fill)], axis=1)
+
+
 def simulate_batch(
     scenarios: Sequence[Scenario],
     controllers: Sequence[Controller],
@@ -122,11 +147,7 @@ def simulate_batch(
     }
     noisy = [b for b in range(B) if batch.codes[b] == CODES["noisy"]]
     N, K = batch.p_d.shape[1], int(batch.max_steps.max())
-    attacker_path = np.full((B, K + 1, 2), np.nan)
-    defender_paths = np.full((B, K + 1, N, 2), np.nan)
-    stages = np.zeros((B, K, N), dtype=bool)
-    intercepts = np.full((B, K, N, 2), np.nan)
-    attacker_path[:, 0], defender_paths[:, 0] = batch.p_a, batch.p_d
+    paths = Paths(batch.p_a, batch.p_d)
     records = [SolveRecord() for _ in range(B)]
     running = np.ones(B, dtype=bool)
     taken = np.zeros(B, dtype=np.int64)  # steps each hunt took
@@ -212,10 +233,7 @@ def simulate_batch(
                 batch.hold,
                 status,
             )
-            attacker_path[running, k + 1] = batch.p_a[running]
-            defender_paths[running, k + 1] = batch.p_d[running]
-            stages[running, k] = out.capture_stage[running]
-            intercepts[running, k] = out.intercepts[running]
+            paths.record(k, running, batch.p_a, batch.p_d, out)
             taken[running] = k + 1
             collect()  # the commands sent: the collector's work of this step, outside its solves' time
             if progress is not None:
@@ -232,10 +250,10 @@ def simulate_batch(
         result = hunt_result(
             scenarios[b],
             controllers[b],
-            attacker_path[b, : k + 1],
-            defender_paths[b, : k + 1, :n],
-            stages[b, :k, :n],
-            intercepts[b, :k, :n],
+            paths.attacker[b, : k + 1],
+            paths.defenders[b, : k + 1, :n],
+            paths.stages[b, :k, :n],
+            paths.intercepts[b, :k, :n],
             termination[b],
             int(held[b]),
         )

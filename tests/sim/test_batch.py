@@ -102,3 +102,19 @@ def test_a_hunt_commanded_nan_ends_alone_and_disturbs_no_other():
     assert results[1].termination == "non_finite_state" and results[1].steps == 1
     for i in (0, 2, 3):
         _same(simulate(scenarios[i], specs[i].build(scenarios[i]), rng=np.random.default_rng(i)), results[i])
+
+
+def test_the_recorded_paths_grow_as_the_hunts_go_on_and_keep_every_step():
+    from mpc_hunt.sim.batch import Commands, Paths
+
+    p_a, p_d = np.zeros((2, 2)), np.zeros((2, 3, 2))
+    paths = Paths(p_a, p_d, room=2)
+    out = Commands(2, 3)
+    for k in range(9):                                  # past the room twice: 2 → 4 → 8 → 16 steps
+        out.intercepts[:] = k
+        running = np.array([True, k < 5])               # the second hunt ends after step 4
+        paths.record(k, running, p_a + k + 1, p_d + k + 1, out)
+    np.testing.assert_array_equal(paths.attacker[0, :10, 0], np.arange(10))
+    np.testing.assert_array_equal(paths.intercepts[0, :9, 0, 0], np.arange(9))
+    np.testing.assert_array_equal(paths.attacker[1, :6, 0], np.arange(6))
+    assert np.isnan(paths.attacker[1, 6:]).all() and paths.stages.shape[1] == 16
