@@ -7,6 +7,7 @@ steps (the plan it applied); a new hunt gets a new controller.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
@@ -14,6 +15,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from mpc_hunt.capture.solution import Solution
+from mpc_hunt.compiled import kernel
 
 
 @dataclass(frozen=True)
@@ -56,9 +58,21 @@ class Controller(Protocol):
 
 def attacker_velocity_estimate(obs: Observation, time_step: float) -> np.ndarray:
     """Eq. 7's line of motion: the finite difference of the last two observed positions."""
-    if obs.previous_attacker is None:
+    return estimated_velocity(np.asarray(obs.attacker, dtype=float), previous_of(obs), float(time_step))
+
+
+@kernel
+def estimated_velocity(p_a: np.ndarray, previous: np.ndarray, time_step: float) -> np.ndarray:
+    """Eq. 7's line of motion from the attacker's position and its ``previous`` one (NaN before the first step:
+    no estimate, zero)."""
+    if not (math.isfinite(previous[0]) and math.isfinite(previous[1])):
         return np.zeros(2)
-    return (obs.attacker - obs.previous_attacker) / time_step
+    return np.array([(p_a[0] - previous[0]) / time_step, (p_a[1] - previous[1]) / time_step])
+
+
+def previous_of(obs: Observation) -> np.ndarray:
+    """The attacker's last observed position as the compiled rules take it: NaN before the first step."""
+    return np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, dtype=float)
 
 
 @runtime_checkable

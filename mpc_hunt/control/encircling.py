@@ -20,7 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from mpc_hunt.compiled import kernel
-from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.control.controller import Command, Observation, previous_of
 from mpc_hunt.control.scenario_rule import ScenarioRule
 from mpc_hunt.control.strategy import approach_stage
 from mpc_hunt.world.approach import approach_of
@@ -97,7 +97,7 @@ class EncirclingController:
 
     def command(self, obs: Observation) -> Command:
         s, P = self.scenario, np.asarray(obs.defenders, float)
-        previous = np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, float)
+        previous = previous_of(obs)
         velocities, capture, intercepts = np.zeros_like(P), np.zeros(len(P), dtype=bool), np.empty_like(P)
         apf_command(np.asarray(obs.attacker, float), previous, P, obs.active, s.obstacle_centres, s.obstacle_radii,
                     s.defender_max_speeds, s.packed, self.prediction, velocities, capture, intercepts)  # fmt: skip

@@ -15,13 +15,11 @@ positions and each other.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from mpc_hunt.capture.problem import CaptureProblem, checked_horizon
 from mpc_hunt.compiled import kernel
-from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.control.controller import Command, Observation, estimated_velocity, previous_of
 from mpc_hunt.control.enclosure import Enclosure
 from mpc_hunt.control.estimation import AttackerEstimator, Estimate
 from mpc_hunt.control.reference import CaptureReference, PaperObjective
@@ -41,8 +39,7 @@ def approach_stage(p_a, previous, P, approaching, speeds, centres, radii, prm, p
     """Into ``velocities`` and ``intercepts``: the ``approaching`` defenders' Eq. 6 towards their intercepts
     (Eqs. 7–8, the attacker's velocity estimated from ``previous``, NaN before the first step; its position without
     prediction or intercept), kept out of R_safe (:mod:`mpc_hunt.world.safety`)."""
-    estimate = math.isfinite(previous[0]) and math.isfinite(previous[1])
-    v_a = np.array([(p_a[0] - previous[0]) / prm[T], (p_a[1] - previous[1]) / prm[T]]) if estimate else np.zeros(2)
+    v_a = estimated_velocity(p_a, previous, prm[T])
     for i in range(P.shape[0]):
         if approaching[i]:
             found, tx, ty = meeting_point(p_a, v_a, P[i], speeds[i]) if prediction else (False, 0.0, 0.0)
@@ -60,7 +57,7 @@ def approach_commands(
     ``approaching`` defenders; zero elsewhere (:func:`approach_stage`)."""
     s, P = scenario, np.asarray(obs.defenders, dtype=float)
     velocities, intercepts = np.zeros_like(P), np.full_like(P, np.nan)
-    previous = np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, float)
+    previous = previous_of(obs)
     approach_stage(np.asarray(obs.attacker, float), previous, P, np.asarray(approaching, dtype=bool),
                    s.defender_max_speeds, s.obstacle_centres, s.obstacle_radii, s.packed, prediction, velocities,
                    intercepts)  # fmt: skip

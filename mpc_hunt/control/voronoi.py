@@ -33,7 +33,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from mpc_hunt.compiled import kernel
-from mpc_hunt.control.controller import Command, Observation
+from mpc_hunt.control.controller import Command, Observation, estimated_velocity, previous_of
 from mpc_hunt.control.scenario_rule import ScenarioRule
 from mpc_hunt.world.arena import clear_of, kept_clear, safe_of
 from mpc_hunt.world.geometry import capped, encloses, length
@@ -148,8 +148,7 @@ def voronoi_aims(p_a, previous, P, active, centres, radii, speeds, prm, predicti
             if length(stationary[j, 0] - p_a[0], stationary[j, 1] - p_a[1]) <= prm[HUNT_RADIUS]:
                 nx, ny, count = nx + stationary[j, 0], ny + stationary[j, 1], count + 1
         sx, sy = (p_a[0] - (gx + nx) / count) * count / k, (p_a[1] - (gy + ny) / count) * count / k
-    estimate = math.isfinite(previous[0]) and math.isfinite(previous[1])
-    v_a = np.array([(p_a[0] - previous[0]) / prm[T], (p_a[1] - previous[1]) / prm[T]]) if estimate else np.zeros(2)
+    v_a = estimated_velocity(p_a, previous, prm[T])
     circles = np.empty((k, 2))
     for r in range(k):
         circles[r, 0], circles[r, 1] = p_a[0] + sx, p_a[1] + sy
@@ -239,7 +238,7 @@ class VoronoiController:
                                                  np.ndarray, np.ndarray, np.ndarray, bool]:  # fmt: skip
         """The rule's inputs for one hunt: the observation, then what the controller knows of the scenario."""
         s = self.scenario
-        previous = np.full(2, np.nan) if obs.previous_attacker is None else np.asarray(obs.previous_attacker, float)
+        previous = previous_of(obs)
         attacker, defenders = np.asarray(obs.attacker, float), np.asarray(obs.defenders, float)
         return (attacker, previous, defenders, obs.active, s.obstacle_centres, s.obstacle_radii,
                 s.defender_max_speeds, s.packed, self.prediction)  # fmt: skip

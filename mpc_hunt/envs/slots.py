@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.envs.episode import OUTCOME, mean_distances, potential_scale
 from mpc_hunt.sim.batch import Batch
@@ -73,11 +72,7 @@ class HuntSlots:
         capture, intercepts = np.zeros((B, N), dtype=bool), np.zeros((B, N, 2))
         failed = self.steps[:, None] * b.prm[:, T, None] >= b.fails_at
         for k in np.flatnonzero(active & ~self._batched).tolist():
-            n = b.n[k]
-            obs = Observation(self.steps[k] * float(b.prm[k, T]), b.p_a[k].copy(),
-                              None if self.steps[k] == 0 else b.previous[k].copy(), b.p_d[k, :n].copy(),
-                              failed[k, :n] if failed[k, :n].any() else None)  # fmt: skip
-            commands[k, :n] = self.controllers[k].command(obs).velocities
+            commands[k, : b.n[k]] = self.controllers[k].command(b.observation(k, int(self.steps[k]))).velocities
         if self._rule is not None:
             previous = np.where((self.steps == 0)[:, None], np.nan, b.previous)
             self._rule.commands(active & self._batched, b.p_a, previous, b.p_d, b.n, failed, commands, capture,

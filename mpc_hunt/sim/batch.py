@@ -84,6 +84,13 @@ class Batch:
         """Hunt b's defenders stopped for good at step ``k``."""
         return k * self.prm[b, T] >= self.fails_at[b, : self.n[b]]
 
+    def observation(self, b: int, k: int) -> Observation:
+        """What hunt b's defenders know at its step ``k``."""
+        stopped, n = self.failed(b, k), self.n[b]
+        previous = None if k == 0 else self.previous[b].copy()
+        return Observation(k * float(self.prm[b, T]), self.p_a[b].copy(), previous, self.p_d[b, :n].copy(),
+                           stopped if stopped.any() else None)  # fmt: skip
+
 
 class Commands:
     """One step's commands for a batch: velocities (B, N, 2), capture-stage flags (B, N), intercepts (B, N, 2)."""
@@ -166,13 +173,13 @@ def simulate_batch(
             out = Commands(B, N)
             if until is not None:
                 for b in np.flatnonzero(running).tolist():
-                    if until(_observation(batch, b, k)):
+                    if until(batch.observation(b, k)):
                         termination[b], running[b] = "stopped", False
             for b in one_by_one:
                 if not running[b]:
                     continue
                 before = stolen() if deadline is not None else 0.0
-                cmd = controllers[b].command(_observation(batch, b, k))
+                cmd = controllers[b].command(batch.observation(b, k))
                 records[b].add(cmd, stolen() - before if deadline is not None else 0.0)
                 n = batch.n[b]
                 out.velocities[b, :n], out.capture_stage[b, :n], out.intercepts[b, :n] = (
@@ -259,20 +266,6 @@ def simulate_batch(
         )
         results.append(records[b].into(result, deadline))
     return results
-
-
-def _observation(batch: Batch, b: int, k: int) -> Observation:
-    """What hunt b's defenders know at step ``k``."""
-    stopped = batch.failed(b, k)
-    previous = None if k == 0 else batch.previous[b].copy()
-    n = batch.n[b]
-    return Observation(
-        k * float(batch.prm[b, T]),
-        batch.p_a[b].copy(),
-        previous,
-        batch.p_d[b, :n].copy(),
-        stopped if stopped.any() else None,
-    )
 
 
 class _Groups:
