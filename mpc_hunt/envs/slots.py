@@ -15,7 +15,7 @@ import numpy as np
 
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.envs.episode import OUTCOME, mean_distances, potential_scale
-from mpc_hunt.sim.batch import Batch
+from mpc_hunt.sim.batch import Batch, batched_groups
 from mpc_hunt.sim.world_step import ENDS, NON_FINITE, RUNNING, step_batch
 from mpc_hunt.world.behaviours.base import attacker_moves
 from mpc_hunt.world.belief import Belief
@@ -40,8 +40,7 @@ class HuntSlots:
         self.scale = np.ones(B)  # Φ's: the arena's diagonal
         self.v_a, self.v_d = np.zeros((B, 2)), np.zeros((B, N, 2))  # velocities over the last step
         self.ends: list[str | None] = [None] * B  # how each slot's hunt ended (None while it runs)
-        self._rule = None  # the batched controllers' rule, for the slots of ``_batched``
-        self._batched = np.zeros(B, dtype=bool)
+        self._groups = batched_groups(self.controllers)  # the batched controllers' rules and their slots
         for k, (scenario, other) in enumerate(starts):
             self.start(k, scenario, other, put=False)
         self.rebuild()
@@ -57,11 +56,8 @@ class HuntSlots:
         self.scale[k] = potential_scale(scenario)
 
     def rebuild(self) -> None:
-        """The batched controllers' rule, for the slots they command (one spec, so one kind)."""
-        self._batched = np.array([callable(getattr(type(c), "batched", None)) for c in self.controllers])
-        mine = [c if batched else None for c, batched in zip(self.controllers, self._batched)]
-        kinds = {type(c) for c in mine if c is not None}
-        self._rule = getattr(kinds.pop(), "batched")(mine) if kinds else None
+        """The batched controllers' rules, for the slots they command (:func:`~mpc_hunt.sim.batch.batched_groups`)."""
+        self._groups = batched_groups(self.controllers)
 
     def advance(self, active: np.ndarray, velocities: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """One world step of the slots of ``active``, their attackers at ``velocities`` (B, 2; the other rows
@@ -71,12 +67,11 @@ class HuntSlots:
         commands = np.zeros((B, N, 2))
         capture, intercepts = np.zeros((B, N), dtype=bool), np.zeros((B, N, 2))
         failed = self.steps[:, None] * b.prm[:, T, None] >= b.fails_at
-        for k in np.flatnonzero(active & ~self._batched).tolist():
+        for k in np.flatnonzero(active & ~self._groups.batched).tolist():
             commands[k, : b.n[k]] = self.controllers[k].command(b.observation(k, int(self.steps[k]))).velocities
-        if self._rule is not None:
-            previous = np.where((self.steps == 0)[:, None], np.nan, b.previous)
-            self._rule.commands(active & self._batched, b.p_a, previous, b.p_d, b.n, failed, commands, capture,
-                                intercepts)  # fmt: skip
+        previous = np.where((self.steps == 0)[:, None], np.nan, b.previous)
+        for rule, mine in self._groups.groups:
+            rule.commands(active & mine, b.p_a, previous, b.p_d, b.n, failed, commands, capture, intercepts)
         attacker_v = np.zeros((B, 2))
         attacker_moves(active, velocities, b.p_a, b.centres, b.radii, b.m, b.prm, attacker_v)
         before_a, before_d = b.p_a.copy(), b.p_d.copy()

@@ -163,7 +163,7 @@ def simulate_batch(
     termination = ["time_limit"] * B
     draws = np.zeros((B, 2))
     attacker_v = np.zeros((B, 2))
-    batched = _batched_groups(controllers)
+    batched = batched_groups(controllers)
     one_by_one = [b for b in range(B) if b not in batched.members]
     with collecting_between_steps() as collect:  # (mpc_hunt.sim.collector)
         for k in range(K):
@@ -268,19 +268,23 @@ def simulate_batch(
     return results
 
 
-class _Groups:
-    """The batched controllers of a batch: one rule per kind, with the mask of the hunts it commands."""
+class Groups:
+    """The batched controllers of a batch of ``B`` hunts: one rule per kind, with the mask of the hunts it commands;
+    ``batched``, the hunts any commands."""
 
-    def __init__(self, groups: list[tuple[BatchRule, np.ndarray]]):
+    def __init__(self, groups: list[tuple[BatchRule, np.ndarray]], B: int):
         self.groups = groups
-        self.members = {int(b) for _, mine in groups for b in np.flatnonzero(mine)}
+        self.batched = np.zeros(B, dtype=bool)
+        for _, mine in groups:
+            self.batched |= mine
+        self.members = set(np.flatnonzero(self.batched).tolist())
 
 
-def _batched_groups(controllers: Sequence[Controller]) -> _Groups:
+def batched_groups(controllers: Sequence[Controller | None]) -> Groups:
     """Hunts whose controllers are of one batched kind (a ``batched`` rule) share one call a step."""
     kinds = {type(c) for c in controllers if callable(getattr(type(c), "batched", None))}
     groups = []
     for kind in kinds:
         mine = np.array([type(c) is kind for c in controllers])
         groups.append((getattr(kind, "batched")([c if type(c) is kind else None for c in controllers]), mine))
-    return _Groups(groups)
+    return Groups(groups, len(controllers))

@@ -14,6 +14,7 @@ hunts in one call (:mod:`mpc_hunt.world.behaviours.batch`).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
@@ -34,6 +35,25 @@ class Behaviour(Protocol):
     """Built from a scenario and a random generator; ``velocity`` once per step."""
 
     def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray: ...
+
+
+class CompiledBehaviour:
+    """A behaviour whose velocity is a compiled rule, ``rule(p_a, p_d, centres, radii, prm, *self.extra())``, for a
+    hunt alone (a batch calls the same rule, :mod:`mpc_hunt.world.behaviours.batch`)."""
+
+    rule: Callable
+
+    def __init__(self, scenario: Scenario, rng: np.random.Generator):
+        self.scenario, self.rng = scenario, rng
+
+    def extra(self) -> tuple:
+        """The rule's arguments beyond the hunt's arrays and parameters (none)."""
+        return ()
+
+    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
+        s = self.scenario
+        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
+        return np.array(self.rule(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed, *self.extra()))
 
 
 @kernel

@@ -57,5 +57,5 @@ def attacker_velocities(
         elif codes[b] == 4:
             x, y = noisy_velocity(a, d, c, r, q, draws[b, 0], draws[b, 1])
         else:
-            x, y = minimax_velocity(a, d, speeds[b, : n[b]], c, r, q, rays)
+            x, y = minimax_velocity(a, d, c, r, q, speeds[b, : n[b]], rays)
         out[b, 0], out[b, 1] = x, y

@@ -13,12 +13,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mpc_hunt.compiled import kernel
-from mpc_hunt.world.behaviours.base import calm, headed, near
+from mpc_hunt.world.behaviours.base import CompiledBehaviour, calm, headed, near
 from mpc_hunt.world.geometry import length
 from mpc_hunt.world.packed import SENSING
 
 if TYPE_CHECKING:
-    from mpc_hunt.world.scenario import Scenario
+    pass
 
 
 @kernel
@@ -43,13 +43,7 @@ def flee_velocity(p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radii: 
     return headed(p_a, away[0], away[1], centres, radii, prm)
 
 
-class FleeingAttacker:
+class FleeingAttacker(CompiledBehaviour):
     """Away from the sensed defenders at full speed (the module's docstring)."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator):
-        self.scenario = scenario
-
-    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        s = self.scenario
-        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
-        return np.array(flee_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed))
+    rule = staticmethod(flee_velocity)

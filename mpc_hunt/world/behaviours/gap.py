@@ -17,11 +17,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mpc_hunt.compiled import kernel
-from mpc_hunt.world.behaviours.base import calm, headed, near
+from mpc_hunt.world.behaviours.base import CompiledBehaviour, calm, headed, near
 from mpc_hunt.world.packed import NOMINAL_X, NOMINAL_Y, SENSING
 
 if TYPE_CHECKING:
-    from mpc_hunt.world.scenario import Scenario
+    pass
 
 GAP_MARGIN = math.pi / 6  # rad: how far inside the widest gap the intent must point to be kept
 
@@ -64,13 +64,7 @@ def gap_velocity(p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radii: n
     return headed(p_a, math.cos(angle), math.sin(angle), centres, radii, prm)
 
 
-class GapAttacker:
+class GapAttacker(CompiledBehaviour):
     """Through the widest gap between the sensed defenders (the module's docstring)."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator):
-        self.scenario = scenario
-
-    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        s = self.scenario
-        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
-        return np.array(gap_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed))
+    rule = staticmethod(gap_velocity)

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mpc_hunt.compiled import kernel
-from mpc_hunt.world.behaviours.base import calm, headed, near
+from mpc_hunt.world.behaviours.base import CompiledBehaviour, calm, headed, near
 from mpc_hunt.world.geometry import length
 from mpc_hunt.world.packed import HUNT_RADIUS, SENSING, V_A, X_MAX, X_MIN, Y_MAX, Y_MIN
 from mpc_hunt.world.reachable_set import RAYS, defender_reach, edge_along, obstacle_block, ray_directions
@@ -74,7 +74,7 @@ def best_ray(p_a, p_d, top, centres, radii, prm, rays):
 
 
 @kernel
-def minimax_velocity(p_a, p_d, speeds, centres, radii, prm, rays):
+def minimax_velocity(p_a, p_d, centres, radii, prm, speeds, rays):
     """The ``minimax`` attacker's velocity (the module's docstring); ``speeds`` the defenders' top speeds."""
     if near(p_a, p_d, prm[SENSING]).shape[0] == 0:
         return calm(p_a, centres, radii, prm)
@@ -90,14 +90,11 @@ def best_heading(scenario: Scenario, p_a: np.ndarray, p_d: np.ndarray) -> np.nda
     return DIRECTIONS[best_ray(p_a, p_d, top, s.obstacle_centres, s.obstacle_radii, s.packed, DIRECTIONS)]
 
 
-class MinimaxAttacker:
+class MinimaxAttacker(CompiledBehaviour):
     """The best response to the defenders' reachable sets (the module's docstring)."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator):
-        self.scenario = scenario
+    rule = staticmethod(minimax_velocity)
 
-    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        s = self.scenario
-        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
-        return np.array(minimax_velocity(p_a, p_d, s.defender_max_speeds, s.obstacle_centres, s.obstacle_radii,
-                                         s.packed, DIRECTIONS))  # fmt: skip
+    def extra(self) -> tuple:
+        """The defenders' top speeds and the rays."""
+        return self.scenario.defender_max_speeds, DIRECTIONS

@@ -17,12 +17,12 @@ import numpy as np
 
 from mpc_hunt.compiled import kernel
 from mpc_hunt.world.attacker import resultant_of
-from mpc_hunt.world.behaviours.base import kept_out
+from mpc_hunt.world.behaviours.base import CompiledBehaviour, kept_out
 from mpc_hunt.world.geometry import capped
 from mpc_hunt.world.packed import DISTURBANCE, V_A
 
 if TYPE_CHECKING:
-    from mpc_hunt.world.scenario import Scenario
+    pass
 
 
 def draw(rng: np.random.Generator) -> tuple[float, float]:
@@ -47,14 +47,11 @@ def noisy_velocity(
     return kept_out(p_a, vx, vy, centres, radii, prm)
 
 
-class NoisyAttacker:
+class NoisyAttacker(CompiledBehaviour):
     """Eq. 2's resultant plus a disturbance of at most ``disturbance`` × v_a, capped at v_a."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator):
-        self.scenario = scenario
-        self.rng = rng
+    rule = staticmethod(noisy_velocity)
 
-    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        s = self.scenario
-        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
-        return np.array(noisy_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed, *draw(self.rng)))
+    def extra(self) -> tuple:
+        """This step's draws from the hunt's generator (:func:`draw`)."""
+        return draw(self.rng)

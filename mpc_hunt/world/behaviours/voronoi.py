@@ -15,13 +15,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mpc_hunt.compiled import kernel
-from mpc_hunt.world.behaviours.base import calm, near, wished
+from mpc_hunt.world.behaviours.base import CompiledBehaviour, calm, near, wished
 from mpc_hunt.world.geometry import capped
 from mpc_hunt.world.packed import SENSING, V_A, X_MAX, X_MIN, Y_MAX, Y_MIN, T
 from mpc_hunt.world.voronoi_cell import cell_of
 
 if TYPE_CHECKING:
-    from mpc_hunt.world.scenario import Scenario
+    pass
 
 
 @kernel
@@ -66,13 +66,7 @@ def voronoi_velocity(p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radi
     return wished(p_a, wx, wy, centres, radii, prm)
 
 
-class VoronoiAttacker:
+class VoronoiAttacker(CompiledBehaviour):
     """Towards its Voronoi cell's centroid (the module's docstring)."""
 
-    def __init__(self, scenario: Scenario, rng: np.random.Generator):
-        self.scenario = scenario
-
-    def velocity(self, p_a: np.ndarray, p_d: np.ndarray) -> np.ndarray:
-        s = self.scenario
-        p_a, p_d = np.asarray(p_a, dtype=float), np.asarray(p_d, dtype=float).reshape(-1, 2)
-        return np.array(voronoi_velocity(p_a, p_d, s.obstacle_centres, s.obstacle_radii, s.packed))
+    rule = staticmethod(voronoi_velocity)
