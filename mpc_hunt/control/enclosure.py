@@ -42,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mpc_hunt.capture.problem import EncloseWeights, Reference
+from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.reference import Places
 from mpc_hunt.world import attacker
@@ -65,6 +66,7 @@ MAX_GAP = 2.6  # rad (about 150°): the widest gap between neighbours that still
 SWAP_MARGIN = 0.5  # m: how much nearer a defender must be to take a first member's place
 
 
+@kernel
 def wrap(angle: float) -> float:
     """``angle`` in [−π, π)."""
     return (angle + math.pi) % (2 * math.pi) - math.pi

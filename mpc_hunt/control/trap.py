@@ -71,7 +71,8 @@ arena's edge). The reference has two phases:
   below R_hunt keeps the press on until the member is well inside, so that it
   does not flicker at the success test's edge.
 
-Places stay in the arena and out of every obstacle's R_safe; the capture
+The reference is one compiled rule (:func:`trap_places`, :mod:`mpc_hunt.compiled`), its phase a code the
+controller keeps between steps. Places stay in the arena and out of every obstacle's R_safe; the capture
 problem (:class:`~mpc_hunt.capture.problem.CaptureProblem`, the ``enclose``
 objective with no term on a predicted attacker) plans every active defender
 over the horizon under the constraints (steps within r_d, Eq. 13; R_safe,
@@ -80,18 +81,35 @@ Eq. 15; separation; the arena).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mpc_hunt.capture.problem import Reference
+from mpc_hunt.compiled import kernel
 from mpc_hunt.control.containment import Unmodelled
 from mpc_hunt.control.controller import Observation
-from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
-from mpc_hunt.control.voronoi import ring_bearings, route
-from mpc_hunt.world.arena import kept_clear
-from mpc_hunt.world.geometry import direction, encloses, norm
-from mpc_hunt.world.hunting_circle import MIN_MEMBERS, members
-from mpc_hunt.world.prediction import intercept_time
-from mpc_hunt.world.reachable_set import defender_reach, edge_distance, obstacle_block, ray_directions
+from mpc_hunt.control.enclosure import TERMINAL_WEIGHT, wrap
+from mpc_hunt.control.voronoi import ring_bearings, routed
+from mpc_hunt.world.arena import clear_of
+from mpc_hunt.world.geometry import encloses, length
+from mpc_hunt.world.hunting_circle import MIN_MEMBERS, member_arrays
+from mpc_hunt.world.packed import (
+    CENTRE_TOLERANCE,
+    HAS_ARENA,
+    HUNT_RADIUS,
+    LEAST_DISTANCE,
+    PROTECTIVE,
+    SAFETY,
+    V_A,
+    X_MAX,
+    X_MIN,
+    Y_MAX,
+    Y_MIN,
+    T,
+)
+from mpc_hunt.world.prediction import meeting
+from mpc_hunt.world.reachable_set import defender_reach, edge_along, obstacle_block, ray_directions
 from mpc_hunt.world.scenario import Scenario
 
 W_EDGE = 20.0  # m: an open ray's penalty per metre beyond the edge less the margin (a ray this long's weight)
@@ -110,22 +128,226 @@ HERD_ORBIT = 1.0  # m: how close a mover going round comes while it does (it clo
 HERD_STEER = np.radians(60.0)  # rad: the herd's push turned at most this far past the way to the anchor
 PRESS_FROM = 0.8  # of R_hunt: a stationary member farther than this from the attacker makes the ring press
 PRESS_CLEARANCE = 0.05  # m: how far beyond the capture problem's least attacker distance the ring presses
+PHASES = ("shrink", "herd", "close")  # the phases by their codes in the compiled reference
+SHRINK, HERD, CLOSE = range(3)
 
 
-def run_towards(q: np.ndarray, target: np.ndarray, reach: float) -> np.ndarray:
-    """``q`` moved straight towards ``target`` by at most ``reach``."""
-    way = target - q
-    length = float(np.hypot(*way))
-    return q + way * (min(1.0, reach / length) if length > 0 else 0.0)
+@kernel
+def run_towards(qx: float, qy: float, tx: float, ty: float, reach: float) -> tuple[float, float]:
+    """(qx, qy) moved straight towards (tx, ty) by at most ``reach``."""
+    wx, wy = tx - qx, ty - qy
+    way = math.hypot(wx, wy)
+    scale = min(1.0, reach / way) if way > 0 else 0.0
+    return qx + wx * scale, qy + wy * scale
 
 
-def wrap(angle):
-    """``angle`` in [−π, π)."""
-    return (np.asarray(angle) + np.pi) % (2 * np.pi) - np.pi
+@kernel
+def trap_cost(p_a, rays, movers, ratios, reach, blocked, edge):
+    """J of the module's docstring for the movers at ``movers`` (k, 2), κ_i = ``ratios``, within ``reach``."""
+    limits = defender_reach(p_a, rays, movers, ratios, reach)
+    area = penalty = 0.0
+    for r in range(rays.shape[0]):
+        total = 0.0
+        for i in range(movers.shape[0]):
+            total += max(limits[r, i], TINY) ** -SHARPNESS
+        soft = total ** (-1.0 / SHARPNESS)
+        bound = min(soft, min(blocked[r], edge[r]))
+        area += bound * bound
+        if blocked[r] > edge[r]:
+            penalty += max(0.0, soft - (edge[r] - EDGE_MARGIN))
+    return (0.5 * area + W_EDGE * penalty) * 2 * math.pi / rays.shape[0]
+
+
+@kernel
+def trap_headings(p_a, rays, movers, ratios, reach, blocked, edge):
+    """Each mover's unit direction down the gradient of J (towards the attacker where J is flat for it)."""
+    base = trap_cost(p_a, rays, movers, ratios, reach, blocked, edge)
+    moved = movers.copy()
+    out = np.empty_like(movers)
+    for i in range(movers.shape[0]):
+        gradient = np.empty(2)
+        for axis in range(2):
+            moved[i, axis] = movers[i, axis] + STEP
+            gradient[axis] = (trap_cost(p_a, rays, moved, ratios, reach, blocked, edge) - base) / STEP
+            moved[i, axis] = movers[i, axis]
+        size = math.hypot(gradient[0], gradient[1])
+        if size > 0:
+            out[i, 0], out[i, 1] = -gradient[0] / size, -gradient[1] / size
+        else:
+            tx, ty = p_a[0] - movers[i, 0], p_a[1] - movers[i, 1]
+            way = max(math.hypot(tx, ty), 1e-12)
+            out[i, 0], out[i, 1] = tx / way, ty / way
+    return out
+
+
+@kernel
+def trap_closed(p_a, rays, movers, stationary, ratios, reach, blocked, edge) -> bool:
+    """Is the attacker inside the members' hull, its region reaching the arena's edge along no ray?"""
+    if not encloses(p_a, np.vstack((movers, stationary))):
+        return False
+    limits = defender_reach(p_a, rays, movers, ratios, reach)
+    for r in range(rays.shape[0]):
+        if blocked[r] > edge[r] and limits[r].min() >= edge[r]:
+            return False
+    return True
+
+
+@kernel
+def trap_spread(p_a, movers, speeds, stationary, drift, prm):
+    """The places (N, k, 2) of movers that have come within ``NEAR`` R_hunt while the ring cannot close yet: on
+    that circle round the attacker (moved by ``drift``, (N, 2)), at their places in an even spread in the order
+    they stand (a stationary member first), going round the circle where the straight way would cross it, at top
+    speed."""
+    radius = NEAR * prm[HUNT_RADIUS]
+    if prm[HAS_ARENA]:  # the spread inside the arena, R_safe from its edges: no place clamped onto one
+        gap = min(p_a[0] - prm[X_MIN], p_a[1] - prm[Y_MIN], prm[X_MAX] - p_a[0], prm[Y_MAX] - p_a[1])
+        radius = min(radius, max(0.5 * prm[HUNT_RADIUS], gap - prm[SAFETY]))
+    angles = ring_bearings(p_a, movers, stationary)
+    places = np.empty((drift.shape[0], movers.shape[0], 2))
+    for t in range(drift.shape[0]):
+        cx, cy = p_a[0] + drift[t, 0], p_a[1] + drift[t, 1]
+        for i in range(movers.shape[0]):
+            reach = speeds[i] * ((t + 1) * prm[T])
+            gx, gy = routed(movers[i], cx, cy, angles[i], radius, reach)
+            places[t, i, 0], places[t, i, 1] = run_towards(movers[i, 0], movers[i, 1], gx, gy, reach)
+    return places
+
+
+@kernel
+def trap_herd(p_a, velocity, movers, speeds, anchor, horizon, prm):
+    """The herd phase's places (N, k, 2): behind the attacker as seen from ``anchor``, ``HERD_SPREAD`` either
+    side, on the circle R_hunt / 2 round where each mover meets it (its intercept with the attacker's observed
+    velocity, Eqs. 7–8 with no model, or where it stands once met), at top speed; a mover not yet on its side
+    goes round at ``HERD_ORBIT``."""
+    k = movers.shape[0]
+    inner = 0.5 * prm[HUNT_RADIUS]
+    towards = math.atan2(anchor[1] - p_a[1], anchor[0] - p_a[0])
+    error = 0.0
+    far_anchor = length(anchor[0] - p_a[0], anchor[1] - p_a[1]) > prm[PROTECTIVE]
+    if length(velocity[0], velocity[1]) > HERD_DRIFT * prm[V_A] and far_anchor:
+        error = min(max(wrap(towards - math.atan2(velocity[1], velocity[0])), -HERD_STEER), HERD_STEER)
+    # (within the obstacle's protective distance its field, not the attacker, bends the drift: none corrected)
+    away = towards + math.pi + error  # pushed along the way to the anchor turned past the attacker's drift
+    bearings, side = np.empty(k), np.empty(k)
+    for i in range(k):
+        bearings[i] = math.atan2(movers[i, 1] - p_a[1], movers[i, 0] - p_a[0])
+        side[i] = 1.0 if wrap(bearings[i] - away) >= 0 else -1.0
+    if k == 2 and side[0] == side[1]:  # one each side
+        flip = 0 if wrap(bearings[0] - away) * side[0] <= wrap(bearings[1] - away) * side[0] else 1
+        side[flip] = -side[flip]
+    places = np.empty((horizon, k, 2))
+    for i in range(k):
+        goal = away + side[i] * HERD_SPREAD if k > 1 else away
+        radius = HERD_ORBIT if abs(wrap(goal - bearings[i])) > HERD_TOLERANCE else inner
+        meet = 0.0
+        if length(movers[i, 0] - p_a[0], movers[i, 1] - p_a[1]) > 2.0 * HERD_ORBIT:
+            found, when = meeting(p_a, velocity, movers[i], speeds[i])
+            meet = when if found else 0.0
+        for t in range(horizon):
+            step = (t + 1) * prm[T]
+            ahead = max(meet, step)
+            reach = speeds[i] * step
+            gx, gy = routed(movers[i], p_a[0] + velocity[0] * ahead, p_a[1] + velocity[1] * ahead, goal, radius, reach)
+            places[t, i, 0], places[t, i, 1] = run_towards(movers[i, 0], movers[i, 1], gx, gy, reach)
+    return places
+
+
+@kernel
+def trap_ring(p_a, movers, speeds, stationary, drift, prm):
+    """The close phase's places (N, k, 2) round the attacker where it stands (the module's docstring), moved by
+    ``drift`` (N, 2)."""
+    k, hunt_radius = movers.shape[0], prm[HUNT_RADIUS]
+    inner = 0.5 * hunt_radius
+    near_x = near_y = 0.0
+    count = k
+    for j in range(stationary.shape[0]):
+        distance = length(stationary[j, 0] - p_a[0], stationary[j, 1] - p_a[1])
+        if distance > PRESS_FROM * hunt_radius:
+            inner = prm[LEAST_DISTANCE] + PRESS_CLEARANCE
+    for j in range(stationary.shape[0]):
+        if length(stationary[j, 0] - p_a[0], stationary[j, 1] - p_a[1]) <= hunt_radius + HOLD_BAND:
+            near_x, near_y, count = near_x + stationary[j, 0], near_y + stationary[j, 1], count + 1
+    angles = ring_bearings(p_a, movers, stationary)
+    start, slowest = math.inf, math.inf
+    for i in range(k):
+        start = min(start, length(movers[i, 0] - p_a[0], movers[i, 1] - p_a[1]))
+        slowest = min(slowest, speeds[i])
+    slack = CENTRE_SLACK * prm[CENTRE_TOLERANCE]
+    places = np.empty((drift.shape[0], k, 2))
+    for t in range(drift.shape[0]):
+        radius = max(inner, start - slowest * ((t + 1) * prm[T]))
+        sum_x = sum_y = 0.0
+        for i in range(k):
+            places[t, i, 0] = p_a[0] + radius * math.cos(angles[i])
+            places[t, i, 1] = p_a[1] + radius * math.sin(angles[i])
+            sum_x, sum_y = sum_x + places[t, i, 0], sum_y + places[t, i, 1]
+        off_x, off_y = p_a[0] - (sum_x + near_x) / count, p_a[1] - (sum_y + near_y) / count
+        size = max(length(off_x, off_y), 1e-12)
+        shift = max(0.0, 1.0 - slack / size)
+        for i in range(k):
+            places[t, i, 0] = (places[t, i, 0] + off_x * shift * count / k) + drift[t, 0]
+            places[t, i, 1] = (places[t, i, 1] + off_y * shift * count / k) + drift[t, 1]
+    return places
+
+
+@kernel
+def trap_places(p_a, velocity, P, active, phase, horizon, centres, radii, prm, speeds, rays):
+    """(the places (N, n, 2) of every defender, held ones where they stand, the phase's code after this step): the
+    module's reference for the attacker at ``p_a`` seen moving at ``velocity``, ``phase`` the last step's code
+    (:data:`PHASES`), over ``horizon`` steps; ``speeds`` are every defender's top speed, ``rays`` the directions of
+    the attacker's dominance region."""
+    n, hunt_radius = P.shape[0], prm[HUNT_RADIUS]
+    movers = np.flatnonzero(active)
+    k = movers.shape[0]
+    mover_at, mover_speeds = P[movers], speeds[movers]
+    drift = np.empty((horizon, 2))
+    for t in range(horizon):
+        drift[t, 0], drift[t, 1] = velocity[0] * prm[T] * (t + 1), velocity[1] * prm[T] * (t + 1)
+    anchors, _, _ = member_arrays(p_a, P, centres, radii, hunt_radius)
+    stationary = np.vstack((P[~active], anchors[n:]))
+    places = np.empty((horizon, n, 2))
+    for t in range(horizon):
+        places[t] = P
+    has_anchor = n < MIN_MEMBERS and anchors.shape[0] > n
+    anchor = anchors[n] if has_anchor else p_a
+    hold = (2.0 if phase == CLOSE else 1.0) * HOLD_BAND
+    ratios = prm[V_A] / mover_speeds
+    reach = 0.5 * hunt_radius
+    blocked = obstacle_block(p_a, rays, centres, radii)
+    edge = edge_along(p_a, rays, prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX])
+    if k and has_anchor and length(anchor[0] - p_a[0], anchor[1] - p_a[1]) > hunt_radius + hold:
+        phase = HERD
+        placed = trap_herd(p_a, velocity, mover_at, mover_speeds, anchor, horizon, prm)
+    elif k and (has_anchor or trap_closed(p_a, rays, mover_at, stationary, ratios, reach, blocked, edge)):
+        phase = CLOSE
+        placed = trap_ring(p_a, mover_at, mover_speeds, stationary, drift, prm)
+    elif k:
+        phase = SHRINK
+        ways = trap_headings(p_a, rays, mover_at, ratios, reach, blocked, edge)
+        placed = np.empty((horizon, k, 2))
+        for t in range(horizon):
+            for i in range(k):
+                run = mover_speeds[i] * ((t + 1) * prm[T])
+                placed[t, i, 0], placed[t, i, 1] = mover_at[i, 0] + run * ways[i, 0], mover_at[i, 1] + run * ways[i, 1]
+        spread = np.empty((0, 0, 2))
+        for i in range(k):
+            if length(mover_at[i, 0] - p_a[0], mover_at[i, 1] - p_a[1]) < NEAR * hunt_radius:
+                if spread.shape[0] == 0:
+                    spread = trap_spread(p_a, mover_at, mover_speeds, stationary, drift, prm)
+                placed[:, i] = spread[:, i]
+    else:
+        placed = np.empty((horizon, 0, 2))
+    for t in range(horizon):
+        for i in range(k):
+            places[t, movers[i], 0], places[t, movers[i], 1] = clear_of(
+                placed[t, i, 0], placed[t, i, 1], centres, radii, prm
+            )
+    return places, phase
 
 
 class Trap(Unmodelled):
-    """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``trap`` controller."""
+    """Builds each step's :class:`~mpc_hunt.capture.problem.Reference` for the ``trap`` controller
+    (:func:`trap_places`)."""
 
     NAME = "trap"
     SUMMARY = (
@@ -135,163 +357,29 @@ class Trap(Unmodelled):
     def __init__(self, scenario: Scenario, horizon: int):
         super().__init__(scenario, horizon)
         self.rays = ray_directions()
-        self.phase = "shrink"
-
-    def cost(
-        self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, blocked: np.ndarray, edge: np.ndarray
-    ) -> float:
-        """J of the module's docstring for the movers at ``movers`` (k, 2)."""
-        s = self.scenario
-        limits = defender_reach(p_a, self.rays, movers, s.attacker.max_speed / speeds, 0.5 * s.hunt.hunt_radius)
-        soft = np.sum(np.maximum(limits, TINY) ** -SHARPNESS, axis=1) ** (-1.0 / SHARPNESS)
-        area = 0.5 * np.sum(np.minimum(soft, np.minimum(blocked, edge)) ** 2)
-        open_ = blocked > edge
-        penalty = W_EDGE * np.sum(np.where(open_, np.maximum(0.0, soft - (edge - EDGE_MARGIN)), 0.0))
-        return float((area + penalty) * 2 * np.pi / len(self.rays))
-
-    def bounds(self, p_a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(the nearest obstacle's surface, the arena's edge) along each ray from ``p_a``."""
-        s = self.scenario
-        return obstacle_block(p_a, self.rays, s.obstacle_centres, s.obstacle_radii), edge_distance(
-            p_a, self.rays, s.arena
-        )
+        self.phase = PHASES[SHRINK]
 
     def headings(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray) -> np.ndarray:
-        """Each mover's unit direction down the gradient of J (towards the attacker where J is flat for it)."""
-        blocked, edge = self.bounds(p_a)
-        base = self.cost(p_a, movers, speeds, blocked, edge)
-        out = np.empty_like(movers)
-        for i in range(len(movers)):
-            gradient = np.empty(2)
-            for axis in range(2):
-                moved = movers.copy()
-                moved[i, axis] += STEP
-                gradient[axis] = (self.cost(p_a, moved, speeds, blocked, edge) - base) / STEP
-            size = float(np.hypot(*gradient))
-            towards = p_a - movers[i]
-            out[i] = -gradient / size if size > 0 else towards / max(float(np.hypot(*towards)), 1e-12)
-        return out
-
-    def closed(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray) -> bool:
-        """Is the attacker inside the members' hull, its region reaching the arena's edge along no ray?"""
-        s = self.scenario
-        if not encloses(p_a, np.vstack([movers, stationary])):
-            return False
-        limits = defender_reach(p_a, self.rays, movers, s.attacker.max_speed / speeds, 0.5 * s.hunt.hunt_radius)
-        blocked, edge = self.bounds(p_a)
-        return not np.any((limits.min(axis=1) >= edge) & (blocked > edge))
+        """Each mover's unit direction down the gradient of J (:func:`trap_headings`)."""
+        s, p_a = self.scenario, np.asarray(p_a, dtype=float)
+        prm = s.packed
+        blocked = obstacle_block(p_a, self.rays, s.obstacle_centres, s.obstacle_radii)
+        edge = edge_along(p_a, self.rays, prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX])
+        ratios = prm[V_A] / np.asarray(speeds, dtype=float)
+        movers = np.asarray(movers, dtype=float)
+        return trap_headings(p_a, self.rays, movers, ratios, 0.5 * prm[HUNT_RADIUS], blocked, edge)
 
     def reference(self, obs: Observation) -> Reference:
         """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""
         s, N = self.scenario, self.horizon
-        T = s.hunt.time_step
-        p_a, P = obs.attacker, obs.defenders
+        p_a = np.asarray(obs.attacker, dtype=float)
         velocity = self.observed.update(obs)
-        drift = velocity * T * np.arange(1, N + 1)[:, None]
-        movers = np.flatnonzero(obs.active)
-        speeds = s.defender_max_speeds[movers]
-        m = members(p_a, P, s.obstacle_centres, s.obstacle_radii, s.hunt.hunt_radius)
-        stationary = np.vstack([P[~obs.active], m.anchors[len(P) :]])
-        places = np.repeat(P[None], N, axis=0).astype(float)
-        steps = (np.arange(1, N + 1) * T)[:, None]
-        anchor = m.anchors[len(P)] if len(P) < MIN_MEMBERS and len(m.anchors) > len(P) else None
-        hold = (2.0 if self.phase == "close" else 1.0) * HOLD_BAND
-        if len(movers) and anchor is not None and norm(anchor - p_a) > s.hunt.hunt_radius + hold:
-            self.phase = "herd"
-            places[:, movers] = self._herd(p_a, velocity, P[movers], speeds, anchor, steps)
-        elif len(movers) and (anchor is not None or self.closed(p_a, P[movers], speeds, stationary)):
-            self.phase = "close"
-            places[:, movers] = self._ring(p_a, P[movers], speeds, stationary, steps) + drift[:, None]
-        elif len(movers):
-            self.phase = "shrink"
-            ways = self.headings(p_a, P[movers], speeds)
-            places[:, movers] = P[movers][None] + (speeds[None, :, None] * steps[:, :, None]) * ways[None]
-            near = norm(P[movers] - p_a) < NEAR * s.hunt.hunt_radius
-            if near.any():
-                places[:, movers[near]] = self._spread(p_a, P[movers], speeds, stationary, steps, drift)[:, near]
-        places[:, movers] = kept_clear(s, places[:, movers])
+        places, code = trap_places(
+            p_a, velocity, np.asarray(obs.defenders, dtype=float), np.asarray(obs.active, dtype=bool),
+            PHASES.index(self.phase), N, s.obstacle_centres, s.obstacle_radii, s.packed, s.defender_max_speeds,
+            self.rays,
+        )  # fmt: skip
+        self.phase = PHASES[code]
         weight = np.ones(N)
         weight[-1] = TERMINAL_WEIGHT
-        return Reference(places, p_a + drift, weight)
-
-    def _spread(
-        self,
-        p_a: np.ndarray,
-        movers: np.ndarray,
-        speeds: np.ndarray,
-        stationary: np.ndarray,
-        steps: np.ndarray,
-        drift: np.ndarray,
-    ) -> np.ndarray:
-        """The places (N, k, 2) of movers that have come within ``NEAR`` R_hunt while the ring cannot close yet: on
-        that circle round the attacker, at their places in an even spread in the order they stand (a stationary
-        member first), going round the circle where the straight way would cross it, at top speed."""
-        s = self.scenario
-        radius = NEAR * s.hunt.hunt_radius
-        if s.arena is not None:  # the spread inside the arena, R_safe from its edge: no place clamped onto it
-            gap = min(p_a[0] - s.arena[0], p_a[1] - s.arena[1], s.arena[2] - p_a[0], s.arena[3] - p_a[1])
-            radius = min(radius, max(0.5 * s.hunt.hunt_radius, gap - s.hunt.safety_distance))
-        angles = ring_bearings(p_a, movers, stationary)
-        reach = speeds[None] * steps  # (N, k)
-        places = np.empty((len(steps), len(movers), 2))
-        for k, centre in enumerate(p_a + drift):
-            for i, (q, angle) in enumerate(zip(movers, angles)):
-                places[k, i] = run_towards(q, route(q, centre, angle, radius, reach[k, i]), reach[k, i])
-        return places
-
-    def _herd(
-        self,
-        p_a: np.ndarray,
-        velocity: np.ndarray,
-        movers: np.ndarray,
-        speeds: np.ndarray,
-        anchor: np.ndarray,
-        steps: np.ndarray,
-    ) -> np.ndarray:
-        """The herd phase's places (N, k, 2): behind the attacker as seen from ``anchor``, ``HERD_SPREAD`` either
-        side, on the circle R_hunt / 2 round where each mover meets it (its intercept with the attacker's observed
-        velocity, Eqs. 7–8 with no model, or where it stands once met), at top speed; a mover not yet on its side
-        goes round at ``HERD_ORBIT``."""
-        s = self.scenario
-        inner = 0.5 * s.hunt.hunt_radius
-        towards = np.arctan2(*(anchor - p_a)[::-1])
-        error = 0.0
-        if norm(velocity) > HERD_DRIFT * s.attacker.max_speed and norm(anchor - p_a) > s.hunt.protective_distance:
-            error = float(np.clip(wrap(towards - np.arctan2(velocity[1], velocity[0])), -HERD_STEER, HERD_STEER))
-        # (within the obstacle's protective distance its field, not the attacker, bends the drift: none corrected)
-        away = towards + np.pi + error  # pushed along the way to the anchor turned past the attacker's drift
-        bearings = np.arctan2(movers[:, 1] - p_a[1], movers[:, 0] - p_a[0])
-        side = np.where(wrap(bearings - away) >= 0, 1.0, -1.0)
-        if len(movers) == 2 and side[0] == side[1]:
-            side[np.argmin(wrap(bearings - away) * side[0])] *= -1.0  # one each side
-        goals = away + side * HERD_SPREAD if len(movers) > 1 else np.array([away])
-        going = np.abs(wrap(goals - bearings)) > HERD_TOLERANCE
-        places = np.empty((len(steps), len(movers), 2))
-        for i, (q, speed) in enumerate(zip(movers, speeds)):
-            far = norm(q - p_a) > 2.0 * HERD_ORBIT
-            meet = (intercept_time(p_a, velocity, q, speed) or 0.0) if far else 0.0
-            radius = HERD_ORBIT if going[i] else inner
-            for k, t in enumerate(steps[:, 0]):
-                places[k, i] = run_towards(
-                    q, route(q, p_a + velocity * max(meet, t), goals[i], radius, speed * t), speed * t
-                )
-        return places
-
-    def _ring(
-        self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray, stationary: np.ndarray, steps: np.ndarray
-    ) -> np.ndarray:
-        """The close phase's places (N, k, 2) round the attacker where it stands (the module's docstring)."""
-        s = self.scenario
-        inner = 0.5 * s.hunt.hunt_radius
-        if np.any(norm(stationary - p_a) > PRESS_FROM * s.hunt.hunt_radius):
-            inner = s.hunt.min_attacker_distance + PRESS_CLEARANCE
-        angles = ring_bearings(p_a, movers, stationary)
-        start = float(np.min(norm(movers - p_a)))
-        radii = np.maximum(inner, start - float(np.min(speeds)) * steps)  # (N, 1)
-        places = p_a + radii[:, :, None] * direction(angles)[None]
-        near = stationary[norm(stationary - p_a) <= s.hunt.hunt_radius + HOLD_BAND]
-        count = len(movers) + len(near)
-        off = p_a - (places.sum(axis=1) + near.sum(axis=0)) / count  # (N, 2)
-        size = np.maximum(norm(off), 1e-12)[:, None]
-        slack = CENTRE_SLACK * s.hunt.centre_tolerance
-        return places + (off * np.maximum(0.0, 1.0 - slack / size) * count / len(movers))[:, None, :]
+        return Reference(places, p_a + velocity * s.hunt.time_step * np.arange(1, N + 1)[:, None], weight)

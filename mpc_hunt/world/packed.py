@@ -31,6 +31,7 @@ DEFAULT_DISTURBANCE = 1.0  # of v_a: the noisy attacker's largest disturbance un
     PROTECTIVE,  # an obstacle's field range, from its surface
     SAFETY,  # R_safe (Eq. 15)
     MIN_SEPARATION,  # the defenders' least separation
+    LEAST_DISTANCE,  # the capture problem's least defender–attacker distance
     V_A,  # the attacker's max speed
     R_AGG,  # the attacker's perception radius
     SENSING,  # how far an evader senses defenders
@@ -42,8 +43,8 @@ DEFAULT_DISTURBANCE = 1.0  # of v_a: the noisy attacker's largest disturbance un
     Y_MIN,
     X_MAX,
     Y_MAX,
-) = range(21)
-SIZE = 21
+) = range(22)
+SIZE = 22
 
 
 def sensing_radius(scenario: Scenario) -> float:
@@ -59,6 +60,7 @@ def parameters(scenario: Scenario) -> np.ndarray:
     prm[T], prm[HUNT_RADIUS], prm[CENTRE_TOLERANCE] = h.time_step, h.hunt_radius, h.centre_tolerance
     prm[ETA], prm[K_D], prm[K_O], prm[OMEGA] = h.eta, h.k_d, h.k_o, h.omega
     prm[PROTECTIVE], prm[SAFETY], prm[MIN_SEPARATION] = h.protective_distance, h.safety_distance, h.min_separation
+    prm[LEAST_DISTANCE] = h.min_attacker_distance
     prm[V_A], prm[R_AGG], prm[SENSING] = a.max_speed, a.perception_radius, sensing_radius(scenario)
     prm[DISTURBANCE] = (DEFAULT_DISTURBANCE if a.disturbance is None else a.disturbance) * a.max_speed
     prm[NOMINAL_X], prm[NOMINAL_Y] = nominal_intent(np.array(a.nominal_velocity), a.max_speed)

@@ -15,9 +15,10 @@ from mpc_hunt.sim.simulator import simulate
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, sweep_scenario
 from mpc_hunt.world.behaviours import with_behaviour
 out = []
-for i, (c, a) in enumerate([("voronoi", "gap"), ("apf", "minimax"), ("voronoi", "noisy"), ("apf", "flee")]):
+hunts = [("voronoi", "gap"), ("apf", "minimax"), ("voronoi", "noisy"), ("apf", "flee"), ("trap", "gap")]
+for i, (c, a) in enumerate(hunts):
     s = with_behaviour(sweep_scenario(3, i, ScenarioRanges(n_obstacles=(1, 3))), a)
-    s = dataclasses.replace(s, hunt=dataclasses.replace(s.hunt, time_limit=15.0))
+    s = dataclasses.replace(s, hunt=dataclasses.replace(s.hunt, time_limit=15.0 if c != "trap" else 4.0))
     r = simulate(s, ControllerSpec.parse(c).build(s), rng=np.random.default_rng(i))
     out.append([r.attacker.tolist(), r.defenders.tolist(), r.termination])
 print(json.dumps(out))
