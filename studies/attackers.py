@@ -100,11 +100,11 @@ def arguments(hunts: int, seed: int) -> dict:
             "ranges": ranges_to_dict(ScenarioRanges())}
 
 
-def run(db: Path, hunts: int, seed: int, indices: list[int] | None = None) -> str | None:
-    """The study's hunts (on the reachable draws ``indices``, found if not given) into ``db``; None when all
-    finished, else why it stopped."""
+def run(db: Path, hunts: int, seed: int, indices: list[int] | None = None, workers: int | None = None) -> str | None:
+    """The study's hunts (on the reachable draws ``indices``, found if not given) into ``db`` on ``workers``
+    processes (None: one a core); None when all finished, else why it stopped."""
     indices = hunt_indices(hunts, seed) if indices is None else indices
-    return run_file(db, arguments(hunts, seed), todo(indices, seed))
+    return run_file(db, arguments(hunts, seed), todo(indices, seed), workers)
 
 
 def headline(summaries: list[dict]) -> list[str]:
@@ -439,7 +439,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--hunts {args.hunts}: none of the first {DRAWS_PER_HUNT * args.hunts} draws of --seed "
                      f"{args.seed} is reachable by the defenders, so no hunt would run; give another --seed")
     db = args.output / "sweep.db"
-    return measured_run(args.output, lambda: stop_status(run(db, args.hunts, args.seed, indices), "attackers.py", db),
+    return measured_run(args.output,
+                        lambda: stop_status(run(db, args.hunts, args.seed, indices, args.workers), "attackers.py", db),
                         lambda machine: write(db, args.output, machine, args.hunts, args.seed),
                         args.output / "README.md")
 

@@ -16,8 +16,14 @@ hunts of all processes over the slowest process's seconds. The two engines' hunt
 when): the study stops if one differs. Beside them, a process running one hunt with the compiled rules' cache empty
 (compiling them), then one with that cache. Last, ``mpc-hunt sweep`` runs ``SWEEP`` such hunts on ``WORKERS``
 processes into a temporary results file, timed whole (the command, start to end) with its rows' exceptions
-counted. Writes ``studies/engine/results.json`` and README.md, and the two tables in
-docs/engine.md.
+counted. Then the recommended controller (``TRAP``, a solving one) on ``TRAP_HUNTS`` of the same hunts, one by one on
+both engines, and on this one again with the capture step of ``ROUTE``; on this engine each hunt's capture steps
+are solved again alone after it (``engine_worker.py --qps``), so that a hunt's whole cost is set against its
+capture steps' (the most any engine could gain on them is the hunts' seconds before over their steps alone).
+The two engines' ``trap`` hunts are compared, not required to end alike: its reference's sums and powers are
+now the C library's in a compiled loop, not NumPy's array operations (whose powers differ from it in the last
+bit on this machine), and a hunt is chaotic.
+Writes ``studies/engine/results.json`` and README.md, and the three tables in docs/engine.md.
 
     python studies/engine.py            # measure (about five minutes on two cores), write the results
     python studies/engine.py --check    # the docs' tables and the report are the committed results'
@@ -45,6 +51,7 @@ from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import describe_machine, machine_lines
 from mpc_hunt.compiled import kernel
+from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.errors import DataFileError
 from mpc_hunt.sweep.runner import BATCH
 from mpc_hunt.sweep.store import stored_rows
@@ -59,7 +66,9 @@ OUT = ROOT / "studies" / "engine"
 DOCS = ROOT / "docs" / "engine.md"
 COMMAND = "python studies/engine.py"
 BEFORE = "aba2141bca054dda51a67e3c13d827a12d78ede4"     # the last commit of the engine before the batched one
-SEED, HUNTS, MORE, WORKERS, SWEEP = 46, 64, 2048, 2, 10_000
+SEED, HUNTS, MORE, WORKERS, SWEEP, TRAP_HUNTS = 46, 64, 2048, 2, 10_000, 16
+TRAP = ControllerSpec().label       # the recommended controller, a solving one
+ROUTE = "trap:rti:daqp-condensed:10"     # its capture stage on the compiled, warm-started DAQP step
 MAX_HUNTS = 10_000
 SIZES, DEFENDERS, SENSING, REPEATS, CHOICE_SEED = (1, 16, 256, 4096), 5, 3.0, 5, 0
 WORK = 200_000      # hunt-evaluations a timing of the choice aims at (fewer for a batch of one)
@@ -146,14 +155,16 @@ def unpacked(commit: str, folder: Path) -> Path:
     return folder
 
 
-def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int) -> dict:
-    """``hunts`` hunts from ``first`` on ``WORKERS`` processes with ``path`` first on the path: their rate and
-    ends."""
+def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int, controller: str = "voronoi",
+                 qps: bool = False) -> dict:
+    """``hunts`` hunts of ``controller`` from ``first`` on ``WORKERS`` processes with ``path`` first on the path:
+    their rate and ends (and, with ``qps``, the seconds of their capture steps solved again alone)."""
     share = -(-hunts // WORKERS)
     env = {**os.environ, "PYTHONPATH": str(path)}
     runs = [subprocess.Popen([sys.executable, str(ROOT / "studies" / "engine_worker.py"), "--mode", mode, "--seed",
                               str(SEED), "--first", str(first + k * share + 1), "--count",
-                              str(min(share, hunts - k * share)), "--batch", str(batch)],
+                              str(min(share, hunts - k * share)), "--batch", str(batch), "--controller", controller,
+                              *(["--qps"] if qps else [])],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
             for k in range(WORKERS) if k * share < hunts]
     outputs = []
@@ -167,9 +178,37 @@ def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int) -> d
         for r in runs:
             r.kill()
     seconds = max(o["seconds"] for o in outputs)
-    return {"hunts": hunts, "seconds": seconds, "steps": sum(o["steps"] for o in outputs),
-            "hunts_per_s": hunts / seconds, "steps_per_s": sum(o["steps"] for o in outputs) / seconds,
-            "ends": [e for o in outputs for e in o["ends"]]}
+    out = {"hunts": hunts, "seconds": seconds, "steps": sum(o["steps"] for o in outputs),
+           "hunts_per_s": hunts / seconds, "steps_per_s": sum(o["steps"] for o in outputs) / seconds,
+           "process_seconds": sum(o["seconds"] for o in outputs), "ends": [e for o in outputs for e in o["ends"]]}
+    if qps:
+        out |= {"qp_seconds": sum(o["qp_seconds"] for o in outputs), "qps": sum(o["qps"] for o in outputs)}
+    return out
+
+
+def outcomes(run: dict) -> None:
+    """``run``'s ends replaced by how many hunts ended each way."""
+    ends = run.pop("ends")
+    run["outcomes"] = {end: sum(e[0] == end for e in ends) for end in
+                       ("captured", "attacker_escaped", "time_limit", "non_finite_state")}
+
+
+def trap_hunts(before_path: Path, hunts: int) -> dict:
+    """The recommended controller's hunts (``TRAP``) on both engines, one by one, and on this one the same hunts
+    with the capture step of ``ROUTE``; on this engine each hunt's capture steps solved again alone."""
+    before = side_by_side(before_path, "one", 0, hunts, 1, TRAP)
+    print(f"trap before: {before['hunts_per_s']:.3f} hunts/s", file=sys.stderr, flush=True)
+    now = side_by_side(ROOT, "one", 0, hunts, 1, TRAP, qps=True)
+    route = side_by_side(ROOT, "one", 0, hunts, 1, ROUTE, qps=True)
+    print(f"trap now: {now['hunts_per_s']:.3f} hunts/s, {ROUTE}: {route['hunts_per_s']:.3f}", file=sys.stderr,
+          flush=True)
+    alike = sum(a == b for a, b in zip(before["ends"], now["ends"]))
+    same_outcome = sum(a[0] == b[0] for a, b in zip(before["ends"], now["ends"]))
+    route_alike = sum(a == b for a, b in zip(now["ends"], route["ends"]))
+    for run in (before, now, route):
+        outcomes(run)
+    return {"controller": TRAP, "route": ROUTE, "before": before, "now": now, "on_route": route,
+            "alike": alike, "same_outcome": same_outcome, "route_alike": route_alike}
 
 
 def first_runs() -> dict:
@@ -204,10 +243,11 @@ def sweep(hunts: int) -> dict:
             "captured": sum(r["outcome"] == "captured" for r in rows)}
 
 
-def measure(hunts: int, more: int, swept: int) -> dict:
+def measure(hunts: int, more: int, swept: int, trapped: int) -> dict:
     with tempfile.TemporaryDirectory() as folder:
         before = side_by_side(unpacked(BEFORE, Path(folder)), "one", 0, hunts, 1)
         print(f"before: {before['hunts_per_s']:.2f} hunts/s", file=sys.stderr, flush=True)
+        trap = trap_hunts(Path(folder), trapped)
     now = side_by_side(ROOT, "batch", 0, hunts, BATCH)
     if now["ends"] != before["ends"]:
         differ = [i for i, (a, b) in enumerate(zip(before["ends"], now["ends"])) if a != b]
@@ -216,22 +256,50 @@ def measure(hunts: int, more: int, swept: int) -> dict:
     print(f"batched: {now['hunts_per_s']:.1f} hunts/s on the same hunts, {steady['hunts_per_s']:.1f} on {more} "
           "more", file=sys.stderr, flush=True)
     for run in (before, now, steady):
-        ends = run.pop("ends")
-        run["outcomes"] = {end: sum(e[0] == end for e in ends) for end in
-                           ("captured", "attacker_escaped", "time_limit", "non_finite_state")}
+        outcomes(run)
     swept_run = sweep(swept)
     print(f"sweep: {swept_run['hunts']} hunts in {swept_run['seconds']:.0f} s, {swept_run['errors']} exceptions",
           file=sys.stderr, flush=True)
     return {"settings": {"seed": SEED, "hunts": hunts, "more": more, "workers": WORKERS, "batch": BATCH,
                          "before": BEFORE, "pair": "voronoi against gap, 3 to 5 defenders"},
-            "before": before, "batched": now, "batched_more": steady, "sweep": swept_run}
+            "before": before, "batched": now, "batched_more": steady, "sweep": swept_run, "trap": trap}
 
 
 def report(results: dict, machine: dict) -> str:
     """The study's README."""
     return "\n".join(["# The batched engine", "", "## The choice: arrays with a hunt axis, or compiled per hunt", "",
                       choice_table(results["choice"]), "## Against the engine before it", "", headline(results),
-                      *machine_lines(machine), ""])
+                      "## Hunts that solve: the trap controller", "", trap_table(results), *machine_lines(machine), ""])
+
+
+def trap_table(results: dict) -> str:
+    """The solving controller's hunts on both engines, beside the time of their capture steps alone."""
+    t, s = results["trap"], results["settings"]
+    before = t["before"]
+    rows = []
+    for name, controller, run in (("before the batched engine", t["controller"], before),
+                                  ("batched engine", t["controller"], t["now"]),
+                                  ("batched engine", t["route"], t["on_route"])):
+        alone = run.get("qp_seconds")
+        rows.append([name, f"`{controller}`", f"{run['hunts']}", f"{run['seconds']:.1f}", f"{run['hunts_per_s']:.3f}",
+                     f"{run['hunts_per_s'] / before['hunts_per_s']:.2f}x",
+                     "" if alone is None else f"{1e3 * alone / run['qps']:.3f}",
+                     "" if alone is None else f"{run['process_seconds'] / alone:.2f}",
+                     f"{run['outcomes']['captured']}"])
+    now, route = t["now"], t["on_route"]
+    lines = [f"`{COMMAND}` (the recommended controller against `gap`, 3 to 5 defenders, the first {t['now']['hunts']} "
+             f"of the same hunts, {s['workers']} processes, one hunt after another; *step alone*: each hunt's capture "
+             "steps solved again after it, alone, from the inputs and warm start each had, only the compiled call "
+             "timed (the linearisation and its QP); *whole / steps alone*: the processes' hunting seconds over "
+             "those):", "",
+             *markdown.table(["engine", "controller", "hunts", "s", "hunts/s", "vs before", "step alone (ms)",
+                              "whole / steps alone", "captured"], "llrrrrrrr", rows), "",
+             f"{t['alike']} of {now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the "
+             f"same way; on the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps "
+             f"can make these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the "
+             f"hunts' seconds before over their steps alone now), {before['process_seconds'] / route['qp_seconds']:.1f}x"
+             " on the DAQP step."]
+    return "\n".join(lines) + "\n"
 
 
 def headline(results: dict) -> str:
@@ -264,12 +332,13 @@ def write(results: dict, machine: dict) -> None:
     (OUT / "README.md").write_text(report(results, machine), encoding="utf-8")
     write_block("engine-choice", choice_table(results["choice"]), DOCS)
     write_block("engine-speed", headline(results), DOCS)
+    write_block("engine-trap", trap_table(results), DOCS)
 
 
 def check() -> list[str]:
     committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
     if not isinstance(committed, dict) or not {"settings", "before", "batched", "batched_more", "sweep", "choice",
-                                               "first_runs", "machine"} <= set(committed):
+                                               "first_runs", "machine", "trap"} <= set(committed):
         return ["studies/engine/results.json: not the study's results"]
     errors = []
     s = committed["settings"]
@@ -277,6 +346,8 @@ def check() -> list[str]:
         errors.append("results.json: measured with other settings than the study's")
     if read_block("engine-speed", DOCS) != headline(committed):
         errors.append("docs/engine.md: its table of the speed is not the committed results'")
+    if read_block("engine-trap", DOCS) != trap_table(committed):
+        errors.append("docs/engine.md: its table of the trap controller's hunts is not the committed results'")
     if read_block("engine-choice", DOCS) != choice_table(committed["choice"]):
         errors.append("docs/engine.md: its table of the choice is not the committed results'")
     if (OUT / "README.md").read_text(encoding="utf-8") != report(committed, committed["machine"]):
@@ -292,13 +363,15 @@ def main(argv: list[str] | None = None) -> int:
                         help=f"more hunts for the batched engine's steady rate (default {MORE})")
     parser.add_argument("--sweep", type=count(MAX_HUNTS), default=SWEEP,
                         help=f"hunts of the timed sweep (default {SWEEP})")
+    parser.add_argument("--trap-hunts", type=count(MAX_HUNTS), default=TRAP_HUNTS,
+                        help=f"hunts of the recommended controller run by both engines (default {TRAP_HUNTS})")
     parser.add_argument("--check", action="store_true", help="check the docs' table against the committed results")
     args = parser.parse_args(argv)
     if args.check:
         return check_result(check(), "studies/engine", COMMAND)
     chosen, first = choice(REPEATS), first_runs()
     print(f"first run {first['cold_s']:.1f} s, cached {first['cached_s']:.1f} s", file=sys.stderr, flush=True)
-    write({"choice": chosen, "first_runs": first, **measure(args.hunts, args.more, args.sweep)}, describe_machine())
+    write({"choice": chosen, "first_runs": first, **measure(args.hunts, args.more, args.sweep, args.trap_hunts)}, describe_machine())
     print(f"wrote {OUT / 'README.md'} and the table of docs/engine.md")
     return 0
 

@@ -2,10 +2,14 @@
 
 Run by the study with the engine under test first on the path (this tree's, or the engine before the batched one,
 unpacked from git; so it imports nothing of ``studies``): ``python studies/engine_worker.py --mode M --seed S
---first F --count C --batch B`` runs C hunts of the study from the F-th (``voronoi`` defenders, 3 to 5, against
-the ``gap`` attacker, the sweep's random scenarios of seed S), M ``one`` one by one with ``simulate``, ``batch``
-in batches of B with ``simulate_batch``; prints one JSON line: the seconds they took, their steps, and each
-hunt's end.
+--first F --count C --batch B --controller K`` runs C hunts of the study from the F-th (controller K, ``voronoi``
+unless told, 3 to 5 defenders, against the ``gap`` attacker, the sweep's random scenarios of seed S), M ``one``
+one by one with ``simulate``, ``batch`` in batches of B with ``simulate_batch``; prints one JSON line: the seconds
+they took (once warm: the first ``WARM_TIME_LIMIT`` s of every hunt run before the clock starts, so a compiled
+capture step is built), their steps, and each hunt's end. With ``--qps``, one by one: after each hunt (off its clock), its
+capture-stage steps are solved again alone, back to back, each from the inputs and warm start it had in the hunt,
+and only the compiled step's call is timed (the linearisation and the QP: what the batch cannot make cheaper);
+their seconds and count are printed too.
 """
 
 from __future__ import annotations
@@ -27,12 +31,12 @@ MAX_HUNTS = 100_000
 WARM_TIME_LIMIT = 5.0       # s of simulated time: the warm-up hunt, before the clock starts
 
 
-def hunt(seed: int, index: int, time_limit: float | None = None):
+def hunt(seed: int, index: int, controller: str, time_limit: float | None = None):
     """Hunt ``index``: its scenario, controller and world generator, as the sweeps draw them."""
     scenario = with_behaviour(sweep_scenario(seed, index, RANGES), "gap")
     if time_limit is not None:
         scenario = dataclasses.replace(scenario, hunt=dataclasses.replace(scenario.hunt, time_limit=time_limit))
-    return scenario, ControllerSpec.parse("voronoi").build(scenario), hunt_rngs(seed, index)[0]
+    return scenario, ControllerSpec.parse(controller).build(scenario), hunt_rngs(seed, index)[0]
 
 
 def run(mode: str, hunts: list, batch: int) -> list:
@@ -49,6 +53,29 @@ def run(mode: str, hunts: list, batch: int) -> list:
     return results
 
 
+def with_qps_alone(hunts: list) -> tuple[list, float, float, int]:
+    """The hunts one by one, each hunt's capture steps then solved again alone: (results, the hunts' seconds, the
+    steps' seconds alone, how many)."""
+    from mpc_hunt.sim.simulator import simulate
+
+    results, hunting, alone, solves = [], 0.0, 0.0, 0
+    for scenario, controller, rng in hunts:
+        solver, posed = controller.mpc.solver, []
+        solve = solver.solve
+        solver.solve = lambda problem, plan=None, duals=None: posed.append((problem, plan)) or solve(problem, plan, duals)
+        start = time.perf_counter()
+        results.append(simulate(scenario, controller, rng=rng))
+        hunting += time.perf_counter() - start
+        for problem, plan in posed:
+            step = solver.step_for(problem)
+            step.load(problem, plan)
+            start = time.perf_counter()
+            step.step()
+            alone += time.perf_counter() - start
+        solves += len(posed)
+    return results, hunting, alone, solves
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mode", choices=("one", "batch"), default="batch",
@@ -57,14 +84,22 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--first", type=count(MAX_HUNTS), default=1, help="the first hunt, counted from 1 (default 1)")
     parser.add_argument("--count", type=count(MAX_HUNTS), default=1, help="how many hunts (default 1)")
     parser.add_argument("--batch", type=count(MAX_HUNTS), default=1, help="hunts a batch, batch mode (default 1)")
+    parser.add_argument("--controller", default="voronoi", help="the defenders' controller (default voronoi)")
+    parser.add_argument("--qps", action="store_true", help="time each hunt's capture steps again, alone")
     args = parser.parse_args(argv)
-    run(args.mode, [hunt(args.seed, args.first - 1, WARM_TIME_LIMIT)], args.batch)  # imports, caches, first calls
-    hunts = [hunt(args.seed, i) for i in range(args.first - 1, args.first - 1 + args.count)]
-    start = time.perf_counter()
-    results = run(args.mode, hunts, args.batch)
-    seconds = time.perf_counter() - start
+    indices = range(args.first - 1, args.first - 1 + args.count)
+    run(args.mode, [hunt(args.seed, i, args.controller, WARM_TIME_LIMIT) for i in indices], args.batch)  # imports,
+    hunts = [hunt(args.seed, i, args.controller) for i in indices]  # caches, first calls, each hunt's capture step
+    out = {}
+    if args.qps:
+        results, seconds, alone, solves = with_qps_alone(hunts)
+        out = {"qp_seconds": alone, "qps": solves}
+    else:
+        start = time.perf_counter()
+        results = run(args.mode, hunts, args.batch)
+        seconds = time.perf_counter() - start
     print(json.dumps({"seconds": seconds, "steps": sum(len(r.times) - 1 for r in results),
-                      "ends": [[r.termination, r.capture_time] for r in results]}))
+                      "ends": [[r.termination, r.capture_time] for r in results], **out}))
     return 0
 
 

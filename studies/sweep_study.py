@@ -10,6 +10,7 @@ from typing import Callable
 
 from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average
+from mpc_hunt.cli.common import cores_count
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Hunt, run_hunt
 from mpc_hunt.sweep.store import SweepStore, self_contained
@@ -23,17 +24,19 @@ MAX_HUNTS = 1000        # the most hunts a sweep study's --hunts asks for
 
 def add_study_options(parser: CommandParser, hunts: int, what: str, seed: int, out: Path) -> None:
     """A sweep study's --hunts (default ``hunts``, ``what`` they are), --seed (default ``seed``), --output (default
-    ``out``, a folder of studies/) and --check."""
+    ``out``, a folder of studies/), --workers (default: one a core) and --check."""
     parser.add_argument("--hunts", type=count(MAX_HUNTS), default=hunts, help=f"{what} (default {hunts})")
+    parser.add_argument("--workers", type=cores_count, default=None,
+                        help="worker processes (default: one a core; 1 leaves the other cores free)")
     parser.add_argument("--seed", type=seed_number, default=seed, help=f"the sweep's seed (default {seed})")
     parser.add_argument("--output", type=output_folder, default=out,
                         help=f"the folder to write (default studies/{out.name})")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
 
 
-def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
+def run_file(db: Path, arguments: dict, hunts: list[Hunt], workers: int | None = None) -> str | None:
     """The hunts of ``hunts`` not yet in ``db`` (a sweep results file of ``arguments``, resumed if it exists) run
-    into it; then the file made self-contained. None when all finished, else why it stopped
+    into it on ``workers`` processes (None: one a core); then the file made self-contained. None when all finished, else why it stopped
     (:func:`mpc_hunt.sweep.stored_run.run_into`; NOTHING_RAN when the file holds no hunt, so that a study that ran
     nothing never reports success)."""
     store = SweepStore(db, arguments, resume=db.exists())
@@ -45,7 +48,7 @@ def run_file(db: Path, arguments: dict, hunts: list[Hunt]) -> str | None:
             if finished % PROGRESS_EVERY == 0:
                 print(f"{db.name}: {finished} / {len(work)}", file=sys.stderr, flush=True)
 
-        stopped = run_into(store, work, update=progress)
+        stopped = run_into(store, work, workers, update=progress)
         if not stopped and not store.done():
             stopped = NOTHING_RAN
     finally:

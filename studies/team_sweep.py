@@ -70,10 +70,11 @@ def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list
     }
 
 
-def run(folder: Path, hunts: int, team_hunts: int, seed: int) -> str | None:
-    """Both sweeps into their files; None when all finished, else why it stopped."""
+def run(folder: Path, hunts: int, team_hunts: int, seed: int, workers: int | None = None) -> str | None:
+    """Both sweeps into their files on ``workers`` processes (None: one a core); None when all finished, else why
+    it stopped."""
     for name, (arguments, hunts_of) in sweeps(hunts, team_hunts, seed).items():
-        stopped = run_file(folder / name, arguments, hunts_of)
+        stopped = run_file(folder / name, arguments, hunts_of, workers)
         if stopped:
             return stopped
     return None
@@ -196,8 +197,8 @@ def main(argv: list[str] | None = None) -> int:
         with stop_at_once("team sweep study"):
             return check_result(check(args.output), "studies/team_sweep", COMMAND)
     return measured_run(args.output,
-                        lambda: stop_status(run(args.output, args.hunts, args.team_hunts, args.seed), "team_sweep.py",
-                                            args.output),
+                        lambda: stop_status(run(args.output, args.hunts, args.team_hunts, args.seed, args.workers),
+                                            "team_sweep.py", args.output),
                         lambda machine: write(args.output, machine, args.hunts, args.team_hunts, args.seed),
                         args.output / "README.md")
 
