@@ -348,6 +348,24 @@ def lost_figure(rows: list[dict], folder: Path) -> list[Path]:
     return [folder / "typical_lost.png"]
 
 
+def costs(rows: list[dict]) -> list[str]:
+    """What a cell costs: the mean seconds of one core a hunt (its ``wall_time_s``; a batched controller's hunt, its
+    share of its batch by steps), strategy × attacker, exact belief; then each strategy's total and the study's."""
+    cells: dict[tuple[str, str], list[float]] = {}
+    for r in rows:
+        cells.setdefault((r["strategy"], r["attacker"]), []).append(r["wall_time_s"]) if r["belief"] == EXACT else None
+    strategies = sorted({s for s, _ in cells})
+    body = [[f"{a}", *(f"{statistics.fmean(cells[s, a]):.2f}" if (s, a) in cells else "" for s in strategies)]
+            for a in BEHAVIOURS]
+    totals = {s: sum(sum(v) for (t, _), v in cells.items() if t == s) for s in strategies}
+    return ["Seconds of one core a hunt (mean of the cell's hunts, exact belief; a batched controller's hunt is its "
+            "share of its batch's time by its steps):", "",
+            *markdown.table(["attacker", *(f"`{s}`" for s in strategies)], "l" + "r" * len(strategies), body), "",
+            "Each strategy's hunts, exact belief, in core-hours: " +
+            ", ".join(f"`{s}` {totals[s] / 3600:.2f}" for s in strategies) +
+            f"; every row of the study: {sum(r['wall_time_s'] for r in rows) / 3600:.2f}.", ""]
+
+
 def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, seed: int) -> str:
     indices = sorted({r["index"] for r in rows})
     means = mean_comfortable(summaries)
@@ -387,7 +405,8 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         "`python studies/train_ppo.py`, docs/envs.md), the attacker trained against the recommended controller, "
         "the team against the other attackers; neither trained on these hunts.", "", *league(rows),
         f"A typical hunt each learned side wins against `{FOCUS}`, rerun:", "",
-        "![learned sides' wins](learned_wins.png)", "", "## Every summary", "", table(summaries), "",
+        "![learned sides' wins](learned_wins.png)", "", "## What a hunt costs", "", *costs(rows),
+        "## Every summary", "", table(summaries), "",
         "## Machine", "", *machine_lines(machine), ""])
 
 
@@ -410,6 +429,9 @@ def check(folder: Path) -> list[str]:
     rows = stored_rows(folder / "sweep.db")
     if json.loads(json.dumps(summarise(rows))) != committed["strategies"]:
         errors.append("summary.json: not the summary of sweep.db")
+    elif (folder / "README.md").read_text(encoding="utf-8") != report(rows, summarise(rows), committed["machine"],
+                                                                       hunts, seed):
+        errors.append("README.md: not the report of sweep.db")
     left = missing(todo(hunt_indices(hunts, seed), seed), keys(rows))
     if left:
         errors.append(f"sweep.db: {len(left)} hunts of the study are missing (resume it)")
