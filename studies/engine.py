@@ -69,6 +69,7 @@ BEFORE = "aba2141bca054dda51a67e3c13d827a12d78ede4"     # the last commit of the
 SEED, HUNTS, MORE, WORKERS, SWEEP, TRAP_HUNTS = 46, 64, 2048, 2, 10_000, 16
 TRAP = ControllerSpec().label       # the recommended controller, a solving one
 ROUTE = "trap:rti:daqp-condensed:10"     # its capture stage on the compiled, warm-started DAQP step
+REPLAYED = 1e-9     # m: a capture step solved alone plans as in its hunt, to this (the same inputs, the same code)
 MAX_HUNTS = 10_000
 SIZES, DEFENDERS, SENSING, REPEATS, CHOICE_SEED = (1, 16, 256, 4096), 5, 3.0, 5, 0
 WORK = 200_000      # hunt-evaluations a timing of the choice aims at (fewer for a batch of one)
@@ -182,7 +183,11 @@ def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int, cont
            "hunts_per_s": hunts / seconds, "steps_per_s": sum(o["steps"] for o in outputs) / seconds,
            "process_seconds": sum(o["seconds"] for o in outputs), "ends": [e for o in outputs for e in o["ends"]]}
     if qps:
-        out |= {"qp_seconds": sum(o["qp_seconds"] for o in outputs), "qps": sum(o["qps"] for o in outputs)}
+        out |= {"qp_seconds": sum(o["qp_seconds"] for o in outputs), "qps": sum(o["qps"] for o in outputs),
+                "replay_difference": max(o["replay_difference"] for o in outputs)}
+        if out["replay_difference"] > REPLAYED:
+            raise DataFileError(f"{controller}: a capture step solved alone planned {out['replay_difference']:.3g} m "
+                                "from the hunt's")
     return out
 
 
@@ -294,7 +299,8 @@ def trap_table(results: dict) -> str:
              "those):", "",
              *markdown.table(["engine", "controller", "hunts", "s", "hunts/s", "vs before", "step alone (ms)",
                               "whole / steps alone", "captured"], "llrrrrrrr", rows), "",
-             f"{t['alike']} of {now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the "
+             f"Solved alone, the steps planned as in their hunts (to {max(now['replay_difference'], route['replay_difference']):.1g} "
+             f"m). {t['alike']} of {now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the "
              f"same way; on the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps "
              f"can make these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the "
              f"hunts' seconds before over their steps alone now), {before['process_seconds'] / route['qp_seconds']:.1f}x"

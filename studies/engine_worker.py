@@ -9,7 +9,7 @@ they took (once warm: the first ``WARM_TIME_LIMIT`` s of every hunt run before t
 capture step is built), their steps, and each hunt's end. With ``--qps``, one by one: after each hunt (off its clock), its
 capture-stage steps are solved again alone, back to back, each from the inputs and warm start it had in the hunt,
 and only the compiled step's call is timed (the linearisation and the QP: what the batch cannot make cheaper);
-their seconds and count are printed too.
+their seconds, their count and the largest difference of a plan solved alone from the hunt's are printed too.
 """
 
 from __future__ import annotations
@@ -19,6 +19,8 @@ import json
 import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 from mpc_hunt.arguments import CommandParser, count, run_command, seed
 from mpc_hunt.control.spec import ControllerSpec
@@ -53,27 +55,33 @@ def run(mode: str, hunts: list, batch: int) -> list:
     return results
 
 
-def with_qps_alone(hunts: list) -> tuple[list, float, float, int]:
+def with_qps_alone(hunts: list) -> tuple[list, float, float, int, float]:
     """The hunts one by one, each hunt's capture steps then solved again alone: (results, the hunts' seconds, the
-    steps' seconds alone, how many)."""
+    steps' seconds alone, how many, the largest difference between a plan solved alone and the hunt's)."""
     from mpc_hunt.sim.simulator import simulate
 
-    results, hunting, alone, solves = [], 0.0, 0.0, 0
+    results, hunting, alone, solves, differ = [], 0.0, 0.0, 0, 0.0
     for scenario, controller, rng in hunts:
         solver, posed = controller.mpc.solver, []
-        solve = solver.solve
-        solver.solve = lambda problem, plan=None, duals=None: posed.append((problem, plan)) or solve(problem, plan, duals)
+
+        def solve(problem, plan=None, duals=None, solve=solver.solve, posed=posed):
+            solution = solve(problem, plan, duals)
+            posed.append((problem, plan, solution.x))
+            return solution
+
+        solver.solve = solve
         start = time.perf_counter()
         results.append(simulate(scenario, controller, rng=rng))
         hunting += time.perf_counter() - start
-        for problem, plan in posed:
+        for problem, plan, x in posed:
             step = solver.step_for(problem)
             step.load(problem, plan)
             start = time.perf_counter()
             step.step()
             alone += time.perf_counter() - start
+            differ = max(differ, float(np.max(np.abs(step.plan.reshape(-1) - x))))
         solves += len(posed)
-    return results, hunting, alone, solves
+    return results, hunting, alone, solves, differ
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -92,8 +100,8 @@ def main(argv: list[str] | None = None) -> int:
     hunts = [hunt(args.seed, i, args.controller) for i in indices]  # caches, first calls, each hunt's capture step
     out = {}
     if args.qps:
-        results, seconds, alone, solves = with_qps_alone(hunts)
-        out = {"qp_seconds": alone, "qps": solves}
+        results, seconds, alone, solves, differ = with_qps_alone(hunts)
+        out = {"qp_seconds": alone, "qps": solves, "replay_difference": differ}
     else:
         start = time.perf_counter()
         results = run(args.mode, hunts, args.batch)
