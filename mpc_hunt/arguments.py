@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import re
 import sys
 import tempfile
@@ -21,6 +22,7 @@ from mpc_hunt.errors import MpcHuntError
 EXIT_USAGE = 2  # a usage error's exit status (argparse's, mpc-hunt's), and an error's at run time
 EXIT_INTERRUPTED = 130  # Ctrl-C's (128 + SIGINT)
 MAX_SEED = 2**63 - 1  # SQLite's largest integer (a sweep stores its seed); NumPy takes any
+MAX_WORKERS_PER_CORE = 4  # a sweep's --workers: at most this many per core (each holds a solver's memory)
 
 
 class CommandParser(argparse.ArgumentParser):
@@ -105,6 +107,16 @@ def _whole(text: str, least: int, most: int) -> int:
 def count(most: int):
     """An argument type: a whole number from 1 to ``most``."""
     return lambda text: _whole(text, 1, most)
+
+
+def max_workers() -> int:
+    """The most local worker processes a sweep may start on this machine."""
+    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
+def cores_count(text: str) -> int:
+    """An argument type: worker processes, from 1 to ``MAX_WORKERS_PER_CORE`` per core of this machine."""
+    return count(max_workers())(text)
 
 
 def non_negative(most: int):

@@ -8,9 +8,8 @@ import sys
 from pathlib import Path
 from typing import Callable
 
-from mpc_hunt.arguments import CommandParser, count, output_folder, seed as seed_number
+from mpc_hunt.arguments import CommandParser, cores_count, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average
-from mpc_hunt.cli.common import cores_count
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.sweep.runner import Hunt, run_hunt
 from mpc_hunt.sweep.store import SweepStore, self_contained

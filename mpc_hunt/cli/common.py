@@ -10,7 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-from mpc_hunt.arguments import cannot_write, count
+from mpc_hunt.arguments import cannot_write
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.interrupt import CLEAR_FIRST
 from mpc_hunt.world.belief import Belief, parse_belief
@@ -21,7 +21,6 @@ MAX_PROBLEMS = 100_000  # compare --limit, problems --every (closed-loop states)
 MAX_RUN_LENGTH = 1_000  # problems --run-length
 MAX_RANDOM = 1_000  # problems --random: states per family, each up to 200 draws with a solve
 MAX_HUNTS = 1_000_000  # sweep --hunts per strategy
-MAX_WORKERS_PER_CORE = 4  # sweep --workers: at most this many per core (each holds a solver's memory)
 
 
 # A field the library's errors name (mpc_hunt.errors.field_name, SettingError.fields) and the flag that gives it,
@@ -65,16 +64,6 @@ def quiet_solvers(verbose: bool):
 def messages():
     """The stream for the command's own messages on stderr (not the solvers', :func:`quiet_solvers`)."""
     return _messages[-1] if _messages else sys.stderr
-
-
-def max_workers() -> int:
-    """The most local worker processes a sweep may start on this machine."""
-    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
-
-
-def cores_count(text: str) -> int:
-    """Worker processes: from 1 to MAX_WORKERS_PER_CORE per core of this machine."""
-    return count(max_workers())(text)
 
 
 def belief(text: str) -> Belief:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from mpc_hunt.arguments import count, seed, shown
-from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, cores_count, messages
+from mpc_hunt.arguments import cores_count, count, seed, shown
+from mpc_hunt.cli.common import MAX_HUNTS, Progress, belief, check_writable, messages
 from mpc_hunt.errors import MpcHuntError
 from mpc_hunt.world.behaviours import BEHAVIOURS, DEFAULT_BEHAVIOUR
 from mpc_hunt.world.belief import Belief

@@ -19,9 +19,8 @@ import pytest
 
 from mpc_hunt.world.hunt_state import load_state, save_state
 from mpc_hunt.capture.problem import MAX_HORIZON
-from mpc_hunt.arguments import MAX_SEED
-from mpc_hunt.cli.common import (MAX_HUNTS, MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS,
-                                 MAX_WORKERS_PER_CORE)
+from mpc_hunt.arguments import MAX_SEED, MAX_WORKERS_PER_CORE
+from mpc_hunt.cli.common import MAX_HUNTS, MAX_PROBLEMS, MAX_RANDOM, MAX_RUN_LENGTH, MAX_STARTS
 from mpc_hunt.cli.commands import main
 from mpc_hunt.sweep.random_scenario import ScenarioRanges
 from mpc_hunt.world.scenario import MAX_DEFENDERS, MAX_MAGNITUDE, MAX_OBSTACLES, MAX_SPEED, MAX_STEPS

@@ -302,3 +302,20 @@ def test_the_sweep_study_refuses_a_strategy_that_cannot_be_built_before_its_resu
     monkeypatch.setattr(module, "SweepStore", lambda *a, **k: pytest.fail("the sweep's file was opened"))
     with pytest.raises(SettingError, match="ppo cannot be built"):
         module.run_sweep()
+
+
+SWEEPING = [n for n in STUDIES if "add_study_options(parser" in _source(n)]
+
+
+@pytest.mark.parametrize("name", SWEEPING)
+@pytest.mark.parametrize("workers", ["0", "-1", "2.5", "1000000"])
+def test_a_sweep_study_refuses_a_workers_count_it_cannot_run_in_one_line(name, workers, capsys):
+    assert "--workers" in usage_error(capsys, name, ["--workers", workers])
+
+
+@pytest.mark.parametrize("name", SWEEPING)
+def test_a_sweep_study_hands_its_workers_to_the_sweep(name, monkeypatch, tmp_path):
+    module, seen = study(name), []
+    monkeypatch.setattr(module, "run_file", lambda db, arguments, hunts, workers=None: seen.append(workers) or "stop")
+    module.main(["--hunts", "1", "--workers", "1", "--output", str(tmp_path / "out")])
+    assert seen and set(seen) == {1}
