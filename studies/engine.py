@@ -184,7 +184,8 @@ def side_by_side(path: Path, mode: str, first: int, hunts: int, batch: int, cont
            "process_seconds": sum(o["seconds"] for o in outputs), "ends": [e for o in outputs for e in o["ends"]]}
     if qps:
         out |= {"qp_seconds": sum(o["qp_seconds"] for o in outputs), "qps": sum(o["qps"] for o in outputs),
-                "replay_difference": max(o["replay_difference"] for o in outputs)}
+                "replay_difference": max(o["replay_difference"] for o in outputs),
+                "qp_seconds_in_hunts": sum(o["qp_seconds_in_hunts"] for o in outputs)}
         if out["replay_difference"] > REPLAYED:
             raise DataFileError(f"{controller}: a capture step solved alone planned {out['replay_difference']:.3g} m "
                                 "from the hunt's")
@@ -288,6 +289,7 @@ def trap_table(results: dict) -> str:
         alone = run.get("qp_seconds")
         rows.append([name, f"`{controller}`", f"{run['hunts']}", f"{run['seconds']:.1f}", f"{run['hunts_per_s']:.3f}",
                      f"{run['hunts_per_s'] / before['hunts_per_s']:.2f}x",
+                     "" if alone is None else f"{1e3 * run['qp_seconds_in_hunts'] / run['qps']:.3f}",
                      "" if alone is None else f"{1e3 * alone / run['qps']:.3f}",
                      "" if alone is None else f"{run['process_seconds'] / alone:.2f}",
                      f"{run['outcomes']['captured']}"])
@@ -295,10 +297,10 @@ def trap_table(results: dict) -> str:
     lines = [f"`{COMMAND}` (the recommended controller against `gap`, 3 to 5 defenders, the first {t['now']['hunts']} "
              f"of the same hunts, {s['workers']} processes, one hunt after another; *step alone*: each hunt's capture "
              "steps solved again after it, alone, from the inputs and warm start each had, only the compiled call "
-             "timed (the linearisation and its QP); *whole / steps alone*: the processes' hunting seconds over "
-             "those):", "",
-             *markdown.table(["engine", "controller", "hunts", "s", "hunts/s", "vs before", "step alone (ms)",
-                              "whole / steps alone", "captured"], "llrrrrrrr", rows), "",
+             "timed (the linearisation and its QP); *step in the hunt*: the same steps as the hunts timed them; *whole / "
+             "steps alone*: the processes' hunting seconds over the steps alone):", "",
+             *markdown.table(["engine", "controller", "hunts", "s", "hunts/s", "vs before", "step in the hunt (ms)",
+                              "step alone (ms)", "whole / steps alone", "captured"], "llrrrrrrrr", rows), "",
              f"Solved alone, the steps planned as in their hunts (to {max(now['replay_difference'], route['replay_difference']):.1g} "
              f"m). {t['alike']} of {now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the "
              f"same way; on the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps "

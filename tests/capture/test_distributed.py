@@ -491,3 +491,17 @@ def test_the_papers_objective_is_not_the_condensed_backends():
     assert ("rti", "daqp-condensed") in pairs(objective="enclose")
     assert ("rti", "daqp-condensed") not in check_pairs(["rti"], "paper")        # a formulation alone: its pairs
     assert ("rti", "daqp-condensed") in check_pairs(["rti"], "enclose")          # that pose the objective
+
+
+def test_two_solvers_share_a_structures_library_each_warm_starting_from_its_own_solves():
+    """A structure's condensing and C library are built once a process (a sweep's every hunt has its own solver);
+    each step keeps its own DAQP workspace, so one solver's warm start never reaches another's."""
+    problem = next(_team_problems())
+    first, second = (CaptureSolver("distributed").step_for(problem) for _ in range(2))
+    assert first.robot(0).step_function.library is second.robot(0).step_function.library is not None
+    first.load(problem)
+    second.load(problem)
+    assert first.robot(0).step().usable
+    cold = first.robot(0).iterations
+    assert first.robot(0).step().usable and first.robot(0).iterations == 1       # warm from its own last solve
+    assert second.robot(0).step().usable and second.robot(0).iterations == cold  # cold: nothing of the first's

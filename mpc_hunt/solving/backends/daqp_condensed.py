@@ -8,7 +8,8 @@ that fails is retried cold. The condensed Hessian is positive definite only wher
 every control is weighted, as the ``enclose`` objective's smoothness term does: the
 paper's Eq. 14 slacks enter linearly, so the backend takes ``enclose`` only.
 
-The step is one C library, compiled once and cached, called through ``ctypes``
+The step is one C library, compiled once and cached (and, with its condensing, built once a process for every
+backend of it: :func:`shared_condensing`), called through ``ctypes``
 (:mod:`mpc_hunt.solving.backends.condensed_compiled`); the C export
 (:mod:`mpc_hunt.solving.export`) writes the same C. Each control loop's buffer (each
 robot's) holds its own workspace, so each warm-starts from its own last solve. No
@@ -17,6 +18,8 @@ Python package (:mod:`mpc_hunt.solving.backends.condensed_interpreted`).
 """
 
 from __future__ import annotations
+
+from collections import OrderedDict
 
 import numpy as np
 
@@ -28,16 +31,37 @@ from mpc_hunt.solving.backends.condensed_compiled import CODES, FLAGS, CompiledB
 from mpc_hunt.solving.backends.condensed_interpreted import InterpretedBuffer
 from mpc_hunt.solving.backends.condensing import condensed
 from mpc_hunt.solving.backends.daqp import EXIT_MESSAGE, EXIT_STATUS
+from mpc_hunt.solving.compiled import compiler
+
+SHARED_SIZE = 64  # structures whose condensing and library a process keeps for every backend of its own
+
+
+_shared: OrderedDict[tuple, tuple] = OrderedDict()
+
+
+def shared_condensing(data: StageQPData, flags: tuple) -> tuple:
+    """(the condensing Function, its sizes, the compiled library or None) of ``data``'s structure, built once a
+    process: generating and loading the C of a structure takes seconds, and every hunt's controller (a sweep's, a
+    batch's) builds its own backend. What is shared holds no state of a solve: each buffer has its own workspace."""
+    key = (data.key, flags, compiler())  # (no compiler, or another: built again, as the library's cache does)
+    if key in _shared:
+        _shared.move_to_end(key)
+        return _shared[key]
+    function, sizes = condensed(data.build())
+    built = _shared[key] = (function, sizes, compiled_library(function, sizes, flags))
+    if len(_shared) > SHARED_SIZE:
+        _shared.popitem(last=False)
+    return built
 
 
 class CondensedStep:
-    """A structure's condensed step: the condensing Function, its sizes, and the compiled library (or None)."""
+    """A structure's condensed step: the condensing Function, its sizes, and the compiled library (or None), shared
+    (:func:`shared_condensing`), and this backend's own buffer."""
 
     default_buffer: CompiledBuffer | InterpretedBuffer  # the backend's, made on its first run
 
-    def __init__(self, graph, flags: tuple = FLAGS):
-        self.function, self.sizes = condensed(graph)
-        self.library = compiled_library(self.function, self.sizes, flags)
+    def __init__(self, function, sizes: dict, library):
+        self.function, self.sizes, self.library = function, sizes, library
 
     def buffer(self):
         """A buffer with its own DAQP workspace, and the call that steps it (as a CasADi Function's buffer)."""
@@ -68,7 +92,7 @@ class DaqpCondensedBackend(Backend):
         self.flags = tuple(flags)
 
     def setup(self, data: StageQPData) -> CondensedStep:
-        return CondensedStep(data.build(), self.flags)
+        return CondensedStep(*shared_condensing(data, self.flags))
 
     def run(self, step: CondensedStep, data: StageQPData, warm: WarmStart) -> Solution:
         if not hasattr(step, "default_buffer"):
