@@ -294,19 +294,20 @@ def trap_table(results: dict) -> str:
                      "" if alone is None else f"{run['process_seconds'] / alone:.2f}",
                      f"{run['outcomes']['captured']}"])
     now, route = t["now"], t["on_route"]
-    lines = [f"`{COMMAND}` (the recommended controller against `gap`, 3 to 5 defenders, the first {t['now']['hunts']} "
+    replayed = max(now["replay_difference"], route["replay_difference"])
+    lines = [f"`{COMMAND}` (the recommended controller against `gap`, 3 to 5 defenders, the first {now['hunts']} "
              f"of the same hunts, {s['workers']} processes, one hunt after another; *step alone*: each hunt's capture "
              "steps solved again after it, alone, from the inputs and warm start each had, only the compiled call "
-             "timed (the linearisation and its QP); *step in the hunt*: the same steps as the hunts timed them; *whole / "
-             "steps alone*: the processes' hunting seconds over the steps alone):", "",
+             "timed (the linearisation and its QP); *step in the hunt*: the same steps as the hunts timed them; "
+             "*whole / steps alone*: the processes' hunting seconds over the steps alone):", "",
              *markdown.table(["engine", "controller", "hunts", "s", "hunts/s", "vs before", "step in the hunt (ms)",
                               "step alone (ms)", "whole / steps alone", "captured"], "llrrrrrrrr", rows), "",
-             f"Solved alone, the steps planned as in their hunts (to {max(now['replay_difference'], route['replay_difference']):.1g} "
-             f"m). {t['alike']} of {now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the "
-             f"same way; on the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps "
-             f"can make these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the "
-             f"hunts' seconds before over their steps alone now), {before['process_seconds'] / route['qp_seconds']:.1f}x"
-             " on the DAQP step."]
+             f"Solved alone, the steps planned as in their hunts (to {replayed:.1g} m). {t['alike']} of "
+             f"{now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the same way; on "
+             f"the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps can make "
+             f"these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the hunts' "
+             f"seconds before over their steps alone now), {before['process_seconds'] / route['qp_seconds']:.1f}x "
+             "on the DAQP step."]
     return "\n".join(lines) + "\n"
 
 
@@ -379,7 +380,8 @@ def main(argv: list[str] | None = None) -> int:
         return check_result(check(), "studies/engine", COMMAND)
     chosen, first = choice(REPEATS), first_runs()
     print(f"first run {first['cold_s']:.1f} s, cached {first['cached_s']:.1f} s", file=sys.stderr, flush=True)
-    write({"choice": chosen, "first_runs": first, **measure(args.hunts, args.more, args.sweep, args.trap_hunts)}, describe_machine())
+    measured = measure(args.hunts, args.more, args.sweep, args.trap_hunts)
+    write({"choice": chosen, "first_runs": first, **measured}, describe_machine())
     print(f"wrote {OUT / 'README.md'} and the table of docs/engine.md")
     return 0
 

@@ -6,11 +6,11 @@ unpacked from git; so it imports nothing of ``studies``): ``python studies/engin
 unless told, 3 to 5 defenders, against the ``gap`` attacker, the sweep's random scenarios of seed S), M ``one``
 one by one with ``simulate``, ``batch`` in batches of B with ``simulate_batch``; prints one JSON line: the seconds
 they took (once warm: the first ``WARM_TIME_LIMIT`` s of every hunt run before the clock starts, so a compiled
-capture step is built), their steps, and each hunt's end. With ``--qps``, one by one: after each hunt (off its clock), its
-capture-stage steps are solved again alone, back to back, each from the inputs and warm start it had in the hunt,
-and only the compiled step's call is timed (the linearisation and the QP: what the batch cannot make cheaper);
-their seconds, their count, the largest difference of a plan solved alone from the hunt's, and the seconds the
-same steps took in the hunts (their own records) are printed too.
+capture step is built), their steps, and each hunt's end. With ``--qps``, one by one: after each hunt (off its
+clock), its capture-stage steps are solved again alone, back to back, each from the inputs and warm start it had
+in the hunt, and only the compiled step's call is timed (the linearisation and the QP: what the batch cannot make
+cheaper); their seconds, their count, the largest difference of a plan solved alone from the hunt's, and the
+seconds the same steps took in the hunts (their own records) are printed too.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from mpc_hunt.world.behaviours import with_behaviour
 
 RANGES = ScenarioRanges(n_defenders=(3, 5))
 MAX_HUNTS = 100_000
-WARM_TIME_LIMIT = 5.0       # s of simulated time: the warm-up hunt, before the clock starts
+WARM_TIME_LIMIT = 5.0       # s of simulated time: each hunt's warm-up, before the clock starts
 
 
 def hunt(seed: int, index: int, controller: str, time_limit: float | None = None):
