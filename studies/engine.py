@@ -25,7 +25,7 @@ now the C library's in a compiled loop, not NumPy's array operations (whose powe
 bit on this machine), and a hunt is chaotic.
 Writes ``studies/engine/results.json`` and README.md, and the three tables in docs/engine.md.
 
-    python studies/engine.py            # measure (about five minutes on two cores), write the results
+    python studies/engine.py            # measure (about ten minutes on two cores), write the results
     python studies/engine.py --check    # the docs' tables and the report are the committed results'
 """
 
