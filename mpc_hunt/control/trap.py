@@ -291,6 +291,15 @@ def trap_ring(p_a, movers, speeds, stationary, drift, prm):
 
 
 @kernel
+def shrink_terms(p_a, rays, centres, radii, prm, speeds):
+    """(κ_i = v_a / v_i of the movers of top speeds ``speeds``, the reach R_hunt / 2, the nearest obstacle's surface
+    and the arena's edge along each ray): what J and its gradient read besides the movers' places."""
+    blocked = obstacle_block(p_a, rays, centres, radii)
+    edge = edge_along(p_a, rays, prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX])
+    return prm[V_A] / speeds, 0.5 * prm[HUNT_RADIUS], blocked, edge
+
+
+@kernel
 def trap_places(p_a, velocity, P, active, phase, horizon, centres, radii, prm, speeds, rays):
     """(the places (N, n, 2) of every defender, held ones where they stand, the phase's code after this step): the
     module's reference for the attacker at ``p_a`` seen moving at ``velocity``, ``phase`` the last step's code
@@ -311,10 +320,7 @@ def trap_places(p_a, velocity, P, active, phase, horizon, centres, radii, prm, s
     has_anchor = n < MIN_MEMBERS and anchors.shape[0] > n
     anchor = anchors[n] if has_anchor else p_a
     hold = (2.0 if phase == CLOSE else 1.0) * HOLD_BAND
-    ratios = prm[V_A] / mover_speeds
-    reach = 0.5 * hunt_radius
-    blocked = obstacle_block(p_a, rays, centres, radii)
-    edge = edge_along(p_a, rays, prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX])
+    ratios, reach, blocked, edge = shrink_terms(p_a, rays, centres, radii, prm, mover_speeds)
     if k and has_anchor and length(anchor[0] - p_a[0], anchor[1] - p_a[1]) > hunt_radius + hold:
         phase = HERD
         placed = trap_herd(p_a, velocity, mover_at, mover_speeds, anchor, horizon, prm)
@@ -362,12 +368,9 @@ class Trap(Unmodelled):
     def headings(self, p_a: np.ndarray, movers: np.ndarray, speeds: np.ndarray) -> np.ndarray:
         """Each mover's unit direction down the gradient of J (:func:`trap_headings`)."""
         s, p_a = self.scenario, np.asarray(p_a, dtype=float)
-        prm = s.packed
-        blocked = obstacle_block(p_a, self.rays, s.obstacle_centres, s.obstacle_radii)
-        edge = edge_along(p_a, self.rays, prm[X_MIN], prm[Y_MIN], prm[X_MAX], prm[Y_MAX])
-        ratios = prm[V_A] / np.asarray(speeds, dtype=float)
-        movers = np.asarray(movers, dtype=float)
-        return trap_headings(p_a, self.rays, movers, ratios, 0.5 * prm[HUNT_RADIUS], blocked, edge)
+        terms = shrink_terms(p_a, self.rays, s.obstacle_centres, s.obstacle_radii, s.packed,
+                             np.asarray(speeds, dtype=float))  # fmt: skip
+        return trap_headings(p_a, self.rays, np.asarray(movers, dtype=float), *terms)
 
     def reference(self, obs: Observation) -> Reference:
         """Places for every defender (held ones: where they stand) and the attacker, steps 1..N."""
