@@ -16,6 +16,8 @@ writes ``studies/attackers/`` (README.md, summary.json with the machine, the fig
                                                   # controller that captures most, or the quickest of those its
                                                   # interval cannot tell from it), and its quickest capture per
                                                   # attacker still captures
+    python studies/attackers.py --keep-previous   # before a rerun at another size: the rows of sweep.db kept in
+                                                  # previous.json, which the rerun's report sets beside its own
 """
 
 from __future__ import annotations
@@ -45,12 +47,14 @@ from mpc_hunt.sweep.summary import Z95, summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
+from studies.previous_rows import again, keep, read
 from studies.study_check import check_result, read_json_file, run_study
 from studies.sweep_study import (add_study_options, keys, measured_run, missing, quickest_captures, run_file,
                                  still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
+PREVIOUS = "previous.json"      # the last run's rows, kept by --keep-previous (studies/previous_rows.py)
 HUNTS, SEED = 60, 1       # 60 hunts a cell (43 comfortable on seed 1): 95 % intervals of about ±13 points, not ±25
 BELIEF_HUNTS = 15         # FIRST and the belief errors: on the first this many hunts
 DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
@@ -285,6 +289,30 @@ def paired_difference(rows: list[dict], attacker: str, other: str) -> tuple[int,
     return (len(common), *paired_interval([mine[i] - theirs[i] for i in common]))
 
 
+def told(lo: float, hi: float) -> str:
+    """What a paired difference's 95 % interval ``lo`` to ``hi`` tells."""
+    return "ahead" if lo > 0 else "behind" if hi < 0 else "not told apart"
+
+
+def then_and_now(rows: list[dict], previous: list[dict]) -> list[str]:
+    """Per attacker, the recommended controller's captures minus the PPO team's and the Voronoi baseline's, paired,
+    on the last run's hunts (``previous``) and on this run's: what the rerun tells apart that the last did not."""
+    lines = [f"Per attacker, `{FOCUS}`'s captures minus the other's on the same comfortable hunts (exact belief), "
+             "in points with the 95 % interval and the hunts paired, in the last run and now:", ""]
+    body = []
+    for attacker in BEHAVIOURS:
+        cells = []
+        for other in (LEARNED_TEAM, BASELINE):
+            for run in (previous, rows):
+                n, mean, lo, hi = paired_difference(run, attacker, other)
+                cells.append(f"{100 * mean:+.0f} ({100 * lo:+.0f} to {100 * hi:+.0f}), {n}: {told(lo, hi)}"
+                             if n else "–")
+        body.append([attacker, *cells])
+    return lines + markdown.table(["attacker", *(f"`{FOCUS}` − `{other}`, {when}" for other in
+                                                 (LEARNED_TEAM, BASELINE) for when in ("last run", "now"))],
+                                  "lllll", body) + [""]
+
+
 def league(rows: list[dict]) -> list[str]:
     """The learned agents against the recommended controller: per attacker, the recommended controller's captures
     against the PPO team's and the Voronoi baseline's, paired on the same hunts."""
@@ -301,8 +329,8 @@ def league(rows: list[dict]) -> list[str]:
         cells = []
         for other in (LEARNED_TEAM, BASELINE):
             n, mean, lo, hi = paired_difference(rows, attacker, other)
-            verdict = "ahead" if lo > 0 else "behind" if hi < 0 else "not told apart"
-            cells.append(f"{100 * mean:+.0f} points ({100 * lo:+.0f} to {100 * hi:+.0f}): {verdict}" if n else "–")
+            cells.append(f"{100 * mean:+.0f} points ({100 * lo:+.0f} to {100 * hi:+.0f}): {told(lo, hi)}"
+                         if n else "–")
         body.append([attacker, *counts, *cells])
     return lines + markdown.table(["attacker", f"`{FOCUS}`", f"`{LEARNED_TEAM}` team", f"`{BASELINE}`",
                                    f"`{FOCUS}` − `{LEARNED_TEAM}`", f"`{FOCUS}` − `{BASELINE}`"], "lrrrll",
@@ -366,7 +394,21 @@ def costs(rows: list[dict]) -> list[str]:
             f"; every row of the study: {sum(r['wall_time_s'] for r in rows) / 3600:.2f}.", ""]
 
 
-def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, seed: int) -> str:
+def last_run(rows: list[dict], previous: list[dict] | None) -> list[str]:
+    """The section setting this run beside the last one kept (:mod:`studies.previous_rows`; none: no section)."""
+    if previous is None:
+        return []
+    cells = {(p["strategy"], p["attacker"], p["belief"]) for p in previous}
+    return ["## The last run's hunts, again", "",
+            f"The last run's {len(previous)} hunts (`previous.json`, kept from its `sweep.db` by "
+            f"`{COMMAND} --keep-previous` before this run replaced it; {len(cells)} cells), those this run ran "
+            "too set beside its rows. A hunt is deterministic given its seed, so a row that differs is a changed "
+            "rule or a changed order of floating-point operations (a compiled rule where NumPy ran), not chance:",
+            "", *again(rows, previous), *then_and_now(rows, previous)]
+
+
+def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, seed: int,
+           previous: list[dict] | None = None) -> str:
     indices = sorted({r["index"] for r in rows})
     means = mean_comfortable(summaries)
     ranked = sorted(means, key=means.get, reverse=True)
@@ -405,7 +447,8 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         "`python studies/train_ppo.py`, docs/envs.md), the attacker trained against the recommended controller, "
         "the team against the other attackers; neither trained on these hunts.", "", *league(rows),
         f"A typical hunt each learned side wins against `{FOCUS}`, rerun:", "",
-        "![learned sides' wins](learned_wins.png)", "", "## What a hunt costs", "", *costs(rows),
+        "![learned sides' wins](learned_wins.png)", "", *last_run(rows, previous), "## What a hunt costs", "",
+        *costs(rows),
         "## Every summary", "", table(summaries), "",
         "## Machine", "", *machine_lines(machine), ""])
 
@@ -418,7 +461,8 @@ def write(db: Path, folder: Path, machine: dict, hunts: int, seed: int) -> None:
     learned_figure(rows, folder)
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(hunts, seed),
                                                      "strategies": summaries}, indent=1) + "\n", encoding="utf-8")
-    (folder / "README.md").write_text(report(rows, summaries, machine, hunts, seed), encoding="utf-8")
+    (folder / "README.md").write_text(report(rows, summaries, machine, hunts, seed, read(folder / PREVIOUS)),
+                                      encoding="utf-8")
 
 
 def check(folder: Path) -> list[str]:
@@ -430,7 +474,7 @@ def check(folder: Path) -> list[str]:
     if json.loads(json.dumps(summarise(rows))) != committed["strategies"]:
         errors.append("summary.json: not the summary of sweep.db")
     elif (folder / "README.md").read_text(encoding="utf-8") != report(rows, summarise(rows), committed["machine"],
-                                                                       hunts, seed):
+                                                                       hunts, seed, read(folder / PREVIOUS)):
         errors.append("README.md: not the report of sweep.db")
     left = missing(todo(hunt_indices(hunts, seed), seed), keys(rows))
     if left:
@@ -449,7 +493,18 @@ def check(folder: Path) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
     add_study_options(parser, HUNTS, "reachable hunts a strategy and attacker", SEED, OUT)
+    parser.add_argument("--keep-previous", action="store_true",
+                        help=f"keep the rows of the output folder's sweep.db in {PREVIOUS} (before a rerun at "
+                             "another size replaces the file), for the rerun's report to set beside its own")
     args = parser.parse_args(argv)
+    if args.keep_previous:
+        if not (args.output / "sweep.db").exists():
+            parser.error(f"--keep-previous: {args.output / 'sweep.db'} does not exist; nothing to keep")
+        if (args.output / PREVIOUS).exists():
+            parser.error(f"--keep-previous: {args.output / PREVIOUS} already holds a run's rows; move it away first")
+        kept = keep(args.output / "sweep.db", args.output / PREVIOUS)
+        print(f"kept {kept} rows in {args.output / PREVIOUS}")
+        return 0
     if args.check:
         with stop_at_once("attackers study"):
             return check_result(check(args.output), "studies/attackers", COMMAND)

@@ -1,0 +1,92 @@
+"""A sweep study's last run kept beside its rerun: the rows of the hunts both ran, set side by side.
+
+Before a study is rerun at another size (or on a changed engine) and its ``sweep.db`` replaced, ``keep`` writes
+the old file's rows, the fields of :data:`FIELDS` only, to ``previous.json`` in the study's folder. The rerun's
+report then counts, per strategy, the hunts both runs ran (same strategy, attacker, belief, seed and draw): those
+alike to the last bit in every field, those with the same outcome, and those whose outcome changed, listed. A
+hunt's rules are deterministic given its seed, so a changed row is a changed rule or a changed order of
+floating-point operations (a compiled rule against the NumPy one it replaced), never chance.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from mpc_hunt import markdown
+from mpc_hunt.errors import DataFileError
+from mpc_hunt.sweep.store import stored_rows
+
+from studies.study_check import read_json_file
+
+KEY = ("strategy", "attacker", "belief", "seed", "index")
+FIELDS = (*KEY, "comfortable", "outcome", "cause", "capture_time_s", "path_length_m", "min_obstacle_clearance_m",
+          "min_defender_separation_m", "steps")
+LISTED = 12     # the changed outcomes listed by name; the rest counted
+
+
+def keep(db: Path, path: Path) -> int:
+    """``db``'s rows (:data:`FIELDS`) written to ``path``; how many."""
+    rows = sorted(([r[f] for f in FIELDS] for r in stored_rows(db)), key=lambda r: [str(v) for v in r[:5]])
+    path.write_text(json.dumps({"fields": list(FIELDS), "rows": rows}) + "\n", encoding="utf-8")
+    return len(rows)
+
+
+def read(path: Path) -> list[dict] | None:
+    """The rows kept in ``path`` (None: no such file); a damaged file is a one-line DataFileError."""
+    if not path.exists():
+        return None
+    data = read_json_file(path, "write it again with --keep-previous from the last run's sweep.db, or remove it")
+    try:
+        fields, rows = data["fields"], data["rows"]
+        if list(fields) != list(FIELDS) or any(len(r) != len(FIELDS) for r in rows):
+            raise ValueError
+        return [dict(zip(FIELDS, r)) for r in rows]
+    except (KeyError, TypeError, ValueError):
+        raise DataFileError(f"{path}: not a previous run's rows (fields {', '.join(FIELDS)}); write it again with "
+                            "--keep-previous from the last run's sweep.db") from None
+
+
+def _key(row: dict) -> tuple:
+    return tuple(row[k] for k in KEY)
+
+
+def _alike(a: dict, b: dict) -> bool:
+    return all(a[f] == b[f] for f in FIELDS)
+
+
+def again(rows: list[dict], previous: list[dict]) -> list[str]:
+    """Markdown: per strategy, the hunts both runs ran, how many alike to the last bit, how many with the same
+    outcome and the capture times' largest move among those captured both times, how many outcomes changed each
+    way; then the changed hunts (the first :data:`LISTED` by name)."""
+    now = {_key(r): r for r in rows}
+    both = [(p, now[_key(p)]) for p in previous if _key(p) in now]
+    if not both:
+        return ["No hunt of the last run was run again.", ""]
+    body, changed = [], []
+    for strategy in dict.fromkeys(p["strategy"] for p, _ in both):
+        mine = [(p, n) for p, n in both if p["strategy"] == strategy]
+        same = [(p, n) for p, n in mine if p["outcome"] == n["outcome"]]
+        moves = [abs(n["capture_time_s"] - p["capture_time_s"]) for p, n in same if p["outcome"] == "captured"]
+        won = sum(p["outcome"] != "captured" and n["outcome"] == "captured" for p, n in mine)
+        lost = sum(p["outcome"] == "captured" and n["outcome"] != "captured" for p, n in mine)
+        changed += [(p, n) for p, n in mine if p["outcome"] != n["outcome"]]
+        body.append([f"`{strategy}`", len(mine), sum(_alike(p, n) for p, n in mine), len(same),
+                     f"{max(moves):.2f} s" if moves else "–", won, lost])
+    lines = markdown.table(["strategy", "hunts run again", "alike to the last bit", "same outcome",
+                            "largest capture-time move (captured both times)", "now captured", "no longer captured"],
+                           "lrrrrrr", body) + [""]
+    if changed:
+        shown = [f"`{p['strategy']}` against `{p['attacker']}` ({p['belief']}), draw {p['index']}: "
+                 f"{_outcome(p)} then, {_outcome(n)} now" for p, n in changed[:LISTED]]
+        more = len(changed) - LISTED
+        lines += ["Outcomes changed:", "", *(f"- {s}" for s in shown),
+                  *([f"- and {more} more (`previous.json` against `sweep.db`)"] if more > 0 else []), ""]
+    return lines
+
+
+def _outcome(row: dict) -> str:
+    if row["outcome"] == "captured":
+        return f"captured at {row['capture_time_s']:.1f} s"
+    return f"{row['outcome']} ({row['cause']})"
+
