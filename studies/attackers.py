@@ -17,7 +17,8 @@ writes ``studies/attackers/`` (README.md, summary.json with the machine, the fig
                                                   # interval cannot tell from it), and its quickest capture per
                                                   # attacker still captures
     python studies/attackers.py --keep-previous   # before a rerun at another size: the rows of sweep.db kept in
-                                                  # previous.json, which the rerun's report sets beside its own
+                                                  # sweep.previous.json, which the rerun's report sets beside its
+                                                  # own (studies/previous_rows.py)
 """
 
 from __future__ import annotations
@@ -43,18 +44,19 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep
 from mpc_hunt.sweep.reachability import reachable
 from mpc_hunt.sweep.runner import Hunt
 from mpc_hunt.sweep.store import stored_rows
-from mpc_hunt.sweep.summary import Z95, summarise, table
+from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies.previous_rows import again, keep, read
+from studies import paired
+from studies.paired import EXACT, paired_difference, paired_interval, told
+from studies.previous_rows import WHY, again, read
 from studies.study_check import check_result, read_json_file, run_study
-from studies.sweep_study import (add_study_options, keys, measured_run, missing, quickest_captures, run_file,
-                                 still_captured, stop_status)
+from studies.sweep_study import (add_study_options, keep_previous, keys, measured_run, missing, quickest_captures,
+                                 run_file, still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
-PREVIOUS = "previous.json"      # the last run's rows, kept by --keep-previous (studies/previous_rows.py)
 HUNTS, SEED = 60, 1       # 60 hunts a cell (43 comfortable on seed 1): 95 % intervals of about ±13 points, not ±25
 BELIEF_HUNTS = 15         # FIRST and the belief errors: on the first this many hunts
 DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
@@ -67,7 +69,6 @@ STRATEGIES = tuple(dict.fromkeys((FOCUS, "trap:rti:hpipm:10", BASELINE, "apf", "
 FIRST = ("enclose:rti:hpipm:10", "contain:rti:hpipm:10")
 MARGIN_POINTS = 8         # how much more of the comfortable hunts, averaged over the attackers, the focus should take
 APF_BAR, TWO_BAR = 0.9, 0.5   # its share of the comfortable hunts against apf; of the reachable two-robot hunts
-EXACT = "exact"
 BELIEFS = ("perception_radius=1.3x", "eta=3x", "intent_heading=60")   # errors run by the BELIEF_STRATEGIES
 # The controllers that read the believed attacker beyond its top speed: contain (its floor R_agg + R_hunt / 2 while
 # the attacker is not enclosed) and the Voronoi baseline (the same floor and its intercepts). Trap reads only the top
@@ -166,14 +167,6 @@ def solving_shares(rows: list[dict]) -> tuple[dict[str, float], int]:
                if (n := sum(h[0] == a for h in common))]
         shares[label] = sum(per) / len(per) if per else 0.0
     return shares, len(common)
-
-
-def paired_interval(differences: list[int]) -> tuple[float, float, float]:
-    """The mean of paired differences (each −1, 0 or 1: one controller's capture minus another's on the same hunt)
-    and its 95 % interval by the normal approximation."""
-    mean = statistics.fmean(differences)
-    half = Z95 * (statistics.stdev(differences) / len(differences) ** 0.5 if len(differences) > 1 else 1.0)
-    return mean, mean - half, mean + half
 
 
 def recommended_choice(rows: list[dict]) -> str | None:
@@ -275,42 +268,12 @@ def verdicts(rows: list[dict]) -> list[str]:
     return lines
 
 
-def paired_difference(rows: list[dict], attacker: str, other: str) -> tuple[int, float, float, float]:
-    """The recommended controller's captures minus ``other``'s on the comfortable hunts against ``attacker`` that
-    both ran (exact belief): (hunts, mean difference, its 95 % interval by the normal approximation on the paired
-    differences), as shares of those hunts."""
-    def won(strategy: str) -> dict[int, int]:
-        return {r["index"]: int(r["outcome"] == "captured") for r in rows if r["strategy"] == strategy
-                and r["attacker"] == attacker and r["belief"] == EXACT and r["comfortable"]}
-    mine, theirs = won(FOCUS), won(other)
-    common = sorted(set(mine) & set(theirs))
-    if not common:
-        return 0, 0.0, 0.0, 0.0
-    return (len(common), *paired_interval([mine[i] - theirs[i] for i in common]))
-
-
-def told(lo: float, hi: float) -> str:
-    """What a paired difference's 95 % interval ``lo`` to ``hi`` tells."""
-    return "ahead" if lo > 0 else "behind" if hi < 0 else "not told apart"
-
-
 def then_and_now(rows: list[dict], previous: list[dict]) -> list[str]:
     """Per attacker, the recommended controller's captures minus the PPO team's and the Voronoi baseline's, paired,
     on the last run's hunts (``previous``) and on this run's: what the rerun tells apart that the last did not."""
-    lines = [f"Per attacker, `{FOCUS}`'s captures minus the other's on the same comfortable hunts (exact belief), "
-             "in points with the 95 % interval and the hunts paired, in the last run and now:", ""]
-    body = []
-    for attacker in BEHAVIOURS:
-        cells = []
-        for other in (LEARNED_TEAM, BASELINE):
-            for run in (previous, rows):
-                n, mean, lo, hi = paired_difference(run, attacker, other)
-                cells.append(f"{100 * mean:+.0f} ({100 * lo:+.0f} to {100 * hi:+.0f}), {n}: {told(lo, hi)}"
-                             if n else "–")
-        body.append([attacker, *cells])
-    return lines + markdown.table(["attacker", *(f"`{FOCUS}` − `{other}`, {when}" for other in
-                                                 (LEARNED_TEAM, BASELINE) for when in ("last run", "now"))],
-                                  "lllll", body) + [""]
+    return [f"Per attacker, `{FOCUS}`'s captures minus the other's on the same comfortable hunts (exact belief), "
+            "in points with the 95 % interval and the hunts paired, in the last run and now:", "",
+            *paired.then_and_now(rows, previous, [(FOCUS, LEARNED_TEAM), (FOCUS, BASELINE)], BEHAVIOURS)]
 
 
 def league(rows: list[dict]) -> list[str]:
@@ -328,7 +291,7 @@ def league(rows: list[dict]) -> list[str]:
             counts.append(f"{sum(r['outcome'] == 'captured' for r in mine)} / {len(mine)}")
         cells = []
         for other in (LEARNED_TEAM, BASELINE):
-            n, mean, lo, hi = paired_difference(rows, attacker, other)
+            n, mean, lo, hi = paired_difference(rows, attacker, FOCUS, other)
             cells.append(f"{100 * mean:+.0f} points ({100 * lo:+.0f} to {100 * hi:+.0f}): {told(lo, hi)}"
                          if n else "–")
         body.append([attacker, *counts, *cells])
@@ -398,13 +361,10 @@ def last_run(rows: list[dict], previous: list[dict] | None) -> list[str]:
     """The section setting this run beside the last one kept (:mod:`studies.previous_rows`; none: no section)."""
     if previous is None:
         return []
-    cells = {(p["strategy"], p["attacker"], p["belief"]) for p in previous}
     return ["## The last run's hunts, again", "",
-            f"The last run's {len(previous)} hunts (`previous.json`, kept from its `sweep.db` by "
-            f"`{COMMAND} --keep-previous` before this run replaced it; {len(cells)} cells), those this run ran "
-            "too set beside its rows. A hunt is deterministic given its seed, so a row that differs is a changed "
-            "rule or a changed order of floating-point operations (a compiled rule where NumPy ran), not chance:",
-            "", *again(rows, previous), *then_and_now(rows, previous)]
+            f"The last run's {len(previous)} hunts (`sweep.previous.json`, kept from its `sweep.db` by "
+            f"`{COMMAND} --keep-previous` before this run replaced it), those this run ran too set beside its rows. "
+            f"{WHY}", "", *again(rows, previous), *then_and_now(rows, previous)]
 
 
 def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, seed: int,
@@ -461,7 +421,7 @@ def write(db: Path, folder: Path, machine: dict, hunts: int, seed: int) -> None:
     learned_figure(rows, folder)
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments(hunts, seed),
                                                      "strategies": summaries}, indent=1) + "\n", encoding="utf-8")
-    (folder / "README.md").write_text(report(rows, summaries, machine, hunts, seed, read(folder / PREVIOUS)),
+    (folder / "README.md").write_text(report(rows, summaries, machine, hunts, seed, read(folder / "sweep.db")),
                                       encoding="utf-8")
 
 
@@ -474,7 +434,7 @@ def check(folder: Path) -> list[str]:
     if json.loads(json.dumps(summarise(rows))) != committed["strategies"]:
         errors.append("summary.json: not the summary of sweep.db")
     elif (folder / "README.md").read_text(encoding="utf-8") != report(rows, summarise(rows), committed["machine"],
-                                                                       hunts, seed, read(folder / PREVIOUS)):
+                                                                       hunts, seed, read(folder / "sweep.db")):
         errors.append("README.md: not the report of sweep.db")
     left = missing(todo(hunt_indices(hunts, seed), seed), keys(rows))
     if left:
@@ -493,18 +453,9 @@ def check(folder: Path) -> list[str]:
 def main(argv: list[str] | None = None) -> int:
     parser = CommandParser(description=__doc__.splitlines()[0])
     add_study_options(parser, HUNTS, "reachable hunts a strategy and attacker", SEED, OUT)
-    parser.add_argument("--keep-previous", action="store_true",
-                        help=f"keep the rows of the output folder's sweep.db in {PREVIOUS} (before a rerun at "
-                             "another size replaces the file), for the rerun's report to set beside its own")
     args = parser.parse_args(argv)
     if args.keep_previous:
-        if not (args.output / "sweep.db").exists():
-            parser.error(f"--keep-previous: {args.output / 'sweep.db'} does not exist; nothing to keep")
-        if (args.output / PREVIOUS).exists():
-            parser.error(f"--keep-previous: {args.output / PREVIOUS} already holds a run's rows; move it away first")
-        kept = keep(args.output / "sweep.db", args.output / PREVIOUS)
-        print(f"kept {kept} rows in {args.output / PREVIOUS}")
-        return 0
+        return keep_previous([args.output / "sweep.db"])
     if args.check:
         with stop_at_once("attackers study"):
             return check_result(check(args.output), "studies/attackers", COMMAND)

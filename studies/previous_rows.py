@@ -1,7 +1,8 @@
 """A sweep study's last run kept beside its rerun: the rows of the hunts both ran, set side by side.
 
-Before a study is rerun at another size (or on a changed engine) and its ``sweep.db`` replaced, ``keep`` writes
-the old file's rows, the fields of :data:`FIELDS` only, to ``previous.json`` in the study's folder. The rerun's
+Before a study is rerun at another size (or on a changed engine) and its results file replaced, ``keep`` writes
+the old file's rows, the fields of :data:`FIELDS` only, beside it (:func:`kept_path`: ``sweep.db``'s in
+``sweep.previous.json``). The rerun's
 report then counts, per strategy, the hunts both runs ran (same strategy, attacker, belief, seed and draw): those
 alike to the last bit in every field, those with the same outcome, and those whose outcome changed, listed. A
 hunt's rules are deterministic given its seed, so a changed row is a changed rule or a changed order of
@@ -23,17 +24,35 @@ KEY = ("strategy", "attacker", "belief", "seed", "index")
 FIELDS = (*KEY, "comfortable", "outcome", "cause", "capture_time_s", "path_length_m", "min_obstacle_clearance_m",
           "min_defender_separation_m", "steps")
 LISTED = 12     # the changed outcomes listed by name; the rest counted
+WHY = ("A hunt is deterministic given its seed, so a row that differs comes from a change of the code (a rule, or "
+       "the order of its floating-point operations), not from chance.")
 
 
-def keep(db: Path, path: Path) -> int:
-    """``db``'s rows (:data:`FIELDS`) written to ``path``; how many."""
-    rows = sorted(([r[f] for f in FIELDS] for r in stored_rows(db)), key=lambda r: [str(v) for v in r[:5]])
-    path.write_text(json.dumps({"fields": list(FIELDS), "rows": rows}) + "\n", encoding="utf-8")
-    return len(rows)
+def kept_path(db: Path) -> Path:
+    """Where the rows of the results file ``db`` are kept."""
+    return db.with_name(f"{db.stem}.previous.json")
 
 
-def read(path: Path) -> list[dict] | None:
-    """The rows kept in ``path`` (None: no such file); a damaged file is a one-line DataFileError."""
+def keep(dbs: list[Path]) -> list[int]:
+    """Each results file's rows (:data:`FIELDS`) written to its :func:`kept_path`; how many each. Refused, before
+    any is written, where a file is missing or rows are kept already (a DataFileError: those may be the only copy
+    of a run's rows)."""
+    for db in dbs:
+        if kept_path(db).exists():
+            raise DataFileError(f"{kept_path(db)} already holds a run's rows; move it away first")
+        if not db.exists():
+            raise DataFileError(f"{db} does not exist; nothing to keep")
+    counts = []
+    for db in dbs:
+        rows = sorted(([r[f] for f in FIELDS] for r in stored_rows(db)), key=lambda r: [str(v) for v in r[:5]])
+        kept_path(db).write_text(json.dumps({"fields": list(FIELDS), "rows": rows}) + "\n", encoding="utf-8")
+        counts.append(len(rows))
+    return counts
+
+
+def read(db: Path) -> list[dict] | None:
+    """The rows kept of the results file ``db`` (None: none kept); a damaged file is a one-line DataFileError."""
+    path = kept_path(db)
     if not path.exists():
         return None
     data = read_json_file(path, "write it again with --keep-previous from the last run's sweep.db, or remove it")

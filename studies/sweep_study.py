@@ -16,6 +16,8 @@ from mpc_hunt.sweep.store import SweepStore, self_contained
 from mpc_hunt.sweep.stored_run import run_into
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
+from studies.previous_rows import keep, kept_path
+
 PROGRESS_EVERY = 20     # hunts between two progress lines
 NOTHING_RAN = "no hunt ran: nothing to report"      # why a study whose results file stays empty stops
 MAX_HUNTS = 1000        # the most hunts a sweep study's --hunts asks for
@@ -23,7 +25,7 @@ MAX_HUNTS = 1000        # the most hunts a sweep study's --hunts asks for
 
 def add_study_options(parser: CommandParser, hunts: int, what: str, seed: int, out: Path) -> None:
     """A sweep study's --hunts (default ``hunts``, ``what`` they are), --seed (default ``seed``), --output (default
-    ``out``, a folder of studies/), --workers (default: one a core) and --check."""
+    ``out``, a folder of studies/), --workers (default: one a core), --check and --keep-previous."""
     parser.add_argument("--hunts", type=count(MAX_HUNTS), default=hunts, help=f"{what} (default {hunts})")
     parser.add_argument("--workers", type=cores_count, default=None,
                         help="worker processes (default: one a core; 1 leaves the other cores free)")
@@ -31,6 +33,17 @@ def add_study_options(parser: CommandParser, hunts: int, what: str, seed: int, o
     parser.add_argument("--output", type=output_folder, default=out,
                         help=f"the folder to write (default studies/{out.name})")
     parser.add_argument("--check", action="store_true", help="check the committed results against the code")
+    parser.add_argument("--keep-previous", action="store_true",
+                        help="keep the rows of the output folder's results files beside them (before a rerun at "
+                             "another size replaces them), for the rerun's report to set beside its own")
+
+
+def keep_previous(dbs: list[Path]) -> int:
+    """--keep-previous: the rows of the results files ``dbs`` kept (:func:`studies.previous_rows.keep`), one line
+    each; 0."""
+    for db, count in zip(dbs, keep(dbs)):
+        print(f"kept {count} rows of {db} in {kept_path(db)}")
+    return 0
 
 
 def run_file(db: Path, arguments: dict, hunts: list[Hunt], workers: int | None = None) -> str | None:

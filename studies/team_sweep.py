@@ -15,6 +15,9 @@ Then writes ``studies/team_sweep/`` (README.md, summary.json with the machine).
 
     python studies/team_sweep.py                 # run (or resume), then write the report
     python studies/team_sweep.py --hunts 300     # the draws of the sweep `mpc-hunt sweep --hunts 300 --seed 4`
+    python studies/team_sweep.py --keep-previous # before a rerun at another size: each file's rows kept beside it
+                                                 # (attackers.previous.json, teams.previous.json), which the
+                                                 # rerun's report sets beside its own (studies/previous_rows.py)
     python studies/team_sweep.py --check         # the committed report is the files' summary for the code's
                                                  # strategies and ranges; the distributed stage's quickest capture
                                                  # per attacker still captures
@@ -42,8 +45,10 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, read_json_file, run_study
-from studies.sweep_study import (MAX_HUNTS, add_study_options, keys, measured_run, missing, quickest_captures,
-                                 run_file, still_captured, stop_status)
+from studies import paired
+from studies.previous_rows import WHY, again, kept_path, read
+from studies.sweep_study import (MAX_HUNTS, add_study_options, keep_previous, keys, measured_run, missing,
+                                 quickest_captures, run_file, still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
@@ -52,6 +57,7 @@ CENTRAL, DISTRIBUTED = "enclose:rti:hpipm:10", "enclose:distributed:hpipm:10"
 STRATEGIES = (CENTRAL, DISTRIBUTED)
 TEAM_ATTACKER = "apf"
 TEAMS = (6, 12)               # n_defenders of the teams' sweep
+FILES = ("attackers.db", "teams.db")
 
 
 def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list[Hunt]]]:
@@ -60,11 +66,11 @@ def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list
     teams = ranges_to_dict(replace(ScenarioRanges(), n_defenders=TEAMS))
     labels = [ControllerSpec.parse(s).label for s in STRATEGIES]
     return {
-        "attackers.db": ({"strategies": labels, "attackers": list(BEHAVIOURS), "hunts": hunts, "seed": seed,
+        FILES[0]: ({"strategies": labels, "attackers": list(BEHAVIOURS), "hunts": hunts, "seed": seed,
                           "ranges": default},
                          [Hunt(s, seed, i, default, attacker=a) for i in range(hunts) for s in STRATEGIES
                           for a in BEHAVIOURS]),
-        "teams.db": ({"strategies": labels, "attackers": [TEAM_ATTACKER], "hunts": team_hunts, "seed": seed,
+        FILES[1]: ({"strategies": labels, "attackers": [TEAM_ATTACKER], "hunts": team_hunts, "seed": seed,
                       "ranges": teams},
                      [Hunt(s, seed, i, teams, attacker=TEAM_ATTACKER) for i in range(team_hunts) for s in STRATEGIES]),
     }
@@ -137,7 +143,28 @@ def headline(attackers: list[dict], teams: list[dict]) -> list[str]:
     return lines + [""]
 
 
-def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: dict) -> str:
+def last_run(folder: Path) -> list[str]:
+    """The section setting this run beside the last one kept, file by file (:mod:`studies.previous_rows`; none
+    kept: no section): per file the hunts both ran; per attacker the distributed stage's captures minus the
+    centralised one's, paired, then and now."""
+    lines = []
+    for name in FILES:
+        previous = read(folder / name)
+        if previous is None:
+            continue
+        rows = stored_rows(folder / name)
+        lines += [f"`{name}`: the last run's {len(previous)} hunts (`{kept_path(folder / name).name}`, kept by "
+                  f"`{COMMAND} --keep-previous` before this run replaced the file), those this run ran too:", "",
+                  *again(rows, previous)]
+        if name == "attackers.db":
+            lines += [f"Per attacker, `{DISTRIBUTED}`'s captures minus `{CENTRAL}`'s on the same hunts (all of them), "
+                      "in points with the 95 % interval and the hunts paired, in the last run and now:", "",
+                      *paired.then_and_now(rows, previous, [(DISTRIBUTED, CENTRAL)], BEHAVIOURS, comfortable=False)]
+    return ["## The last run's hunts, again", "", WHY, "", *lines] if lines else []
+
+
+def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: dict,
+           last: list[str] | None = None) -> str:
     return "\n".join([
         "# The distributed capture stage on random hunts", "",
         f"Regenerate with `{COMMAND} --hunts {arguments['attackers.db']['hunts']} --team-hunts "
@@ -148,7 +175,7 @@ def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: d
         f"behaviour, exact belief; and the first {arguments['teams.db']['hunts']} hunts of the same seed with "
         f"{TEAMS[0]} to {TEAMS[1]} defenders. One row per hunt in `attackers.db` and `teams.db` "
         "(`mpc-hunt sweep-report studies/team_sweep/attackers.db` recomputes a table).", "",
-        *headline(attackers, teams), "## Every summary", "", "Attackers:", "", table(attackers), "",
+        *headline(attackers, teams), *(last or []), "## Every summary", "", "Attackers:", "", table(attackers), "",
         "Teams:", "", table(teams), "", "## Machine", "", *machine_lines(machine), ""])
 
 
@@ -158,8 +185,8 @@ def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -
     arguments = {name: args for name, (args, _) in plan.items()}
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments,
                                                      "summaries": summaries}, indent=1) + "\n", encoding="utf-8")
-    (folder / "README.md").write_text(report(summaries["attackers.db"], summaries["teams.db"], machine, arguments),
-                                      encoding="utf-8")
+    (folder / "README.md").write_text(report(summaries["attackers.db"], summaries["teams.db"], machine, arguments,
+                                             last_run(folder)), encoding="utf-8")
 
 
 def check(folder: Path) -> list[str]:
@@ -179,7 +206,7 @@ def check(folder: Path) -> list[str]:
             errors.append(f"{name}: {len(left)} hunts of the study are missing (resume it)")
     if (folder / "README.md").read_text(encoding="utf-8") != report(
             committed["summaries"]["attackers.db"], committed["summaries"]["teams.db"], committed["machine"],
-            committed["arguments"]):
+            committed["arguments"], last_run(folder)):
         errors.append("README.md: not what summary.json renders")
     if errors:
         return errors
@@ -193,6 +220,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--team-hunts", type=count(MAX_HUNTS), default=TEAM_HUNTS,
                         help=f"hunts with {TEAMS[0]}–{TEAMS[1]} defenders (default {TEAM_HUNTS})")
     args = parser.parse_args(argv)
+    if args.keep_previous:
+        return keep_previous([args.output / name for name in FILES])
     if args.check:
         with stop_at_once("team sweep study"):
             return check_result(check(args.output), "studies/team_sweep", COMMAND)

@@ -15,7 +15,8 @@ if str(ROOT) not in sys.path:
 
 from mpc_hunt.errors import DataFileError  # noqa: E402
 from mpc_hunt.sweep.store import SweepStore  # noqa: E402
-from studies import attackers, previous_rows  # noqa: E402
+from studies import attackers, previous_rows, team_sweep  # noqa: E402
+from studies.study_check import run_study  # noqa: E402
 
 
 def _row(strategy, index, captured, *, attacker="gap", time=100.0, path=50.0):
@@ -31,8 +32,8 @@ def test_rows_kept_from_a_results_file_read_back_as_they_were(tmp_path):
     for row in rows:
         store.add(row)
     store.close()
-    assert previous_rows.keep(tmp_path / "sweep.db", tmp_path / "previous.json") == 5
-    kept = previous_rows.read(tmp_path / "previous.json")
+    assert previous_rows.keep([tmp_path / "sweep.db"]) == [5]
+    kept = previous_rows.read(tmp_path / "sweep.db")
     assert sorted(kept, key=lambda r: r["index"]) == rows          # every field, floats to the last bit
     table = "\n".join(previous_rows.again(rows, kept))
     assert "| `voronoi` | 5 | 5 | 5 | 0.00 s | 0 | 0 |" in table and "Outcomes changed" not in table
@@ -60,13 +61,12 @@ def test_the_rerun_counts_what_moved_and_names_what_changed():
 @pytest.mark.parametrize("content", ["{", "[]", '{"fields": ["strategy"], "rows": []}',
                                      json.dumps({"fields": list(previous_rows.FIELDS), "rows": [[1, 2]]}),
                                      json.dumps({"fields": list(previous_rows.FIELDS), "rows": 3})])
-def test_a_damaged_previous_file_is_one_line_naming_it(content, tmp_path):
-    path = tmp_path / "previous.json"
-    path.write_text(content, encoding="utf-8")
-    with pytest.raises(DataFileError, match="previous.json") as error:
-        previous_rows.read(path)
+def test_a_damaged_kept_file_is_one_line_naming_it(content, tmp_path):
+    (tmp_path / "sweep.previous.json").write_text(content, encoding="utf-8")
+    with pytest.raises(DataFileError, match="sweep.previous.json") as error:
+        previous_rows.read(tmp_path / "sweep.db")
     assert "\n" not in str(error.value)
-    assert previous_rows.read(tmp_path / "absent.json") is None
+    assert previous_rows.read(tmp_path / "absent.db") is None
 
 
 def test_the_attackers_report_tells_apart_on_the_rerun_what_the_last_run_could_not():
@@ -80,15 +80,46 @@ def test_the_attackers_report_tells_apart_on_the_rerun_what_the_last_run_could_n
     assert attackers.last_run(now, None) == []
 
 
-def test_keeping_the_last_run_never_writes_over_a_kept_one(tmp_path, capsys):
+@pytest.mark.parametrize("name, files", [("attackers", ("sweep.db",)), ("team_sweep", ("attackers.db", "teams.db"))])
+def test_keeping_the_last_run_never_writes_over_a_kept_one(name, files, tmp_path, capsys):
+    study = {"attackers": attackers, "team_sweep": team_sweep}[name]
     out = tmp_path / "study"
     out.mkdir()
-    with pytest.raises(SystemExit, match="2"):
-        attackers.main(["--keep-previous", "--output", str(out)])
-    assert "sweep.db does not exist" in capsys.readouterr().err
-    SweepStore(out / "sweep.db", attackers.arguments(5, 1)).close()
-    (out / "previous.json").write_text("kept", encoding="utf-8")
-    with pytest.raises(SystemExit, match="2"):
-        attackers.main(["--keep-previous", "--output", str(out)])
+    for file in files[:-1]:                                       # the last file missing: nothing kept of any
+        SweepStore(out / file, attackers.arguments(5, 1)).close()
+    assert run_study(lambda: study.main(["--keep-previous", "--output", str(out)])) == 2
+    assert f"{files[-1]} does not exist" in capsys.readouterr().err
+    assert not list(out.glob("*.previous.json"))
+    SweepStore(out / files[-1], attackers.arguments(5, 1)).close()
+    (out / f"{Path(files[0]).stem}.previous.json").write_text("kept", encoding="utf-8")
+    assert run_study(lambda: study.main(["--keep-previous", "--output", str(out)])) == 2
     assert "already holds a run's rows" in capsys.readouterr().err
-    assert (out / "previous.json").read_text(encoding="utf-8") == "kept"
+    assert (out / f"{Path(files[0]).stem}.previous.json").read_text(encoding="utf-8") == "kept"
+    (out / f"{Path(files[0]).stem}.previous.json").unlink()
+    assert study.main(["--keep-previous", "--output", str(out)]) == 0
+    assert sorted(p.name for p in out.glob("*.previous.json")) == sorted(f"{Path(f).stem}.previous.json"
+                                                                         for f in files)
+
+
+def test_the_team_sweep_sets_each_file_beside_its_last_run(tmp_path):
+    central, distributed = team_sweep.CENTRAL, team_sweep.DISTRIBUTED
+
+    def results(name, rows):
+        (tmp_path / name).unlink(missing_ok=True)
+        store = SweepStore(tmp_path / name, team_sweep.sweeps(5, 5, 4)[name][0])
+        for row in rows:
+            store.add(row)
+        store.close()
+
+    results("attackers.db", [_row(central, i, i < 5) for i in range(10)] + [_row(distributed, i, i < 3)
+                                                                             for i in range(10)])
+    results("teams.db", [_row(central, i, True, attacker="apf") for i in range(3)])
+    assert team_sweep.last_run(tmp_path) == []                    # nothing kept: no section
+    previous_rows.keep([tmp_path / name for name in team_sweep.FILES])
+    results("attackers.db", [_row(central, i, i < 150) for i in range(300)] + [_row(distributed, i, i < 90)
+                                                                               for i in range(300)])
+    text = "\n".join(team_sweep.last_run(tmp_path))
+    assert "`attackers.db`: the last run's 20 hunts" in text and "`teams.db`: the last run's 3 hunts" in text
+    assert "| `enclose:rti:hpipm:10` | 10 | 5 | 5 | 0.00 s | 5 | 0 |" in text and "| `enclose:rti:hpipm:10` | 3 | 3 | 3 |" in text
+    gap = next(line for line in text.splitlines() if line.startswith("| gap |"))
+    assert "-20 (-46 to +6), 10: not told apart" in gap and "-20 (-25 to -15), 300: behind" in gap
