@@ -18,8 +18,10 @@ when): the study stops if one differs. Beside them, a process running one hunt w
 processes into a temporary results file, timed whole (the command, start to end) with its rows' exceptions
 counted. Then the recommended controller (``TRAP``, a solving one) on ``TRAP_HUNTS`` of the same hunts, one by one on
 both engines, and on this one again with the capture step of ``ROUTE``; on this engine each hunt's capture steps
-are solved again alone after it (``engine_worker.py --qps``), so that a hunt's whole cost is set against its
-capture steps' (the most any engine could gain on them is the hunts' seconds before over their steps alone).
+are solved again alone after it (``engine_worker.py --qps``), only the step Function's evaluations timed (the
+linearisation and the QP in compiled code: what an engine solving a batch's steps in one call into compiled code,
+with no Python per step, would still run), so that a hunt's whole cost is set against its capture steps' (the
+most any engine could gain on them is the hunts' seconds before over their steps alone).
 The two engines' ``trap`` hunts are compared, not required to end alike: its reference's sums and powers are
 now the C library's in a compiled loop, not NumPy's array operations (whose powers differ from it in the last
 bit on this machine), and a hunt is chaotic.
@@ -297,15 +299,15 @@ def trap_table(results: dict) -> str:
     replayed = max(now["replay_difference"], route["replay_difference"])
     lines = [f"`{COMMAND}` (the recommended controller against `gap`, 3 to 5 defenders, the first {now['hunts']} "
              f"of the same hunts, {s['workers']} processes, one hunt after another; *step alone*: each hunt's capture "
-             "steps solved again after it, alone, from the inputs and warm start each had, only the compiled call "
-             "timed (the linearisation and its QP); *step in the hunt*: the same steps as the hunts timed them; "
+             "steps solved again after it, alone, from the inputs and warm start each had, only the step Function's "
+             "evaluations timed (the linearisation and its QP in compiled code, no Python); *step in the hunt*: the same steps as the hunts timed them; "
              "*whole / steps alone*: the processes' hunting seconds over the steps alone):", "",
              *markdown.table(["engine", "controller", "hunts", "s", "hunts/s", "vs before", "step in the hunt (ms)",
                               "step alone (ms)", "whole / steps alone", "captured"], "llrrrrrrrr", rows), "",
              f"Solved alone, the steps planned as in their hunts (to {replayed:.1g} m). {t['alike']} of "
              f"{now['hunts']} hunts end alike on both engines (how and when), {t['same_outcome']} the same way; on "
-             f"the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps can make "
-             f"these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the hunts' "
+             f"the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps, not even one "
+             f"solving a batch's steps in one call into compiled code, can make these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the hunts' "
              f"seconds before over their steps alone now), {before['process_seconds'] / route['qp_seconds']:.1f}x "
              "on the DAQP step."]
     return "\n".join(lines) + "\n"

@@ -66,6 +66,7 @@ class CaptureStep:
         self._stepped = False  # whether a step has run (the first, slower, is not paced)
         self.certificate = np.full(3, np.nan)  # the last QP's primal and dual residuals and duality gap
         self.setup_time = 0.0  # s of the last step spent rebuilding its Function for a new cap (a set-up)
+        self.evaluation_time = 0.0  # s of the last step inside the Function's evaluations (its compiled work)
         self._bind()
 
     def _bind(self) -> None:
@@ -100,7 +101,7 @@ class CaptureStep:
         the limit would not fit one (:func:`~mpc_hunt.capture.iteration.another_fits`), nor once it would not fit
         the longest the next QP may take, where its cap is fixed (:meth:`longest_qp` of the backend)."""
         t0, cpu = time.perf_counter(), time.thread_time()
-        self.setup_time = 0.0
+        self.setup_time = self.evaluation_time = 0.0
         with self.backend.step_within(t0):
             status = self._step()
         elapsed = time.perf_counter() - t0 - self.setup_time
@@ -135,12 +136,15 @@ class CaptureStep:
                 start += rebuilt
             if self.backend.loop_function(self.step_function) is not self._function:  # rebuilt, here or by a
                 self._bind()  # step sharing it (a team's robots)
+            evaluation = time.perf_counter()
             try:
                 self._evaluate()
             except RuntimeError as exc:  # CasADi refuses the QP (a NaN in it, say)
                 self.message = str(exc).splitlines()[0]
                 np.copyto(self.plan, self._previous)
                 return Status.ERROR
+            finally:
+                self.evaluation_time += time.perf_counter() - evaluation
             status, iterations = self.backend.loop_status(self.step_function, self._buffer)
             self.iterations += iterations
             np.abs(np.subtract(self.plan, self.reference, out=self._move), out=self._move)

@@ -51,6 +51,7 @@ class TeamStep:
         self.message = ""
         self.robot_times: list[float] = []
         self.broadcast_time = 0.0  # the last step's time outside the robots' QPs (s)
+        self.evaluation_time = 0.0  # s of the last step inside the robots' Function evaluations
         self.unseen_neighbours = 0
         self.extras: dict = {}
 
@@ -90,11 +91,12 @@ class TeamStep:
         robot.theta[:] = theta
         robot.reference.reshape(-1)[:] = reference
         status = robot.step()
+        self.evaluation_time += robot.evaluation_time
         return status, robot.plan.reshape(-1), robot.iterations, robot.message
 
     def step(self) -> Status:
         """The formulation's rounds from ``plan``; the team's new plans go into ``plan``."""
-        start = time.perf_counter()
+        start, self.evaluation_time = time.perf_counter(), 0.0
         out = self.formulation.run(self.team, self.plan, self.robot_step)
         self.broadcast_time = time.perf_counter() - start - sum(out.robot_times)
         self.plan = out.plans

@@ -3,6 +3,8 @@ attacker's model, the midpoint separation rows and the obstacle rows bind, and w
 
 from __future__ import annotations
 
+import time
+
 import shutil
 import warnings
 import subprocess
@@ -505,3 +507,16 @@ def test_two_solvers_share_a_structures_library_each_warm_starting_from_its_own_
     cold = first.robot(0).iterations
     assert first.robot(0).step().usable and first.robot(0).iterations == 1       # warm from its own last solve
     assert second.robot(0).step().usable and second.robot(0).iterations == cold  # cold: nothing of the first's
+
+
+def test_a_distributed_step_times_every_robots_evaluations():
+    problem = next(_team_problems())
+    team = CaptureSolver("distributed").step_for(problem)
+    for robot in team.robots:
+        evaluate = robot._evaluate
+        robot._evaluate = lambda evaluate=evaluate: (time.sleep(0.01), evaluate())    # each 10 ms longer
+    team.load(problem)
+    assert team.step().usable
+    assert team.qps >= len(team.robots) and team.qps * 0.01 <= team.evaluation_time <= sum(team.robot_times)
+    team.load(problem)
+    assert team.step().usable and team.qps * 0.01 <= team.evaluation_time < (team.qps + 1) * 0.01    # afresh

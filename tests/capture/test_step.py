@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -84,3 +86,30 @@ def test_only_stage_form_steps_and_one_structure_per_loop():
     other = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON + 1)
     with pytest.raises(MpcHuntError, match="problem: structure .* one step per structure"):
         loop.load(other)
+
+
+def _slowed(step, seconds: float):
+    """``step``'s evaluations each made ``seconds`` longer (outside the compiled code, as a clock sees it)."""
+    evaluate = step._evaluate
+
+    def slow():
+        time.sleep(seconds)
+        evaluate()
+
+    step._evaluate = slow
+    return step
+
+
+def test_a_step_times_its_evaluations_alone_every_qp_of_it_and_afresh_each_step():
+    problem = CaptureProblem.at_state(small_scenario(), ATTACKER, DEFENDERS, HORIZON)
+    loop = _slowed(CaptureSolver("stage-sqp", "hpipm").step_for(problem), 0.1)     # beyond a QP's own time
+    loop.load(problem)
+    start = time.perf_counter()
+    assert loop.step().usable
+    wall = time.perf_counter() - start
+    assert loop.qps >= 2 and loop.qps * 0.1 <= loop.evaluation_time <= wall        # every QP's, not the last one's
+    loop.load(problem)
+    loop.parts["attacker"][:] = np.nan                                              # fails at once
+    assert not loop.step().usable
+    assert loop.qps * 0.1 <= loop.evaluation_time < (loop.qps + 1) * 0.1           # this step's only
+
