@@ -44,17 +44,17 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep
 from mpc_hunt.sweep.reachability import reachable
 from mpc_hunt.sweep.runner import Hunt
 from mpc_hunt.sweep.store import stored_rows
+from mpc_hunt.sweep.paired import PairedCounts, cell, newcombe, paired_counts, summary
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
-from studies import paired
-from studies.paired import EXACT, paired_difference, paired_interval, told
-from studies.previous_rows import WHY, again, read
+from studies.previous_rows import WHY, again, against_last_run, read
 from studies.study_check import check_result, read_json_file, run_study
 from studies.sweep_study import (add_study_options, keep_previous, keys, measured_run, missing, quickest_captures,
                                  run_file, still_captured, stop_status)
 
+EXACT = "exact"
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
 HUNTS, SEED = 60, 1       # 60 hunts a cell (43 comfortable on seed 1): 95 % intervals of about ±13 points, not ±25
@@ -171,9 +171,9 @@ def solving_shares(rows: list[dict]) -> tuple[dict[str, float], int]:
 
 def recommended_choice(rows: list[dict]) -> str | None:
     """The solving controller with the largest share of :func:`solving_shares`, or, among those the paired 95 %
-    interval cannot tell from it on the hunts every solving controller ran (an interval of the captures' paired
-    differences that holds 0), the one with the shortest median capture time on the hunts they all capture
-    (exact belief)."""
+    interval cannot tell from it on the hunts every solving controller ran (Newcombe's interval of the
+    difference of their paired captures, :mod:`mpc_hunt.sweep.paired`, holding 0), the one with the shortest
+    median capture time on the hunts they all capture (exact belief)."""
     shares, _ = solving_shares(rows)
     if not shares:
         return None
@@ -182,7 +182,7 @@ def recommended_choice(rows: list[dict]) -> str | None:
                and r["belief"] == EXACT and r["comfortable"]} for k in shares}
     common = sorted(set.intersection(*(set(w) for w in won.values())))
     tied = [k for k in shares if k == best or
-            paired_interval([won[best][h] - won[k][h] for h in common])[1] <= 0]
+            newcombe(PairedCounts.of((won[best][h], won[k][h]) for h in common))[0] <= 0]
     times = {k: {(r["attacker"], r["index"]): r["capture_time_s"] for r in rows if r["strategy"] == k
                  and r["belief"] == EXACT and r["outcome"] == "captured"} for k in tied}
     both = set.intersection(*(set(t) for t in times.values()))
@@ -272,15 +272,21 @@ def then_and_now(rows: list[dict], previous: list[dict]) -> list[str]:
     """Per attacker, the recommended controller's captures minus the PPO team's and the Voronoi baseline's, paired,
     on the last run's hunts (``previous``) and on this run's: what the rerun tells apart that the last did not."""
     return [f"Per attacker, `{FOCUS}`'s captures minus the other's on the same comfortable hunts (exact belief), "
-            "in points with the 95 % interval and the hunts paired, in the last run and now:", "",
-            *paired.then_and_now(rows, previous, [(FOCUS, LEARNED_TEAM), (FOCUS, BASELINE)], BEHAVIOURS)]
+            "in points with the 95 % interval (Newcombe's) and the hunts paired, in the last run and now:", "",
+            *against_last_run(rows, previous, [(FOCUS, LEARNED_TEAM), (FOCUS, BASELINE)], BEHAVIOURS,
+                              comfortable_against)]
+
+
+def comfortable_against(attacker: str):
+    """The rows the study pairs against ``attacker``: its comfortable hunts, exact belief."""
+    return lambda r: r["attacker"] == attacker and r["belief"] == EXACT and bool(r["comfortable"])
 
 
 def league(rows: list[dict]) -> list[str]:
     """The learned agents against the recommended controller: per attacker, the recommended controller's captures
     against the PPO team's and the Voronoi baseline's, paired on the same hunts."""
     lines = [f"Per attacker, comfortable hunts captured (exact belief); the difference is `{FOCUS}`'s minus the "
-             "other's on the same hunts, with its 95 % interval (normal approximation on the paired differences): "
+             "other's on the same hunts, with its 95 % interval (Newcombe's for paired proportions): "
              "an interval holding 0 does not tell the two apart.", ""]
     body = []
     for attacker in BEHAVIOURS:
@@ -289,11 +295,8 @@ def league(rows: list[dict]) -> list[str]:
             mine = [r for r in rows if r["strategy"] == strategy and r["attacker"] == attacker
                     and r["belief"] == EXACT and r["comfortable"]]
             counts.append(f"{sum(r['outcome'] == 'captured' for r in mine)} / {len(mine)}")
-        cells = []
-        for other in (LEARNED_TEAM, BASELINE):
-            n, mean, lo, hi = paired_difference(rows, attacker, FOCUS, other)
-            cells.append(f"{100 * mean:+.0f} points ({100 * lo:+.0f} to {100 * hi:+.0f}): {told(lo, hi)}"
-                         if n else "–")
+        cells = [cell(summary(paired_counts(rows, FOCUS, other, comfortable_against(attacker))))
+                 for other in (LEARNED_TEAM, BASELINE)]
         body.append([attacker, *counts, *cells])
     return lines + markdown.table(["attacker", f"`{FOCUS}`", f"`{LEARNED_TEAM}` team", f"`{BASELINE}`",
                                    f"`{FOCUS}` − `{LEARNED_TEAM}`", f"`{FOCUS}` − `{BASELINE}`"], "lrrrll",
@@ -390,9 +393,9 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         f"capture stage) on the {common} comfortable hunts each of them ran: " +
         ", ".join(f"`{k}` {100 * shares[k]:.1f} %" for k in solving) +
         f". The recommended controller (`mpc_hunt/control/recommended.py`) is `{FOCUS}`; `--check` fails unless it "
-        "is first among the solving controllers, or not told apart from the first by the paired 95 % interval of "
-        "their captures on those hunts and the quickest of those so tied (the shortest median capture time on the "
-        "hunts they all capture). How it fares against the Voronoi baseline, which has no capture "
+        "is first among the solving controllers, or not told apart from the first by the 95 % interval (Newcombe's "
+        "for paired proportions) of their captures on those hunts and the quickest of those so tied (the shortest "
+        "median capture time on the hunts they all capture). How it fares against the Voronoi baseline, which has no capture "
         "stage, is the next section's.", "",
         *headline(summaries),
         f"## `{FOCUS}` against the Voronoi baseline", "",

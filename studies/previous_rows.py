@@ -16,6 +16,7 @@ from pathlib import Path
 
 from mpc_hunt import markdown
 from mpc_hunt.errors import DataFileError
+from mpc_hunt.sweep.paired import cell, paired_counts, summary
 from mpc_hunt.sweep.store import stored_rows
 
 from studies.study_check import read_json_file
@@ -109,3 +110,14 @@ def _outcome(row: dict) -> str:
         return f"captured at {row['capture_time_s']:.1f} s"
     return f"{row['outcome']} ({row['cause']})"
 
+
+
+def against_last_run(rows: list[dict], previous: list[dict], pairs: list[tuple[str, str]], attackers,
+                     where) -> list[str]:
+    """Markdown: per attacker, each pair's (first, second) paired difference (:mod:`mpc_hunt.sweep.paired`) on
+    the last run's rows (``previous``) and on this run's, among the rows ``where(attacker)`` keeps: what the rerun
+    tells apart that the last did not."""
+    body = [[attacker, *(cell(summary(paired_counts(run, first, second, where(attacker))))
+                         for first, second in pairs for run in (previous, rows))] for attacker in attackers]
+    return markdown.table(["attacker", *(f"`{first}` − `{second}`, {when}" for first, second in pairs
+                                         for when in ("last run", "now"))], "l" * (1 + 2 * len(pairs)), body) + [""]

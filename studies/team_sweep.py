@@ -45,8 +45,7 @@ from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, read_json_file, run_study
-from studies import paired
-from studies.previous_rows import WHY, again, kept_path, read
+from studies.previous_rows import WHY, again, against_last_run, kept_path, read
 from studies.sweep_study import (MAX_HUNTS, add_study_options, keep_previous, keys, measured_run, missing,
                                  quickest_captures, run_file, still_captured, stop_status)
 
@@ -158,8 +157,9 @@ def last_run(folder: Path) -> list[str]:
                   *again(rows, previous)]
         if name == "attackers.db":
             lines += [f"Per attacker, `{DISTRIBUTED}`'s captures minus `{CENTRAL}`'s on the same hunts (all of them), "
-                      "in points with the 95 % interval and the hunts paired, in the last run and now:", "",
-                      *paired.then_and_now(rows, previous, [(DISTRIBUTED, CENTRAL)], BEHAVIOURS, comfortable=False)]
+                      "in points with the 95 % interval (Newcombe's) and the hunts paired, in the last run and now:",
+                      "", *against_last_run(rows, previous, [(DISTRIBUTED, CENTRAL)], BEHAVIOURS,
+                                            lambda attacker: lambda r: r["attacker"] == attacker)]
     return ["## The last run's hunts, again", "", WHY, "", *lines] if lines else []
 
 

@@ -71,6 +71,22 @@ def test_the_shares_times_and_two_robot_hunts_e16_quotes_are_the_attackers_study
     assert f"It captures {two[1]} of {two[2]} reachable ones against `apf`" in e16
 
 
+def test_the_paired_differences_e16_quotes_are_the_attackers_studys_league():
+    """E16's paired differences of ``trap`` against the Voronoi baseline (and the PPO attacker's) are the study's
+    league table's, interval and verdict (``+9 (-1 to +22), 43: not told apart`` quoted as ``+9 points, −1 to +22,
+    not told apart``)."""
+    e16 = " ".join(_section((ROOT / "docs" / "model.md").read_text(), "### E16").split()).replace("−", "-")
+    study = (ROOT / "studies" / "attackers" / "README.md").read_text()
+    section = study.split("## The learned agents")[1].split("\n## ")[0]
+    league = {row[0]: row[5] for row in ([c.strip() for c in line.strip().strip("|").split("|")]
+                                         for line in section.splitlines() if line.startswith("| "))}
+    for attacker in ("apf", "noisy", "ppo", "flee", "gap"):
+        difference, lo, hi, verdict = re.fullmatch(r"(\S+) \((\S+) to (\S+)\), \d+: (.+)", league[attacker]).groups()
+        told = "" if verdict == "ahead" else ", not told apart"
+        assert f"({difference} points, {lo} to {hi}{told})" in e16 or (   # flee and gap: "neither told apart"
+            attacker in ("flee", "gap") and f"({difference} points, {lo} to {hi})" in e16), attacker
+
+
 def test_the_own_loops_overruns_quoted_are_the_realtime_studys():
     """docs/benchmarks.md's reading of the own loop quotes the committed run's counts of late steps."""
     o = json.loads((ROOT / "studies" / "realtime" / "results.json").read_text())["overruns"]

@@ -76,7 +76,8 @@ def add_parsers(sub) -> None:
         description="Recompute a sweep's summary, table and plots from its results file alone.",
     )
     rep.add_argument("file", type=Path)
-    rep.add_argument(
+    what = rep.add_mutually_exclusive_group()
+    what.add_argument(
         "--plot",
         type=Path,
         metavar="DIR",
@@ -84,18 +85,25 @@ def add_parsers(sub) -> None:
         "lost hunt (of every attacker and belief) rerun with their own attacker and belief "
         "(a few seconds each)",
     )
+    what.add_argument(
+        "--versus",
+        nargs=2,
+        metavar=("A", "B"),
+        help="instead of the summary: strategy A's captures minus B's on the hunts both ran, per attacker and "
+        "belief, with Newcombe's 95 %% interval for paired proportions (which of the two it tells apart)",
+    )
     rep.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
-def _strategy(text: str):
-    """The controller spec ``--strategy`` writes (:meth:`~mpc_hunt.control.spec.ControllerSpec.parse`), a refusal
+def _strategy(text: str, flag: str = "--strategy"):
+    """The controller spec ``flag`` writes (:meth:`~mpc_hunt.control.spec.ControllerSpec.parse`), a refusal
     naming it."""
     from mpc_hunt.control.spec import ControllerSpec
 
     try:
         return ControllerSpec.parse(text)
     except MpcHuntError as exc:
-        raise MpcHuntError(f"--strategy {shown(text)}: {exc}") from None
+        raise MpcHuntError(f"{flag} {shown(text)}: {exc}") from None
 
 
 def _ranges(args):
@@ -164,7 +172,20 @@ def sweep_report(args) -> int:
         raise MpcHuntError(f"--plot {args.plot}: not an existing folder")
     if args.plot:
         check_writable(args.plot, "--plot", args.plot)
+    if args.versus:
+        return _versus(rows, args.versus, args.json)
     return _report(rows, args.json, args.plot)
+
+
+def _versus(rows: list[dict], pair: list[str], as_json: bool) -> int:
+    from mpc_hunt.sweep.paired import versus, versus_table
+
+    try:
+        entries = versus(rows, *(_strategy(name, "--versus").label for name in pair))
+    except MpcHuntError as exc:
+        raise MpcHuntError(f"--versus {exc}") from None
+    print(json.dumps({"versus": entries}) if as_json else versus_table(entries))
+    return 0
 
 
 def _report(rows: list[dict], as_json: bool, plot: Path | None) -> int:

@@ -12,11 +12,11 @@ if str(ROOT) not in sys.path:
 
 from mpc_hunt.world.behaviours import BEHAVIOURS  # noqa: E402
 from studies import attackers  # noqa: E402
-from studies.paired import paired_difference  # noqa: E402
+from mpc_hunt.sweep.paired import newcombe, paired_counts  # noqa: E402
 
 
 def _row(strategy, attacker, index, captured, *, defenders=4, time=100.0, cause=None):
-    return {"strategy": strategy, "attacker": attacker, "belief": "exact", "index": index, "comfortable": 1,
+    return {"strategy": strategy, "attacker": attacker, "belief": "exact", "seed": 1, "index": index, "comfortable": 1,
             "reachable": 1, "n_defenders": defenders, "outcome": "captured" if captured else "failed",
             "capture_time_s": time if captured else None, "cause": None if captured else (cause or "time_limit"),
             "solves_over_time_step": 0}
@@ -88,11 +88,13 @@ def test_the_league_pairs_the_hunts_and_tells_apart_only_what_its_interval_does(
     rows += [_row(focus, "gap", i, i % 2 == 0) for i in range(40)]
     rows += [_row(team, "gap", i, i % 2 == 1) for i in range(40)]
     rows += [_row(team, "flee", i, True) for i in range(5)]             # the recommended one ran none of these
-    n, mean, lo, hi = paired_difference(rows, "apf", focus, team)
-    assert n == 40 and mean == 0.75 and 0 < lo < mean < hi < 1         # 30 of 40 hunts won by focus alone
-    n, mean, lo, hi = paired_difference(rows, "gap", focus, team)
-    assert n == 40 and mean == 0.0 and lo < 0 < hi                     # as many each way: not told apart
-    assert paired_difference(rows, "flee", focus, team)[0] == 0
+    apf = paired_counts(rows, focus, team, attackers.comfortable_against("apf"))
+    lo, hi = newcombe(apf)
+    assert apf.hunts == 40 and apf.difference == 0.75 and 0 < lo < 0.75 < hi < 1   # 30 of 40 won by focus alone
+    gap = paired_counts(rows, focus, team, attackers.comfortable_against("gap"))
+    lo, hi = newcombe(gap)
+    assert gap.hunts == 40 and gap.difference == 0.0 and lo < 0 < hi   # as many each way: not told apart
+    assert paired_counts(rows, focus, team, attackers.comfortable_against("flee")).hunts == 0
     table = "\n".join(attackers.league(rows))
-    assert "| apf | 40 / 40 | 10 / 40 |" in table and "+75 points" in table and "ahead" in table
+    assert "| apf | 40 / 40 | 10 / 40 |" in table and "+75 (" in table and ", 40: ahead" in table
     assert "not told apart" in table
