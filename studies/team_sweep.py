@@ -37,6 +37,7 @@ from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, count
 from mpc_hunt.bench.machine import machine_lines
 from mpc_hunt.interrupt import stop_at_once
+from mpc_hunt.sweep import paired
 from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict
 from mpc_hunt.control.spec import ControllerSpec
 from mpc_hunt.sweep.runner import Hunt
@@ -94,29 +95,25 @@ def _cell(s: dict, kind: str) -> str:
     return f"{won} / {total}" + ("" if rate is None else f" ({100 * lo:.0f}–{100 * hi:.0f} %)")
 
 
-def within(summaries: list[dict], kind: str = "all") -> dict[str, bool]:
-    """Per attacker: whether the distributed stage's capture rate lies in the centralised one's 95 % interval."""
-    key = "success_rate" if kind == "all" else f"success_rate_{kind}"
-    by = {(s["strategy"], s["attacker"]): s for s in summaries}
-    out = {}
-    for a in dict.fromkeys(s["attacker"] for s in summaries):
-        central, mine = by.get((CENTRAL, a)), by.get((DISTRIBUTED, a))
-        if central and mine and central[key] is not None and mine[key] is not None:
-            lo, hi = central[f"{key}_ci95"]
-            out[a] = lo <= mine[key] <= hi
-    return out
+def paired_cell(rows: list[dict], attacker: str, kind: str) -> str:
+    """The distributed stage's captures minus the centralised one's on the same hunts against ``attacker`` (those
+    :func:`_cell` counts for ``kind``: capturable by definition, or comfortable), with Newcombe's 95 % interval
+    (:mod:`mpc_hunt.sweep.paired`)."""
+    column = "comfortable" if kind == "comfortable" else "capturable_by_definition"
+    return paired.cell(paired.summary(paired.paired_counts(
+        rows, DISTRIBUTED, CENTRAL, lambda r: r["attacker"] == attacker and bool(r[column]))))
 
 
-def headline(attackers: list[dict], teams: list[dict]) -> list[str]:
+def headline(attackers: list[dict], teams: list[dict], rows: list[dict]) -> list[str]:
     lines = []
     for kind in ("all", "comfortable"):
-        inside = within(attackers, kind)
         by = {(s["strategy"], s["attacker"]): s for s in attackers}
         lines += [f"Captured / {'' if kind == 'all' else 'comfortable '}hunts (95 % interval), exact belief; "
-                  "*inside*: the distributed rate within the centralised one's interval:", "",
-                  *markdown.table(["attacker", f"`{CENTRAL}`", f"`{DISTRIBUTED}`", "inside"], "lrrl",
+                  "*paired*: the distributed stage's captures minus the centralised one's on the same hunts, in "
+                  "points, with the 95 % interval (Newcombe's for paired proportions) and the hunts paired:", "",
+                  *markdown.table(["attacker", f"`{CENTRAL}`", f"`{DISTRIBUTED}`", "paired"], "lrrl",
                                   ([a, _cell(by[(CENTRAL, a)], kind), _cell(by[(DISTRIBUTED, a)], kind),
-                                    {True: "yes", False: "no", None: "–"}[inside.get(a)]] for a in BEHAVIOURS
+                                    paired_cell(rows, a, kind)] for a in BEHAVIOURS
                                    if (CENTRAL, a) in by and (DISTRIBUTED, a) in by)), ""]
     lines += ["Safety over every hunt of both sweeps (obstacle collisions, defender contacts, arena exits; the "
               "least obstacle clearance and defender separation):", ""]
@@ -163,8 +160,9 @@ def last_run(folder: Path) -> list[str]:
     return ["## The last run's hunts, again", "", WHY, "", *lines] if lines else []
 
 
-def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: dict,
+def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: dict, rows: list[dict],
            last: list[str] | None = None) -> str:
+    """The study's README: ``rows``, the attackers file's, pair the two stages hunt by hunt."""
     return "\n".join([
         "# The distributed capture stage on random hunts", "",
         f"Regenerate with `{COMMAND} --hunts {arguments['attackers.db']['hunts']} --team-hunts "
@@ -175,8 +173,8 @@ def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: d
         f"behaviour, exact belief; and the first {arguments['teams.db']['hunts']} hunts of the same seed with "
         f"{TEAMS[0]} to {TEAMS[1]} defenders. One row per hunt in `attackers.db` and `teams.db` "
         "(`mpc-hunt sweep-report studies/team_sweep/attackers.db` recomputes a table).", "",
-        *headline(attackers, teams), *(last or []), "## Every summary", "", "Attackers:", "", table(attackers), "",
-        "Teams:", "", table(teams), "", "## Machine", "", *machine_lines(machine), ""])
+        *headline(attackers, teams, rows), *(last or []), "## Every summary", "", "Attackers:", "", table(attackers),
+        "", "Teams:", "", table(teams), "", "## Machine", "", *machine_lines(machine), ""])
 
 
 def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -> None:
@@ -186,7 +184,7 @@ def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments,
                                                      "summaries": summaries}, indent=1) + "\n", encoding="utf-8")
     (folder / "README.md").write_text(report(summaries["attackers.db"], summaries["teams.db"], machine, arguments,
-                                             last_run(folder)), encoding="utf-8")
+                                             stored_rows(folder / FILES[0]), last_run(folder)), encoding="utf-8")
 
 
 def check(folder: Path) -> list[str]:
@@ -206,7 +204,7 @@ def check(folder: Path) -> list[str]:
             errors.append(f"{name}: {len(left)} hunts of the study are missing (resume it)")
     if (folder / "README.md").read_text(encoding="utf-8") != report(
             committed["summaries"]["attackers.db"], committed["summaries"]["teams.db"], committed["machine"],
-            committed["arguments"], last_run(folder)):
+            committed["arguments"], stored_rows(folder / FILES[0]), last_run(folder)):
         errors.append("README.md: not what summary.json renders")
     if errors:
         return errors
