@@ -2,11 +2,10 @@
 
 Before a study is rerun at another size (or on a changed engine) and its results file replaced, ``keep`` writes
 the old file's rows, the fields of :data:`FIELDS` only, beside it (:func:`kept_path`: ``sweep.db``'s in
-``sweep.previous.json``). The rerun's
-report then counts, per strategy, the hunts both runs ran (same strategy, attacker, belief, seed and draw): those
-alike to the last bit in every field, those with the same outcome, and those whose outcome changed, listed. A
-hunt's rules are deterministic given its seed, so a changed row is a changed rule or a changed order of
-floating-point operations (a compiled rule against the NumPy one it replaced), never chance.
+``sweep.previous.json``). The rerun's report then counts, per strategy, the hunts both runs ran (same strategy,
+attacker, belief, seed and draw): those alike to the last bit in every field, those with the same outcome, and
+those whose outcome changed, listed (:data:`WHY` a row can differ); and sets the paired differences of the
+study's pairs of strategies on the last run beside this run's (:func:`against_last_run`).
 """
 
 from __future__ import annotations
@@ -101,7 +100,7 @@ def again(rows: list[dict], previous: list[dict]) -> list[str]:
                  f"{_outcome(p)} then, {_outcome(n)} now" for p, n in changed[:LISTED]]
         more = len(changed) - LISTED
         lines += ["Outcomes changed:", "", *(f"- {s}" for s in shown),
-                  *([f"- and {more} more (`previous.json` against `sweep.db`)"] if more > 0 else []), ""]
+                  *([f"- and {more} more (the kept rows against the results file)"] if more > 0 else []), ""]
     return lines
 
 
@@ -109,7 +108,6 @@ def _outcome(row: dict) -> str:
     if row["outcome"] == "captured":
         return f"captured at {row['capture_time_s']:.1f} s"
     return f"{row['outcome']} ({row['cause']})"
-
 
 
 def against_last_run(rows: list[dict], previous: list[dict], pairs: list[tuple[str, str]], attackers,

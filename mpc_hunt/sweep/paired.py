@@ -87,7 +87,7 @@ def paired_counts(rows: list[dict], first: str, second: str, where=lambda row: T
 def versus(rows: list[dict], first: str, second: str) -> list[dict]:
     """Per attacker and belief where both strategies ran a hunt: their paired counts on every hunt both ran and on
     the comfortable ones, each with the difference, its interval and what it tells. A strategy the rows do not
-    hold is refused."""
+    hold, or two that ran no hunt in common, is refused."""
     held = sorted({r["strategy"] for r in rows})
     for name in (first, second):
         if name not in held:
@@ -102,6 +102,8 @@ def versus(rows: list[dict], first: str, second: str) -> list[dict]:
             entry[kind] = summary(paired_counts(mine, first, second, where))
         if entry["all"]["hunts"]:
             out.append(entry)
+    if not out:
+        raise MpcHuntError(f"{first} {second}: no hunt of this file was run by both")
     return out
 
 
@@ -129,7 +131,7 @@ def cell(entry: dict) -> str:
 
 def versus_table(entries: list[dict]) -> str:
     """:func:`versus` as a markdown table."""
-    first, second = (entries[0]["first"], entries[0]["second"]) if entries else ("", "")
+    first, second = entries[0]["first"], entries[0]["second"]
     return "\n".join(
         markdown.table(
             ["attacker", "belief", f"{first} − {second}, every hunt both ran", "on the comfortable ones"],

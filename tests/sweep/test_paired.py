@@ -71,6 +71,9 @@ def test_only_the_hunts_both_ran_are_paired_by_attacker_and_belief():
     for bad, message in (("c", "not a strategy of this file"), ("a", "give two different strategies")):
         with pytest.raises(MpcHuntError, match=message):
             versus(rows, "a", bad)
+    apart = [_row("a", i, True) for i in range(3)] + [_row("b", i, True, attacker="flee") for i in range(3)]
+    with pytest.raises(MpcHuntError, match="a b: no hunt of this file was run by both"):
+        versus(apart, "a", "b")
 
 
 def test_sweep_report_versus_prints_the_table_or_its_json_and_refuses_in_one_line(tmp_path, capsys):
