@@ -21,13 +21,14 @@ both engines, and on this one again with the capture step of ``ROUTE``; on this 
 are solved again alone after it (``engine_worker.py --qps``), only the step Function's evaluations timed (the
 linearisation and the QP in compiled code: what an engine solving a batch's steps in one call into compiled code,
 with no Python per step, would still run), so that a hunt's whole cost is set against its capture steps' (the
-most any engine could gain on them is the hunts' seconds before over their steps alone).
+most any engine could gain on them is the hunts' seconds before over their steps alone); all of it ``TRAP_RUNS``
+times over, one run after another, so that its ratios come with their range (the table is the first run's).
 The two engines' ``trap`` hunts are compared, not required to end alike: its reference's sums and powers are
 now the C library's in a compiled loop, not NumPy's array operations (whose powers differ from it in the last
 bit on this machine), and a hunt is chaotic.
 Writes ``studies/engine/results.json`` and README.md, and the three tables in docs/engine.md.
 
-    python studies/engine.py            # measure (about ten minutes on two cores), write the results
+    python studies/engine.py            # measure (about fifteen minutes on two cores), write the results
     python studies/engine.py --check    # the docs' tables and the report are the committed results'
 """
 
@@ -69,6 +70,7 @@ DOCS = ROOT / "docs" / "engine.md"
 COMMAND = "python studies/engine.py"
 BEFORE = "aba2141bca054dda51a67e3c13d827a12d78ede4"     # the last commit of the engine before the batched one
 SEED, HUNTS, MORE, WORKERS, SWEEP, TRAP_HUNTS = 46, 64, 2048, 2, 10_000, 16
+TRAP_RUNS = 3       # the solving controller's hunts run this many times over, so its ratios come with their spread
 TRAP = ControllerSpec().label       # the recommended controller, a solving one
 ROUTE = "trap:rti:daqp-condensed:10"     # its capture stage on the compiled, warm-started DAQP step
 REPLAYED = 1e-9     # m: a capture step solved alone plans as in its hunt, to this (the same inputs, the same code)
@@ -219,6 +221,22 @@ def trap_hunts(before_path: Path, hunts: int) -> dict:
             "alike": alike, "same_outcome": same_outcome, "route_alike": route_alike}
 
 
+def ratios(trap: dict) -> dict:
+    """One run's ratios (:func:`trap_hunts`): against the engine before, whole over the steps alone, and the bound
+    (the hunts' seconds before over the steps alone now), on the recommended step and on ``ROUTE``'s."""
+    before = trap["before"]
+    return {f"{prefix}{name}": value for prefix, run in (("", trap["now"]), ("route_", trap["on_route"]))
+            for name, value in (("vs_before", run["hunts_per_s"] / before["hunts_per_s"]),
+                                ("whole_over_alone", run["process_seconds"] / run["qp_seconds"]),
+                                ("bound", before["process_seconds"] / run["qp_seconds"]))}
+
+
+def trap_runs(before_path: Path, hunts: int, runs: int) -> dict:
+    """:func:`trap_hunts` ``runs`` times over: the first run whole, and every run's :func:`ratios`."""
+    every = [trap_hunts(before_path, hunts) for _ in range(runs)]
+    return every[0] | {"runs": [ratios(t) for t in every]}
+
+
 def first_runs() -> dict:
     """Seconds of a process running one short hunt (``engine_worker.py``, one hunt, batch mode) with an empty cache
     of compiled rules (its own ``NUMBA_CACHE_DIR``), then of a second process with that cache: compiling against
@@ -255,7 +273,7 @@ def measure(hunts: int, more: int, swept: int, trapped: int) -> dict:
     with tempfile.TemporaryDirectory() as folder:
         before = side_by_side(unpacked(BEFORE, Path(folder)), "one", 0, hunts, 1)
         print(f"before: {before['hunts_per_s']:.2f} hunts/s", file=sys.stderr, flush=True)
-        trap = trap_hunts(Path(folder), trapped)
+        trap = trap_runs(Path(folder), trapped, TRAP_RUNS)
     now = side_by_side(ROOT, "batch", 0, hunts, BATCH)
     if now["ends"] != before["ends"]:
         differ = [i for i, (a, b) in enumerate(zip(before["ends"], now["ends"])) if a != b]
@@ -309,8 +327,20 @@ def trap_table(results: dict) -> str:
              f"the DAQP step {t['route_alike']} end as on HPIPM's. No engine running these capture steps, not even one "
              f"solving a batch's steps in one call into compiled code, can make these hunts more than {before['process_seconds'] / now['qp_seconds']:.1f}x quicker (the hunts' "
              f"seconds before over their steps alone now), {before['process_seconds'] / route['qp_seconds']:.1f}x "
-             "on the DAQP step."]
+             "on the DAQP step.", "", spread(t["runs"])]
     return "\n".join(lines) + "\n"
+
+
+def spread(runs: list[dict]) -> str:
+    """The ratios' range over the study's runs of the same hunts (:func:`ratios`)."""
+    def span(key: str, unit: str = "", digits: int = 2) -> str:
+        values = [r[key] for r in runs]
+        return f"{min(values):.{digits}f}{unit} to {max(values):.{digits}f}{unit}"
+
+    return (f"Over {len(runs)} runs of these hunts in this study, one after another: `{TRAP}` against before "
+            f"{span('vs_before', 'x')}, whole / steps alone {span('whole_over_alone')}, the bound "
+            f"{span('bound', 'x', 1)}; on the DAQP step {span('route_vs_before', 'x')}, "
+            f"{span('route_whole_over_alone')} and {span('route_bound', 'x', 1)}. The table is the first run.")
 
 
 def headline(results: dict) -> str:
@@ -349,8 +379,9 @@ def write(results: dict, machine: dict) -> None:
 def check() -> list[str]:
     committed = read_json_file(OUT / "results.json", f"rerun {COMMAND}")
     if not isinstance(committed, dict) or not {"settings", "before", "batched", "batched_more", "sweep", "choice",
-                                               "first_runs", "machine", "trap"} <= set(committed):
-        return ["studies/engine/results.json: not the study's results"]
+                                               "first_runs", "machine", "trap"} <= set(committed) \
+            or not isinstance(committed["trap"], dict) or "runs" not in committed["trap"]:
+        return [f"studies/engine/results.json: not the study's results (rerun {COMMAND})"]
     errors = []
     s = committed["settings"]
     if (s.get("seed"), s.get("workers"), s.get("batch"), s.get("before")) != (SEED, WORKERS, BATCH, BEFORE):
