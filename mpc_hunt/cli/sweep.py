@@ -90,7 +90,8 @@ def add_parsers(sub) -> None:
         nargs=2,
         metavar=("A", "B"),
         help="instead of the summary: strategy A's captures minus B's on the hunts both ran, per attacker and "
-        "belief, with Newcombe's 95 %% interval for paired proportions (which of the two it tells apart)",
+        "belief, with Newcombe's 95 %% interval for paired proportions (which of the two it tells apart), and "
+        "A's capture time minus B's on the hunts both captured (median, sign-test 95 %% interval)",
     )
     rep.add_argument("--json", action="store_true", help="print the summary as JSON")
 

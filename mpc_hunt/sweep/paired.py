@@ -8,11 +8,16 @@ rates' Wilson intervals combined with the correlation of the pairs, continuity-c
 the hunts share (a hard draw is hard for both), so it tells apart what two rates with intervals of their own
 cannot; unlike the normal approximation on the differences, the interval stays wide where few hunts differ (no
 discordant hunt among 7 is not a certainty of no difference) and within [−1, 1].
+
+On the hunts both captured, the first's capture time minus the second's is summarised by its median and the
+sign test's exact 95 % interval for the median (order statistics of the differences: no assumption on their
+distribution, none of the normal approximation), which needs at least six such hunts.
 """
 
 from __future__ import annotations
 
 import math
+import statistics
 from dataclasses import asdict, dataclass
 
 from mpc_hunt import markdown
@@ -69,6 +74,41 @@ def newcombe(counts: PairedCounts, z: float = Z95) -> tuple[float, float]:
     return (max(-1.0, difference - lower), min(1.0, difference + upper))
 
 
+def median_interval(values: list[float], level: float = 0.95) -> tuple[float, float, float]:
+    """The median of ``values`` and the sign test's exact interval for it at ``level`` (at least that coverage):
+    [x_(k), x_(n−k+1)] of the sorted values, k the largest with P(Bin(n, ½) < k) ≤ (1 − level) / 2; (−∞, ∞)
+    where no k is (five values or fewer at 95 %)."""
+    x, n = sorted(values), len(values)
+    if not n:
+        raise ValueError("median_interval: no values")
+    tail, k, below = (1 - level) / 2, 0, 0.0
+    while below + math.comb(n, k) / 2**n <= tail:
+        below += math.comb(n, k) / 2**n
+        k += 1
+    median = statistics.median(x)
+    return (median, -math.inf, math.inf) if k == 0 else (median, x[k - 1], x[n - k])
+
+
+def time_summary(rows: list[dict], first: str, second: str, where=lambda row: True) -> dict:
+    """The first strategy's capture time minus the second's on the hunts both captured among the ``rows`` kept by
+    ``where``: how many, the median difference (s), its interval (:func:`median_interval`) and what it tells."""
+    times: dict[str, dict[tuple, float]] = {first: {}, second: {}}
+    for r in rows:
+        if r["strategy"] in times and r["outcome"] == "captured" and where(r):
+            times[r["strategy"]][(*combination(r)[1:], r["seed"], r["index"])] = r["capture_time_s"]
+    differences = [times[first][h] - times[second][h] for h in times[first].keys() & times[second].keys()]
+    if not differences:
+        return {"hunts": 0, "median_difference_s": None, "ci95_s": None, "verdict": "none captured by both"}
+    median, lo, hi = median_interval(differences)
+    verdict = "quicker" if hi < 0 else "slower" if lo > 0 else "not told apart"
+    return {
+        "hunts": len(differences),
+        "median_difference_s": median,
+        "ci95_s": None if math.isinf(lo) else [lo, hi],
+        "verdict": verdict if math.isfinite(lo) else "too few",
+    }
+
+
 def told(interval: tuple[float, float]) -> str:
     """What a difference's interval tells of the first strategy against the second."""
     lo, hi = interval
@@ -86,7 +126,8 @@ def paired_counts(rows: list[dict], first: str, second: str, where=lambda row: T
 
 def versus(rows: list[dict], first: str, second: str) -> list[dict]:
     """Per attacker and belief where both strategies ran a hunt: their paired counts on every hunt both ran and on
-    the comfortable ones, each with the difference, its interval and what it tells. A strategy the rows do not
+    the comfortable ones, each with the difference, its interval and what it tells; and their capture times on
+    the hunts both captured (:func:`time_summary`). A strategy the rows do not
     hold, or two that ran no hunt in common, is refused."""
     held = sorted({r["strategy"] for r in rows})
     for name in (first, second):
@@ -100,6 +141,7 @@ def versus(rows: list[dict], first: str, second: str) -> list[dict]:
         entry: dict = {"first": first, "second": second, "attacker": attacker, "belief": belief}
         for kind, where in (("all", lambda r: True), ("comfortable", lambda r: bool(r.get("comfortable")))):
             entry[kind] = summary(paired_counts(mine, first, second, where))
+        entry["capture_time"] = time_summary(mine, first, second)
         if entry["all"]["hunts"]:
             out.append(entry)
     if not out:
@@ -129,13 +171,32 @@ def cell(entry: dict) -> str:
     )
 
 
+def time_cell(entry: dict) -> str:
+    """A :func:`time_summary` as a table cell."""
+    if not entry["hunts"]:
+        return "–"
+    if entry["ci95_s"] is None:
+        return f"{entry['median_difference_s']:+.1f} s, {entry['hunts']}: too few"
+    lo, hi = entry["ci95_s"]
+    return f"{entry['median_difference_s']:+.1f} s ({lo:+.1f} to {hi:+.1f}), {entry['hunts']}: {entry['verdict']}"
+
+
 def versus_table(entries: list[dict]) -> str:
     """:func:`versus` as a markdown table."""
     first, second = entries[0]["first"], entries[0]["second"]
     return "\n".join(
         markdown.table(
-            ["attacker", "belief", f"{first} − {second}, every hunt both ran", "on the comfortable ones"],
-            "llll",
-            ([e["attacker"], e["belief"], cell(e["all"]), cell(e["comfortable"])] for e in entries),
+            [
+                "attacker",
+                "belief",
+                f"{first} − {second}, every hunt both ran",
+                "on the comfortable ones",
+                "capture time on the hunts both captured, median",
+            ],
+            "lllll",
+            (
+                [e["attacker"], e["belief"], cell(e["all"]), cell(e["comfortable"]), time_cell(e["capture_time"])]
+                for e in entries
+            ),
         )
     )

@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 
 from mpc_hunt.cli import main
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.sweep.paired import PairedCounts, newcombe, paired_counts, versus, versus_table
+from mpc_hunt.sweep.paired import (PairedCounts, median_interval, newcombe, paired_counts, time_summary, versus,
+                                   versus_table)
 from mpc_hunt.sweep.store import SweepStore
 
 COUNTS = st.tuples(*(st.integers(0, 60),) * 4).map(lambda t: PairedCounts(*t))
@@ -53,9 +54,45 @@ def test_no_discordant_hunt_is_not_a_certain_tie():
     assert 0.4 < lo < 1.0 == hi
 
 
-def _row(strategy, index, captured, attacker="gap", belief="exact", comfortable=1):
+def _row(strategy, index, captured, attacker="gap", belief="exact", comfortable=1, time=100.0):
     return {"strategy": strategy, "attacker": attacker, "belief": belief, "seed": 1, "index": index,
-            "outcome": "captured" if captured else "failed", "comfortable": comfortable}
+            "outcome": "captured" if captured else "failed", "comfortable": comfortable,
+            "capture_time_s": time if captured else None}
+
+
+def test_the_median_interval_is_the_sign_tests_order_statistics():
+    assert median_interval(list(range(20, 0, -1))) == (10.5, 6, 15)       # n = 20: the 6th and the 15th
+    assert median_interval([3.0, 1.0, 2.0, 6.0, 5.0, 4.0]) == (3.5, 1.0, 6.0)   # n = 6: the extremes (96.9 %)
+    median, lo, hi = median_interval([1.0, 2.0, 3.0, 4.0, 5.0])         # n = 5: no interval reaches 95 %
+    assert median == 3.0 and lo == -np.inf and hi == np.inf
+    rng = np.random.default_rng(3)                                      # at least 95 % on any distribution
+    covered = [lo <= 0.0 <= hi for lo, hi in (median_interval(list(rng.standard_cauchy(15)))[1:]
+                                              for _ in range(3000))]
+    assert 0.95 <= np.mean(covered) <= 0.975                            # n = 15: exactly 96.5 %
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-300, 300), min_size=6, max_size=60), st.floats(-50, 50))
+def test_the_median_interval_holds_the_median_and_moves_with_the_values(values, shift):
+    median, lo, hi = median_interval(values)
+    assert lo <= median <= hi
+    moved = median_interval([v + shift for v in values])
+    np.testing.assert_allclose(moved, (median + shift, lo + shift, hi + shift), atol=1e-9)
+
+
+def test_capture_times_are_paired_on_the_hunts_both_captured():
+    rows = [_row("a", i, True, time=100.0 + i) for i in range(12)] + [_row("b", i, i != 3, time=120.0 + i)
+                                                                          for i in range(12)]
+    rows += [_row("a", 20, False), _row("b", 20, True, time=1.0)]        # b alone: not paired
+    summary = time_summary(rows, "a", "b")
+    assert summary["hunts"] == 11 and summary["median_difference_s"] == -20.0
+    assert summary["ci95_s"] == [-20.0, -20.0] and summary["verdict"] == "quicker"
+    assert time_summary(rows[:5] + rows[12:17], "a", "b")["verdict"] == "too few"
+    assert time_summary(rows, "b", "a")["verdict"] == "slower"
+    mixed = [_row("a", i, True, time=100.0 + d) for i, d in enumerate([-5, 5, -3, 3, -1, 1, 0, 2, -2, 4, -4])]
+    mixed += [_row("b", i, True) for i in range(11)]
+    assert time_summary(mixed, "a", "b")["verdict"] == "not told apart"
+    assert time_summary(rows, "a", "b", lambda r: r["index"] > 50)["verdict"] == "none captured by both"
 
 
 def test_only_the_hunts_both_ran_are_paired_by_attacker_and_belief():
@@ -92,6 +129,8 @@ def test_sweep_report_versus_prints_the_table_or_its_json_and_refuses_in_one_lin
         assert main(["sweep-report", str(path), "--versus", "voronoi", "apf", "--json"]) == 0
     entry = json.loads(out.getvalue())["versus"][0]
     assert entry["all"]["first"] == 15 and entry["all"]["verdict"] == "ahead" and entry["all"]["ci95"][0] > 0.25
+    assert entry["capture_time"] == {"hunts": 10, "median_difference_s": 0.0, "ci95_s": [0.0, 0.0],
+                                     "verdict": "not told apart"}
     assert main(["sweep-report", str(path), "--versus", "apf", "trap"]) == 2
     err = capsys.readouterr().err
     assert "--versus trap:rti:hpipm:10: not a strategy of this file (it holds apf, voronoi)" in err
