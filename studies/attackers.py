@@ -44,7 +44,7 @@ from mpc_hunt.sweep.random_scenario import ScenarioRanges, ranges_to_dict, sweep
 from mpc_hunt.sweep.reachability import reachable
 from mpc_hunt.sweep.runner import Hunt
 from mpc_hunt.sweep.store import stored_rows
-from mpc_hunt.sweep.paired import PairedCounts, cell, newcombe, paired_counts, summary
+from mpc_hunt.sweep.paired import PairedCounts, cell, newcombe, paired_counts, summary, time_cell, time_summary
 from mpc_hunt.sweep.summary import summarise, table
 from mpc_hunt.sweep.typical import rerun, typical_rows
 from mpc_hunt.world.behaviours import BEHAVIOURS
@@ -238,7 +238,7 @@ def bars(rows: list[dict], summaries: list[dict]) -> list[tuple[str, str, bool]]
 def verdicts(rows: list[dict]) -> list[str]:
     """What the table says of the study's questions, from the rows (exact belief): does the recommended controller
     capture at least as many comfortable hunts as the Voronoi baseline against each attacker (and how fast, on the
-    hunts both capture), and is the minimax attacker at least as hard for the baseline as the gap-seeker?"""
+    hunts both capture, with the paired difference's interval), and is the minimax attacker at least as hard for the baseline as the gap-seeker?"""
     exact = [r for r in rows if r["belief"] == EXACT and r["comfortable"]]
 
     def won(strategy: str, attacker: str, column: str = "capture_time_s") -> dict:
@@ -257,10 +257,11 @@ def verdicts(rows: list[dict]) -> list[str]:
             walked = [won(k, attacker, "path_length_m") for k in (FOCUS, BASELINE)]
             paths = " / ".join(f"{statistics.median(w[i] for i in both):.1f} m" for w in walked)
         body.append([attacker, total, len(mine), len(theirs), "yes" if len(mine) >= len(theirs) else "no", times,
-                         paths])
+                     time_cell(time_summary(rows, FOCUS, BASELINE, comfortable_against(attacker))), paths])
     lines = markdown.table(["attacker", "comfortable", f"`{FOCUS}` captured", f"`{BASELINE}` captured",
                             "at least as many", f"median capture time on the hunts both capture, `{FOCUS}` / "
-                            f"`{BASELINE}`", "median path length there (all defenders)"], "lrrrlll", body)
+                            f"`{BASELINE}`", "its paired difference, median (sign-test 95 % interval)",
+                            "median path length there (all defenders)"], "lrrrllll", body)
     gap, minimax = len(won(BASELINE, "gap")), len(won(BASELINE, "minimax"))
     verdict = "at least as hard for the Voronoi baseline as" if minimax <= gap else "easier for the Voronoi baseline than"
     lines += ["", f"The minimax attacker is {verdict} the gap-seeker: the baseline captures {minimax} comfortable "

@@ -87,6 +87,21 @@ def test_the_paired_differences_e16_quotes_are_the_attackers_studys_league():
             attacker in ("flee", "gap") and f"({difference} points, {lo} to {hi})" in e16), attacker
 
 
+def test_the_capture_time_differences_e16_quotes_are_the_attackers_studys():
+    """E16's paired capture-time differences (``trap`` quicker against `apf` and `noisy`, not told apart against the
+    six others) are the study's verdicts table's."""
+    e16 = " ".join(_section((ROOT / "docs" / "model.md").read_text(), "### E16").split()).replace("−", "-")
+    study = (ROOT / "studies" / "attackers" / "README.md").read_text()
+    rows = {cells[0]: cells[6] for cells in ([c.strip() for c in line.strip().strip("|").split("|")]
+                                             for line in study.splitlines() if " s / " in line)
+            if len(cells) == 8}                                 # the verdicts' rows: "154.3 s / 176.6 s (34 hunts)"
+    quicker = [a for a, cell in rows.items() if cell.endswith(": quicker")]
+    assert quicker == ["apf", "noisy"] and "against the other six attackers the two are not told apart" in e16
+    for attacker in quicker:
+        median, lo, hi = re.fullmatch(r"(\S+) s \((\S+) to (\S+)\), \d+: quicker", rows[attacker]).groups()
+        assert f"`{attacker}` ({median} s, {lo} to {hi})" in e16
+
+
 def test_the_own_loops_overruns_quoted_are_the_realtime_studys():
     """docs/benchmarks.md's reading of the own loop quotes the committed run's counts of late steps."""
     o = json.loads((ROOT / "studies" / "realtime" / "results.json").read_text())["overruns"]
