@@ -238,7 +238,8 @@ def bars(rows: list[dict], summaries: list[dict]) -> list[tuple[str, str, bool]]
 def verdicts(rows: list[dict]) -> list[str]:
     """What the table says of the study's questions, from the rows (exact belief): does the recommended controller
     capture at least as many comfortable hunts as the Voronoi baseline against each attacker (and how fast, on the
-    hunts both capture, with the paired difference's interval), and is the minimax attacker at least as hard for the baseline as the gap-seeker?"""
+    hunts both capture, with the paired difference's interval), and is the minimax attacker at least as hard for
+    the baseline as the gap-seeker?"""
     exact = [r for r in rows if r["belief"] == EXACT and r["comfortable"]]
 
     def won(strategy: str, attacker: str, column: str = "capture_time_s") -> dict:
@@ -396,8 +397,8 @@ def report(rows: list[dict], summaries: list[dict], machine: dict, hunts: int, s
         f". The recommended controller (`mpc_hunt/control/recommended.py`) is `{FOCUS}`; `--check` fails unless it "
         "is first among the solving controllers, or not told apart from the first by the 95 % interval (Newcombe's "
         "for paired proportions) of their captures on those hunts and the quickest of those so tied (the shortest "
-        "median capture time on the hunts they all capture). How it fares against the Voronoi baseline, which has no capture "
-        "stage, is the next section's.", "",
+        "median capture time on the hunts they all capture). How it fares against the Voronoi baseline, which has "
+        "no capture stage, is the next section's.", "",
         *headline(summaries),
         f"## `{FOCUS}` against the Voronoi baseline", "",
         *markdown.table(["bar", "measured", ""], "lll", ([what, measured, "met" if met else "missed"]
