@@ -4,7 +4,8 @@ A sweep's task is a ``Hunt``: a strategy (a controller spec's label, ``controlle
 on the random scenario (seed, index) drawn from ranges, the attacker moving by a named behaviour, the defenders
 holding a belief. ``run_local`` runs tasks on local worker processes and ``run_dask`` on the cluster of a Dask
 client, both yielding each hunt's row (plain data) as it finishes; ``summarise`` turns rows into one summary per
-strategy, attacker and belief. ``mpc-hunt sweep`` adds the results file (resume after an interruption) and
+strategy, attacker and belief; ``versus`` sets two strategies side by side on the hunts both ran (their paired
+difference, with Newcombe's interval). ``mpc-hunt sweep`` adds the results file (resume after an interruption) and
 ``mpc-hunt sweep-report`` the figures.
 
 Small by default: one hunt per strategy locally, then the first strategy's on a one-worker Dask cluster started here
@@ -19,7 +20,7 @@ from __future__ import annotations
 
 import argparse
 
-from mpc_hunt.sweep import Hunt, connect_dask, run_dask, run_local, summarise
+from mpc_hunt.sweep import Hunt, connect_dask, run_dask, run_local, summarise, versus, versus_table
 
 
 def show(where: str, rows: list[dict]) -> None:
@@ -47,6 +48,8 @@ def main() -> None:
     tasks = [Hunt(s, args.seed, i, ranges) for i in range(args.hunts) for s in strategies]
     local = list(run_local(tasks, workers=args.workers))
     show(f"local, {args.workers} worker process(es)", local)
+    if len(strategies) > 1:  # the first two, hunt by hunt (a handful of hunts tells little apart)
+        print(versus_table(versus(local, *strategies[:2])))
 
     if args.scheduler:
         client = connect_dask(args.scheduler)
