@@ -32,8 +32,9 @@ def add_study_options(parser: CommandParser, hunts: int, what: str, seed: int, o
     parser.add_argument("--seed", type=seed_number, default=seed, help=f"the sweep's seed (default {seed})")
     parser.add_argument("--output", type=output_folder, default=out,
                         help=f"the folder to write (default studies/{out.name})")
-    parser.add_argument("--check", action="store_true", help="check the committed results against the code")
-    parser.add_argument("--keep-previous", action="store_true",
+    what = parser.add_mutually_exclusive_group()
+    what.add_argument("--check", action="store_true", help="check the committed results against the code")
+    what.add_argument("--keep-previous", action="store_true",
                         help="keep the rows of the output folder's results files beside them (before a rerun at "
                              "another size replaces them), for the rerun's report to set beside its own")
 
