@@ -514,9 +514,9 @@ def test_a_distributed_step_times_every_robots_evaluations():
     team = CaptureSolver("distributed").step_for(problem)
     for robot in team.robots:
         evaluate = robot._evaluate
-        robot._evaluate = lambda evaluate=evaluate: (time.sleep(0.01), evaluate())    # each 10 ms longer
+        robot._evaluate = lambda evaluate=evaluate: (time.sleep(0.05), evaluate())    # each 50 ms longer
     team.load(problem)
     assert team.step().usable
-    assert team.qps >= len(team.robots) and team.qps * 0.01 <= team.evaluation_time <= sum(team.robot_times)
-    team.load(problem)
-    assert team.step().usable and team.qps * 0.01 <= team.evaluation_time < (team.qps + 1) * 0.01    # afresh
+    assert team.qps >= len(team.robots) and team.qps * 0.05 <= team.evaluation_time <= sum(team.robot_times)
+    team.load(problem)                                  # afresh (a sleep's overrun on a busy machine: within 50 ms)
+    assert team.step().usable and team.qps * 0.05 <= team.evaluation_time < (team.qps + 1) * 0.05
