@@ -132,7 +132,7 @@ def versus(rows: list[dict], first: str, second: str) -> list[dict]:
     held = sorted({r["strategy"] for r in rows})
     for name in (first, second):
         if name not in held:
-            raise MpcHuntError(f"{name}: not a strategy of this file (it holds {', '.join(held)})")
+            raise MpcHuntError(f"{name}: not a strategy of this file (it holds {', '.join(held) or 'no hunt'})")
     if first == second:
         raise MpcHuntError(f"{first} {second}: give two different strategies")
     out = []
