@@ -14,6 +14,8 @@ from mpc_hunt.solving import registry
 from mpc_hunt.solving.backends.base import MIN_SLICE, PACE_SOLVES
 from mpc_hunt.solving.backends.daqp import DaqpBackend
 
+ATTEMPTS = 3  # a wall-clock measurement repeated on a busy machine, where a preemption only ever inflates it
+
 INSTALLED = [b for b in registry.BACKENDS if registry.installed(b)]
 
 
@@ -140,14 +142,17 @@ def test_a_step_of_several_qps_shares_one_time_limit(scenario):
 def test_a_solver_with_a_clock_is_handed_the_time_left_and_stops_when_there_is_none(scenario):
     import time
 
-    solver = CaptureSolver("qp", "osqp", time_limit=0.5, polishing=False)
     problem = problem_at(scenario, 10)
-    solver.solve(problem)                                  # the structure's set-up: nothing measured
-    assert solver.backend.outside_clock() == 0.0 and solver.backend.clock_limit() == 0.5
-    for _ in range(3):
-        solver.solve(problem)
-    backend = solver.backend
-    outside, per_iteration = backend.outside_clock(), backend.iteration_time()
+    for _ in range(ATTEMPTS):                              # wall clocks: the least disturbed of a few solvers
+        solver = CaptureSolver("qp", "osqp", time_limit=0.5, polishing=False)
+        solver.solve(problem)                              # the structure's set-up: nothing measured
+        assert solver.backend.outside_clock() == 0.0 and solver.backend.clock_limit() == 0.5
+        for _ in range(3):
+            solver.solve(problem)
+        backend = solver.backend
+        outside, per_iteration = backend.outside_clock(), backend.iteration_time()
+        if outside < 0.01 and per_iteration < 1e-3:
+            break
     assert 0 < outside < 0.01 and 0 < per_iteration < 1e-3  # (OSQP's iteration: microseconds)
     tail = backend.tail()                                  # (a refactorisation for a new rho, if any: see below)
     assert backend.clock_limit() == pytest.approx(0.5 - outside - PACE_MARGIN * (per_iteration + tail))
@@ -243,20 +248,28 @@ def test_a_solve_its_clock_stopped_is_recorded_as_stopped(scenario, monkeypatch)
     assert [stopped for _, _, stopped in solver.backend._solves] == [False, True]
 
 
-def test_the_time_outside_a_solvers_clock_is_measured_from_the_limit_it_is_handed(scenario):
+def test_the_time_outside_a_solvers_clock_is_measured_from_the_limit_it_is_handed(scenario, monkeypatch):
     """CVXPY writes its data, then reads the time left and hands it to Clarabel, then reads the answer back: what
     is subtracted from the time left is the margin times the median of each solve's time from that read less the
-    solver's reported time, so the canonicalisation before the read, already out of the time left, is not."""
+    solver's reported time, so the canonicalisation before the read, already out of the time left, is not. Its
+    canonicalisation made 0.1 s longer here, so the two cannot be confused on a busy machine either."""
+    import time
+
+    import cvxpy as cp
+
+    canonicalise = cp.Problem.get_problem_data
+
+    def slow(*args, **kwargs):
+        time.sleep(0.1)
+        return canonicalise(*args, **kwargs)
+
+    monkeypatch.setattr(cp.Problem, "get_problem_data", slow)
     solver = CaptureSolver("qp", "cvxpy", time_limit=1.0)
     problem = problem_at(scenario, 3)
     solver.solve(problem)
-    whole = []
-    for _ in range(5):
-        s = solver.solve(problem)
-        whole.append(s.solver_time - s.extras["reported_solve_time_s"])
-    assert min(whole) > 0
-    outside = solver.backend.outside_clock()
-    assert 0 < outside < PACE_MARGIN * np.median(whole) / 2       # (the canonicalisation: most of CVXPY's time)
+    solves = [solver.solve(problem) for _ in range(5)]
+    assert min(s.solver_time - s.extras["reported_solve_time_s"] for s in solves) > 0.1      # the sleep is in
+    assert 0 < solver.backend.outside_clock() < PACE_MARGIN * 0.1 / 2                       # and not out of it
 
 
 @pytest.mark.parametrize("left,spent,count,starts", [
