@@ -67,12 +67,12 @@ def sweeps(hunts: int, team_hunts: int, seed: int) -> dict[str, tuple[dict, list
     labels = [ControllerSpec.parse(s).label for s in STRATEGIES]
     return {
         FILES[0]: ({"strategies": labels, "attackers": list(BEHAVIOURS), "hunts": hunts, "seed": seed,
-                          "ranges": default},
-                         [Hunt(s, seed, i, default, attacker=a) for i in range(hunts) for s in STRATEGIES
-                          for a in BEHAVIOURS]),
+                    "ranges": default},
+                   [Hunt(s, seed, i, default, attacker=a) for i in range(hunts) for s in STRATEGIES
+                    for a in BEHAVIOURS]),
         FILES[1]: ({"strategies": labels, "attackers": [TEAM_ATTACKER], "hunts": team_hunts, "seed": seed,
-                      "ranges": teams},
-                     [Hunt(s, seed, i, teams, attacker=TEAM_ATTACKER) for i in range(team_hunts) for s in STRATEGIES]),
+                    "ranges": teams},
+                   [Hunt(s, seed, i, teams, attacker=TEAM_ATTACKER) for i in range(team_hunts) for s in STRATEGIES]),
     }
 
 
@@ -152,7 +152,7 @@ def last_run(folder: Path) -> list[str]:
         lines += [f"`{name}`: the last run's {len(previous)} hunts (`{kept_path(folder / name).name}`, kept by "
                   f"`{COMMAND} --keep-previous` before this run replaced the file), those this run ran too:", "",
                   *again(rows, previous)]
-        if name == "attackers.db":
+        if name == FILES[0]:
             lines += [f"Per attacker, `{DISTRIBUTED}`'s captures minus `{CENTRAL}`'s on the same hunts (all of them), "
                       "in points with the 95 % interval (Newcombe's) and the hunts paired, in the last run and now:",
                       "", *against_last_run(rows, previous, [(DISTRIBUTED, CENTRAL)], BEHAVIOURS,
