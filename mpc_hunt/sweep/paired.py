@@ -89,13 +89,18 @@ def median_interval(values: list[float], level: float = 0.95) -> tuple[float, fl
     return (median, -math.inf, math.inf) if k == 0 else (median, x[k - 1], x[n - k])
 
 
+def hunt_of(row: dict) -> tuple:
+    """The hunt a row ran, whichever strategy ran it: (attacker, belief, seed, draw)."""
+    return (*combination(row)[1:], row["seed"], row["index"])
+
+
 def time_summary(rows: list[dict], first: str, second: str, where=lambda row: True) -> dict:
     """The first strategy's capture time minus the second's on the hunts both captured among the ``rows`` kept by
     ``where``: how many, the median difference (s), its interval (:func:`median_interval`) and what it tells."""
     times: dict[str, dict[tuple, float]] = {first: {}, second: {}}
     for r in rows:
         if r["strategy"] in times and r["outcome"] == "captured" and where(r):
-            times[r["strategy"]][(*combination(r)[1:], r["seed"], r["index"])] = r["capture_time_s"]
+            times[r["strategy"]][hunt_of(r)] = r["capture_time_s"]
     differences = [times[first][h] - times[second][h] for h in times[first].keys() & times[second].keys()]
     if not differences:
         return {"hunts": 0, "median_difference_s": None, "ci95_s": None, "verdict": "none captured by both"}
@@ -120,7 +125,7 @@ def paired_counts(rows: list[dict], first: str, second: str, where=lambda row: T
     won: dict[str, dict[tuple, bool]] = {first: {}, second: {}}
     for r in rows:
         if r["strategy"] in won and where(r):
-            won[r["strategy"]][(*combination(r)[1:], r["seed"], r["index"])] = r["outcome"] == "captured"
+            won[r["strategy"]][hunt_of(r)] = r["outcome"] == "captured"
     return PairedCounts.of((won[first][h], won[second][h]) for h in won[first].keys() & won[second].keys())
 
 
@@ -136,8 +141,10 @@ def versus(rows: list[dict], first: str, second: str) -> list[dict]:
     if first == second:
         raise MpcHuntError(f"{first} {second}: give two different strategies")
     out = []
-    for attacker, belief in dict.fromkeys(combination(r)[1:] for r in rows):
-        mine = [r for r in rows if combination(r)[1:] == (attacker, belief)]
+    by_cell: dict[tuple, list[dict]] = {}
+    for r in rows:  # one pass: the rows of each attacker and belief
+        by_cell.setdefault(combination(r)[1:], []).append(r)
+    for (attacker, belief), mine in by_cell.items():
         entry: dict = {"first": first, "second": second, "attacker": attacker, "belief": belief}
         for kind, where in (("all", lambda r: True), ("comfortable", lambda r: bool(r.get("comfortable")))):
             entry[kind] = summary(paired_counts(mine, first, second, where))
