@@ -45,8 +45,9 @@ from mpc_hunt.capture.problem import EncloseWeights, Reference
 from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.reference import Places
-from mpc_hunt.world import attacker
+from mpc_hunt.world.attacker import velocity_of
 from mpc_hunt.world.geometry import direction, norm, unit
+from mpc_hunt.world.packed import T
 from mpc_hunt.world.scenario import Scenario
 
 CLEARANCE = 0.3  # m beyond R_agg: the gathering circle, which the attacker does not perceive
@@ -70,6 +71,45 @@ SWAP_MARGIN = 0.5  # m: how much nearer a defender must be to take a first membe
 def wrap(angle: float) -> float:
     """``angle`` in [−π, π)."""
     return (angle + math.pi) % (2 * math.pi) - math.pi
+
+
+@kernel
+def predicted_path(
+    p_a: np.ndarray, p_d: np.ndarray, centres: np.ndarray, radii: np.ndarray, prm: np.ndarray, horizon: int
+) -> np.ndarray:
+    """The attacker at steps 1..N (Eq. 2, the model's parameters ``prm``, :mod:`mpc_hunt.world.packed`) with the
+    defenders ``p_d`` held where they are."""
+    out, p = np.empty((horizon, 2)), p_a.copy()
+    for k in range(horizon):
+        vx, vy = velocity_of(p, p_d, centres, radii, prm)
+        p[0], p[1] = p[0] + prm[T] * vx, p[1] + prm[T] * vy
+        out[k, 0], out[k, 1] = p[0], p[1]
+    return out
+
+
+@kernel
+def route(p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
+    """A defender's targets at steps 1..N: towards its place on the circle round the predicted attacker,
+    going round the circle where the straight way would cross it; each no farther than it can move."""
+    N = predicted.shape[0]
+    out = np.empty((N, 2))
+    qx, qy = p[0] - predicted[0, 0], p[1] - predicted[0, 1]
+    distance, bearing = np.hypot(qx, qy), math.atan2(qy, qx)
+    turn = wrap(angle - bearing)
+    if abs(turn) > ORBIT_STEP:
+        angle = bearing + math.copysign(ORBIT_STEP, turn)
+        radius = max(radius, min(distance, radius + 1.0))
+    cx, cy = radius * np.cos(angle), radius * np.sin(angle)
+    for k in range(N):
+        gx, gy = predicted[k, 0] + cx, predicted[k, 1] + cy
+        sx, sy = gx - p[0], gy - p[1]
+        length = np.hypot(sx, sy)
+        if length > 0:
+            scale = min(1.0, (k + 1) * reach / length)
+            out[k, 0], out[k, 1] = p[0] + sx * scale, p[1] + sy * scale
+        else:
+            out[k, 0], out[k, 1] = gx, gy
+    return out
 
 
 @dataclass
@@ -162,7 +202,7 @@ class Enclosure(Places):
             )
             for i in movers:
                 ring = BLOCK * R if i == blocker else radius
-                places[:, i] = self._route(P[i], predicted, angles[i], ring, s.defender_max_speeds[i] * T)
+                places[:, i] = route(P[i], predicted, angles[i], ring, s.defender_max_speeds[i] * T)
             if blocker is not None:
                 target = np.repeat(p_a[None], N, axis=0)  # held while the others come
             if c.phase == "herd":
@@ -173,11 +213,11 @@ class Enclosure(Places):
 
     def _predicted(self, p_a: np.ndarray, P: np.ndarray) -> np.ndarray:
         """The attacker at steps 1..N with the defenders ``P`` held where they are (Eq. 2)."""
-        out, p = np.empty((self.horizon, 2)), np.array(p_a, dtype=float)
-        for k in range(self.horizon):
-            p = p + self.scenario.hunt.time_step * attacker.velocity(self.scenario, p, P)
-            out[k] = p
-        return out
+        s = self.scenario
+        P = np.asarray(P, dtype=float).reshape(-1, 2)
+        return predicted_path(
+            np.asarray(p_a, dtype=float), P, s.obstacle_centres, s.obstacle_radii, s.packed, self.horizon
+        )
 
     def _anchor(self, obs: Observation, movers: int) -> np.ndarray | None:
         """Where the circle must be centred to include a stationary member, or None (enclose in place).
@@ -321,21 +361,3 @@ class Enclosure(Places):
             abs(wrap(math.atan2(offset[1], offset[0]) - angle)) <= ARRIVED_ANGLE
             and norm(offset) <= radius + ARRIVED_RADIUS
         )
-
-    def _route(self, p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
-        """A defender's targets at steps 1..N: towards its place on the circle round the predicted attacker,
-        going round the circle where the straight way would cross it; each no farther than it can move."""
-        N = len(predicted)
-        out = np.empty((N, 2))
-        q = p - predicted[0]
-        distance, bearing = float(np.hypot(*q)), math.atan2(q[1], q[0])
-        turn = wrap(angle - bearing)
-        if abs(turn) > ORBIT_STEP:
-            angle = bearing + math.copysign(ORBIT_STEP, turn)
-            radius = max(radius, min(distance, radius + 1.0))
-        for k in range(N):
-            goal = predicted[k] + radius * direction(angle)
-            step = goal - p
-            length = float(np.hypot(*step))
-            out[k] = p + step * min(1.0, (k + 1) * reach / length) if length > 0 else goal
-        return out

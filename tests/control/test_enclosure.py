@@ -10,6 +10,7 @@ import pytest
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control import enclosure as E
 from mpc_hunt.control.enclosure import Enclosure
+from mpc_hunt.world.attacker import velocity
 from mpc_hunt.world.geometry import norm
 from mpc_hunt.world.scenario import Attacker, Defender, HuntParameters, Obstacle, Scenario
 
@@ -127,3 +128,19 @@ def test_with_two_defenders_the_nearest_obstacle_anchors_the_circle():
     np.testing.assert_allclose(ref.attacker, np.tile(anchor, (N, 1)))
     # the two defenders go in behind the attacker, seen from the obstacle
     assert np.all(ref.defenders[-1][:, 1] > 10.0) and np.all(norm(ref.defenders[-1] - [10.0, 10.0]) < GATHER - 0.05)
+
+
+def test_the_predicted_attacker_steps_by_eq_2_with_the_defenders_held():
+    """predicted_path: p_{k+1} = p_k + T v(p_k) (Eq. 2, the model's velocity with the defenders where they stand),
+    here with a defender within R_agg pushing the attacker sideways towards an obstacle's field."""
+    starts = [(10.3, 9.6), (5.0, 14.0), (5.0, 6.0)]
+    scenario = _scenario(*starts, obstacles=(Obstacle(centre=(11.0, 11.2), radius=0.5),))
+    P = np.array(starts)
+    p, T = np.array([10.0, 10.0]), scenario.hunt.time_step
+    expected = []
+    for _ in range(N):
+        p = p + T * velocity(scenario, p, P)
+        expected.append(p)
+    path = Enclosure(scenario, N)._predicted(np.array([10.0, 10.0]), P)
+    assert np.array_equal(path, np.array(expected))
+    assert abs(path[-1, 1] - 10.0) > 1e-3  # the push turned it: both coordinates are predicted
