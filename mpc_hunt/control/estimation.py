@@ -68,7 +68,7 @@ SURPRISE = 10.0  # a tracked objective this many times the last one calls for a 
 GRID = 9  # perception radii tried per level of the search
 RADIUS_SPAN = 3.0  # R within [R₀/3, 3 R₀]
 GAIN_SPAN = 1e3  # g within [g₀/10³, 10³ g₀]
-LEVELS = 3  # nested grids of the search: the last spaced 1.7 % apart
+LEVELS = 4  # nested grids of the search: the last spaced 0.2 % apart
 SEARCH_STEPS = 40  # Levenberg–Marquardt steps after a search, at most (12 left a 2 mm/s intent against g = 1 short)
 SETTLED = 1e-9  # they end on a step gaining less than this fraction, or a track error this fraction of v_a T
 TRACK_STEPS = 2  # Levenberg–Marquardt steps per update between searches, at most
