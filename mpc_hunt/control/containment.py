@@ -34,11 +34,14 @@ from __future__ import annotations
 import numpy as np
 
 from mpc_hunt.capture.problem import EncloseWeights, Reference
+from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT
 from mpc_hunt.control.observed import ObservedVelocity
 from mpc_hunt.control.reference import Places
-from mpc_hunt.control.voronoi import VoronoiController, route
+from mpc_hunt.control.voronoi import VoronoiController, routed
+from mpc_hunt.world.arena import clear_of
+from mpc_hunt.world.packed import T
 from mpc_hunt.world.scenario import Scenario
 
 # No term on the attacker's predicted position: the prediction is the defenders' model, which this controller
@@ -46,20 +49,51 @@ from mpc_hunt.world.scenario import Scenario
 CONTAIN_WEIGHTS = EncloseWeights(attacker=0.0)
 
 
-def around(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, guard: float, reach: float) -> np.ndarray:
-    """The place at ``angle`` on the circle (``centre``, ``radius``), straight, unless the straight way passes
+@kernel
+def around(p_d, cx: float, cy: float, angle: float, radius: float, guard: float, reach: float) -> tuple[float, float]:
+    """The place at ``angle`` on the circle ((cx, cy), ``radius``), straight, unless the straight way passes
     inside the ``guard`` circle round the centre (the tightest ring any defender aims at): then round that
-    circle (:func:`~mpc_hunt.control.voronoi.route` on it). A far defender takes the short way to a far-side place
+    circle (:func:`~mpc_hunt.control.voronoi.routed` on it). A far defender takes the short way to a far-side place
     instead of going round the wide circle of its own Voronoi radius."""
-    place = centre + radius * np.array([np.cos(angle), np.sin(angle)])
-    way = place - p_d
-    length = float(np.hypot(*way))
-    if length == 0:
-        return place
-    along = float(np.clip(np.dot(centre - p_d, way) / length**2, 0.0, 1.0))
-    if float(np.hypot(*(p_d + along * way - centre))) >= guard:
-        return place
-    return route(p_d, centre, angle, max(guard, 1e-9), reach)
+    px, py = cx + radius * np.cos(angle), cy + radius * np.sin(angle)
+    wx, wy = px - p_d[0], py - p_d[1]
+    way = np.hypot(wx, wy)
+    if way == 0:
+        return px, py
+    along = min(max(((cx - p_d[0]) * wx + (cy - p_d[1]) * wy) / way**2, 0.0), 1.0)
+    if np.hypot(p_d[0] + along * wx - cx, p_d[1] + along * wy - cy) >= guard:
+        return px, py
+    return routed(p_d, cx, cy, angle, max(guard, 1e-9), reach)
+
+
+@kernel
+def contain_places(P, movers, circles, angles, rings, enclosed, drift, speeds, centres, radii, prm) -> np.ndarray:
+    """Every defender's places at steps 1..N (N = ``drift``'s rows; a held one: where it stands): each mover's
+    place (its circle ``circles[r]``, bearing ``angles[r]``, radius ``rings[r]``; the circle moved by ``drift``
+    once the attacker is ``enclosed``) by :func:`around`, out of R_safe (:func:`clear_of`), no farther than k
+    steps of its top speed."""
+    N = drift.shape[0]
+    places = np.empty((N, P.shape[0], 2))
+    for k in range(N):
+        places[k] = P
+    guard = rings.min() if rings.shape[0] else 0.0
+    for r in range(movers.shape[0]):
+        i = movers[r]
+        reach = speeds[i] * prm[T]
+        for k in range(N):
+            cx, cy = circles[r, 0], circles[r, 1]
+            if enclosed:
+                cx, cy = cx + drift[k, 0], cy + drift[k, 1]
+            gx, gy = around(P[i], cx, cy, angles[r], rings[r], guard, reach)
+            gx, gy = clear_of(gx, gy, centres, radii, prm)
+            sx, sy = gx - P[i, 0], gy - P[i, 1]
+            way = np.hypot(sx, sy)
+            if way > 0:
+                scale = min(1.0, (k + 1) * reach / way)
+                places[k, i, 0], places[k, i, 1] = P[i, 0] + sx * scale, P[i, 1] + sy * scale
+            else:
+                places[k, i, 0], places[k, i, 1] = gx, gy
+    return places
 
 
 class Unmodelled(Places):
@@ -94,17 +128,20 @@ class Containment(Unmodelled):
         T = s.hunt.time_step
         P = obs.defenders
         drift = self.observed.update(obs) * T * np.arange(1, N + 1)[:, None]
-        movers, centres, angles, radii, enclosed = self.rule.aims(obs)
-        places = np.repeat(P[None], N, axis=0).astype(float)
-        guard = float(np.min(radii)) if len(radii) else 0.0
-        for i, centre, angle, radius in zip(movers, centres, angles, radii):
-            reach = s.defender_max_speeds[i] * T
-            moving = centre + drift if enclosed else np.repeat(centre[None], N, axis=0)
-            for k in range(N):
-                goal = self.rule.allowed(around(P[i], moving[k], angle, radius, guard, reach))
-                step = goal - P[i]
-                length = float(np.hypot(*step))
-                places[k, i] = P[i] + step * min(1.0, (k + 1) * reach / length) if length > 0 else goal
+        movers, circles, angles, rings, enclosed = self.rule.aims(obs)
+        places = contain_places(
+            np.asarray(P, dtype=float),
+            movers,
+            circles,
+            angles,
+            rings,
+            enclosed,
+            drift,
+            s.defender_max_speeds,
+            s.obstacle_centres,
+            s.obstacle_radii,
+            s.packed,
+        )
         weight = np.ones(N)
         weight[-1] = TERMINAL_WEIGHT
         return Reference(places, obs.attacker + drift, weight)
