@@ -23,6 +23,7 @@ from importlib import resources
 
 import numpy as np
 
+from mpc_hunt.compiled import kernel
 from mpc_hunt.errors import DataFileError
 
 SIDES = ("attacker", "defender")
@@ -52,11 +53,23 @@ class Mlp:
         x = np.clip((np.asarray(view, dtype=float) - self.mean) * self.scale, -self.clip, self.clip)
         last = len(self.weights) - 1
         for k, (w, b) in enumerate(zip(self.weights, self.biases)):
-            y = b.copy()
-            for j in range(len(x)):  # one input at a time: the same bits on every CPU
-                y += w[:, j] * x[j]
-            x = y if k == last else np.maximum(y, 0.0)
+            x = layer(w, b, x, k != last)
         return np.clip(x, -1.0, 1.0)
+
+
+@kernel
+def layer(w: np.ndarray, b: np.ndarray, x: np.ndarray, relu: bool) -> np.ndarray:
+    """b + w x, summed one input at a time in their order (the same bits on every CPU), then ReLU if ``relu`` (as
+    NumPy's maximum: −0 and NaN kept)."""
+    y = b.copy()
+    for j in range(x.shape[0]):
+        for i in range(y.shape[0]):
+            y[i] += w[i, j] * x[j]
+    if relu:
+        for i in range(y.shape[0]):
+            if not (y[i] >= 0.0 or y[i] != y[i]):
+                y[i] = 0.0
+    return y
 
 
 @cache
