@@ -11,7 +11,8 @@ clock), its capture-stage steps are solved again alone, back to back, each from 
 in the hunt, and only the step Function's evaluations are timed (``evaluation_time``: the linearisation and the
 QP in CasADi's compiled code, no Python; what a batch solved in one call into compiled code would still run);
 their seconds, their count, the largest difference of a plan solved alone from the hunt's, and the seconds the
-same steps took in the hunts (their own records) are printed too.
+same steps took in the hunts (their own records) are printed too; and the same steps solved once more, those of
+one structure in one call into compiled code (:func:`in_one_call`), its seconds.
 """
 
 from __future__ import annotations
@@ -57,12 +58,14 @@ def run(mode: str, hunts: list, batch: int) -> list:
     return results
 
 
-def with_qps_alone(hunts: list) -> tuple[list, float, float, int, float]:
+def with_qps_alone(hunts: list) -> tuple[list, float, float, int, float, dict | None]:
     """The hunts one by one, each hunt's capture steps then solved again alone: (results, the hunts' seconds, the
-    steps' evaluations' seconds alone, how many, the largest difference between a plan solved alone and the hunt's)."""
+    steps' evaluations' seconds alone, how many, the largest difference between a plan solved alone and the hunt's,
+    the same steps in one call a structure (:func:`in_one_call`: its seconds and the largest difference of its plans
+    from those solved alone; None where a step is not one CasADi Function))."""
     from mpc_hunt.sim.simulator import simulate
 
-    results, hunting, alone, solves, differ = [], 0.0, 0.0, 0, 0.0
+    results, hunting, alone, solves, differ, together = [], 0.0, 0.0, 0, 0.0, {"seconds": 0.0, "difference": 0.0}
     for scenario, controller, rng in hunts:
         solver, posed = controller.mpc.solver, []
 
@@ -75,14 +78,47 @@ def with_qps_alone(hunts: list) -> tuple[list, float, float, int, float]:
         start = time.perf_counter()
         results.append(simulate(scenario, controller, rng=rng))
         hunting += time.perf_counter() - start
+        groups: dict = {}  # structure: (its step, the steps' inputs, their plans solved alone)
         for problem, plan, x in posed:
             step = solver.step_for(problem)
             step.load(problem, plan)
             step.step()
             alone += step.evaluation_time
             differ = max(differ, float(np.max(np.abs(step.plan.reshape(-1) - x))))
+            group = groups.setdefault(problem.structure, (step, [], [], []))
+            group[1].append(step.theta.copy()), group[2].append(step.reference.reshape(-1).copy())
+            group[3].append(step.plan.reshape(-1).copy())
         solves += len(posed)
-    return results, hunting, alone, solves, differ
+        for step, thetas, references, plans in groups.values():
+            one_call = in_one_call(step, np.array(thetas), np.array(references))
+            if one_call is None or together is None:
+                together = None
+                continue
+            together["seconds"] += one_call[0]
+            together["difference"] = max(together["difference"], float(np.max(np.abs(one_call[1] - plans))))
+    return results, hunting, alone, solves, differ, together
+
+
+def in_one_call(step, thetas: np.ndarray, references: np.ndarray) -> tuple[float, np.ndarray] | None:
+    """The steps of one structure (``step``'s; their inputs a row each) solved in one call into compiled code:
+    the step Function mapped over them (CasADi's ``map``, one after another in one call, no Python between
+    them), as an engine solving a batch's QPs in one call would. (its seconds, the plans a row each); None where
+    the step is not a CasADi Function."""
+    import casadi as ca
+
+    function = step.backend.loop_function(step.step_function)
+    if not isinstance(function, ca.Function) or step.formulation.iteration.max_qps != 1:  # one evaluation a step
+        return None
+    mapped = function.map(len(thetas), "serial")
+    buffer, evaluate = mapped.buffer()
+    thetas, references = np.ascontiguousarray(thetas), np.ascontiguousarray(references)  # column-major (size, n)
+    plans = np.empty_like(references)
+    buffer.set_arg(0, thetas.data)
+    buffer.set_arg(1, references.data)
+    buffer.set_res(0, plans.data)
+    start = time.perf_counter()
+    evaluate()
+    return time.perf_counter() - start, plans
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -101,9 +137,10 @@ def main(argv: list[str] | None = None) -> int:
     hunts = [hunt(args.seed, i, args.controller) for i in indices]  # caches, first calls, each hunt's capture step
     out = {}
     if args.qps:
-        results, seconds, alone, solves, differ = with_qps_alone(hunts)
+        results, seconds, alone, solves, differ, together = with_qps_alone(hunts)
         in_hunt = sum(float(np.sum(r.solve_times)) for r in results)
-        out = {"qp_seconds": alone, "qps": solves, "replay_difference": differ, "qp_seconds_in_hunts": in_hunt}
+        out = {"qp_seconds": alone, "qps": solves, "replay_difference": differ, "qp_seconds_in_hunts": in_hunt,
+               "one_call": together}
     else:
         start = time.perf_counter()
         results = run(args.mode, hunts, args.batch)
