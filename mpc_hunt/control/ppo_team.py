@@ -3,7 +3,7 @@
 Residual policy learning (Johannink et al., ICRA 2019; Silver et al., arXiv 1812.06298):
 each step the Voronoi baseline (:mod:`mpc_hunt.control.voronoi`) gives every defender a
 base velocity b_i; every ``decision_steps`` steps each active defender reads its own
-view of the hunt (:func:`team_view`: :func:`mpc_hunt.world.agent_view.defender_view`,
+view of the hunt (:func:`team_views`: :func:`mpc_hunt.world.agent_view.defender_views`,
 the attacker, its velocity and intent, its team-mates, the nearest obstacles, the
 arena's edges, and its base velocity) and the team's network (:mod:`mpc_hunt.world.mlp`,
 evaluated in NumPy) gives its correction a_i in [−1, 1]², held until the next decision;
@@ -24,28 +24,30 @@ from __future__ import annotations
 
 import numpy as np
 
+from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Command, Observation, attacker_velocity_estimate
 from mpc_hunt.control.voronoi import VoronoiController
-from mpc_hunt.world.agent_view import DEFENDER_VIEW, defender_view
-from mpc_hunt.world.arena import arena_rows, safe_velocity
-from mpc_hunt.world.geometry import saturate
+from mpc_hunt.world.agent_view import DEFENDER_VIEW, defender_views
+from mpc_hunt.world.arena import safe_of
+from mpc_hunt.world.geometry import capped
 from mpc_hunt.world.mlp import ShippedPolicy
-from mpc_hunt.world.safety import safety_rows
+from mpc_hunt.world.packed import HAS_ARENA, MIN_SEPARATION, SAFETY, X_MAX, X_MIN, Y_MAX, Y_MIN, T
+from mpc_hunt.world.safety import safety_arrays
 from mpc_hunt.world.scenario import Scenario
-from mpc_hunt.world.separation import keep_separation
+from mpc_hunt.world.separation import onto_rows, separation_rows
 
 RESIDUAL = 0.5  # the largest correction, per component, as a share of the top speed
 TEAM_VIEW = DEFENDER_VIEW + 2
 TEAM_POLICY = ShippedPolicy(__package__, "ppo_team.npz", "defender", TEAM_VIEW)  # the team's network
 
 
-def team_view(
-    scenario: Scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray, base: np.ndarray
+def team_views(
+    scenario: Scenario, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray, base: np.ndarray
 ) -> np.ndarray:
-    """Defender ``i``'s view: :func:`~mpc_hunt.world.agent_view.defender_view` and its base velocity, over the
-    top speed."""
+    """Every defender's view, a row each: :func:`~mpc_hunt.world.agent_view.defender_views` and its base velocity,
+    over the top speed."""
     top = float(scenario.defender_max_speeds.max())
-    return np.concatenate([defender_view(scenario, i, p_a, v_a, p_d, v_d), base[i] / top])
+    return np.hstack([defender_views(scenario, p_a, v_a, p_d, v_d), np.asarray(base, dtype=float) / top])
 
 
 def corrected(
@@ -59,18 +61,49 @@ def corrected(
 def shielded(scenario: Scenario, p_d: np.ndarray, wished: np.ndarray, active: np.ndarray) -> np.ndarray:
     """The team's ``wished`` velocities capped at each robot's speed, kept out of obstacles' R_safe and in the
     arena, then separated (the module's docstring), the separation filter keeping R_safe and the arena too (a
-    projection onto a separation row alone could push a robot into an obstacle); a stopped robot's row is 0."""
-    s, hunt = scenario, scenario.hunt
-    speeds, T = s.defender_max_speeds, hunt.time_step
+    projection onto a separation row alone could push a robot into an obstacle); a stopped robot's row is 0
+    (:func:`shield`)."""
+    s, p_d = scenario, np.asarray(p_d, dtype=float)
     v = np.zeros_like(p_d)
-    for i in np.flatnonzero(active):
-        v[i] = safe_velocity(s, p_d[i], saturate(wished[i], speeds[i]))
+    shield(p_d, np.asarray(wished, dtype=float), np.asarray(active, dtype=bool), s.defender_max_speeds,
+           s.obstacle_centres, s.obstacle_radii, s.packed, v)  # fmt: skip
+    return v
 
-    def clear(i: int) -> list:
-        rows = safety_rows(p_d[i], s.obstacle_centres, s.obstacle_radii, hunt.safety_distance, T)
-        return [(a, min(b, 0.0)) for a, b in rows] + arena_rows(p_d[i], s.arena, T)
 
-    return keep_separation(p_d, v, active, p_d, T, speeds, hunt.min_separation, also=clear)
+@kernel
+def shield(p_d, wished, active, speeds, centres, radii, prm, v) -> None:
+    """:func:`shielded` into ``v`` (zeros on entry): each active robot's wish capped (:func:`capped`) and kept safe
+    (:func:`safe_of`), then projected (:func:`onto_rows`) onto its separation rows (every stopped robot held where
+    it stands), its obstacles' rows and the arena's (each relaxed to b ≤ 0: never worse than now), in that order."""
+    T_ = prm[T]
+    for i in range(p_d.shape[0]):
+        if active[i]:
+            vx, vy = capped(wished[i, 0], wished[i, 1], speeds[i])
+            v[i, 0], v[i, 1] = safe_of(p_d[i], vx, vy, centres, radii, prm)
+    for i in range(p_d.shape[0]):
+        if not active[i]:
+            continue
+        A_sep, b_sep = separation_rows(i, p_d, active, p_d, T_, prm[MIN_SEPARATION])
+        A_safe, b_safe = safety_arrays(p_d[i], centres, radii, prm[SAFETY], T_)
+        edges = 4 if prm[HAS_ARENA] else 0
+        r = b_sep.shape[0]
+        A, b = np.empty((r + b_safe.shape[0] + edges, 2)), np.empty(r + b_safe.shape[0] + edges)
+        A[:r], b[:r] = A_sep, b_sep
+        A[r : r + b_safe.shape[0]], b[r : r + b_safe.shape[0]] = A_safe, b_safe  # each b ≤ 0 (safety_arrays)
+        r += b_safe.shape[0]
+        if edges:
+            x, y = p_d[i, 0], p_d[i, 1]
+            for k, (ax, ay, gap) in enumerate(
+                (
+                    (T_, 0.0, prm[X_MIN] - x),
+                    (-T_, 0.0, x - prm[X_MAX]),
+                    (0.0, T_, prm[Y_MIN] - y),
+                    (0.0, -T_, y - prm[Y_MAX]),
+                )
+            ):
+                A[r + k, 0], A[r + k, 1] = ax, ay
+                b[r + k] = gap if gap < 0.0 else 0.0  # as min(0.0, gap)
+        v[i, 0], v[i, 1] = onto_rows(v[i, 0], v[i, 1], A, b, speeds[i], 0.0)
 
 
 class PpoTeam:
@@ -101,9 +134,8 @@ class PpoTeam:
         if self.held == 0 or self.corrections is None:  # (None only before the first decision, held 0 then)
             v_a = attacker_velocity_estimate(obs, T)
             v_d = np.zeros_like(P) if self.last is None else (P - self.last) / T
-            self.corrections = np.array(
-                [self.network.action(team_view(s, i, p_a, v_a, P, v_d, base.velocities)) for i in range(len(P))]
-            )
+            views = team_views(s, p_a, v_a, P, v_d, base.velocities)
+            self.corrections = np.array([self.network.action(view) for view in views])
             self.held = self.network.decision_steps
         self.held -= 1
         self.last = P.copy()

@@ -15,7 +15,7 @@
   AttackerEnv of its own, built once.
 - :class:`TeamHunts`: ``hunts`` hunts of :class:`~mpc_hunt.envs.DefenderEnv`, each defender an
   agent sharing one policy, as :mod:`mpc_hunt.control.ppo_team` plays it: the agent reads
-  :func:`~mpc_hunt.control.ppo_team.team_view` and its action is a correction of the Voronoi
+  :func:`~mpc_hunt.control.ppo_team.team_views` and its action is a correction of the Voronoi
   baseline's velocity, held for ``decision_steps`` steps while the baseline is recomputed at
   each (:func:`~mpc_hunt.control.ppo_team.corrected`, the shield included); each reset draws
   the attacker's behaviour from ``attackers``. A finished
@@ -39,7 +39,7 @@ import numpy as np
 from gymnasium import spaces
 
 from mpc_hunt.arguments import out_of_range
-from mpc_hunt.control.ppo_team import corrected, team_view
+from mpc_hunt.control.ppo_team import corrected, team_views
 from mpc_hunt.control.recommended import RECOMMENDED_CONTROLLER
 from mpc_hunt.control.voronoi import VoronoiController
 from mpc_hunt.envs.actions import checked_action
@@ -224,15 +224,10 @@ class TeamHunts:
         return base
 
     def views(self, k: int) -> np.ndarray:
-        """Hunt ``k``'s views, one row per defender (:func:`~mpc_hunt.control.ppo_team.team_view`)."""
+        """Hunt ``k``'s views, one row per defender (:func:`~mpc_hunt.control.ppo_team.team_views`)."""
         e, base = self._playing(k).current, self._base(k)
         self.next_base[k] = base  # the state's first step uses it again
-        return np.array(
-            [
-                team_view(e.scenario, i, e.attacker, e.attacker_velocity, e.defenders, e.defender_velocities, base)
-                for i in range(self.defenders)
-            ]
-        )
+        return team_views(e.scenario, e.attacker, e.attacker_velocity, e.defenders, e.defender_velocities, base)
 
     def reset(self) -> np.ndarray:
         """Every hunt started anew: the views, one row per agent (hunt by hunt)."""

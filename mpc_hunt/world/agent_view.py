@@ -14,7 +14,7 @@ whether it holds one (an empty slot is zeros):
   attacker behaviour senses), their position relative to it and their velocity;
   for up to :data:`OBSTACLE_SLOTS` obstacles, the centre relative to it, the distance
   to the surface and the radius.
-- :func:`defender_view` (:data:`DEFENDER_VIEW` numbers), for defender i: the attacker
+- :func:`defender_views` (:data:`DEFENDER_VIEW` numbers a row), for each defender i: the attacker
   relative to it, the attacker's velocity, intent and speed; its own velocity; the
   attacker's margins to the edges and its own; the team's size; for up to
   :data:`MATE_SLOTS` team-mates (nearest it first), each relative to it and to the
@@ -29,7 +29,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from mpc_hunt.world.geometry import norm, unit
+from mpc_hunt.compiled import kernel
+from mpc_hunt.world.geometry import length, norm, unit
+from mpc_hunt.world.packed import HAS_ARENA, X_MAX, X_MIN, Y_MAX, Y_MIN
 
 LENGTH = 5.0  # m: the unit of a view's lengths
 REACH = 4.0  # a view's lengths are clipped to ±REACH · LENGTH (20 m, the sweep's arena)
@@ -86,31 +88,64 @@ def attacker_view(scenario, p_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray, r
     )
 
 
-def defender_view(scenario, i: int, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray) -> np.ndarray:
-    """Defender ``i``'s view (the module's docstring); ``v_a`` and ``v_d`` the velocities over the last step."""
+def defender_views(scenario, p_a: np.ndarray, v_a: np.ndarray, p_d: np.ndarray, v_d: np.ndarray) -> np.ndarray:
+    """Every defender's view (the module's docstring), a row each; ``v_a`` and ``v_d`` the velocities over the last
+    step (:func:`views_of`)."""
     a, top = scenario.attacker, float(scenario.defender_max_speeds.max())
-    me = p_d[i]
-    others = [j for j in range(len(p_d)) if j != i]
-    others.sort(key=lambda j: float(norm(p_d[j] - me)))
-    mates = [np.concatenate([_length(p_d[j] - me), _length(p_d[j] - p_a)]) for j in others]
-    centres, radii = scenario.obstacle_centres, scenario.obstacle_radii
-    surface = norm(centres - p_a) - radii if len(radii) else np.empty(0)
-    obstacles = [
-        np.concatenate([_length(centres[j] - p_a), _length(centres[j] - me), _length([radii[j]])])
-        for j in np.argsort(surface, kind="stable")
-    ]
+    p_d = np.asarray(p_d, dtype=float).reshape(-1, 2)
     intent = unit(np.asarray(a.nominal_velocity, dtype=float))
-    return np.concatenate(
-        [
-            _length(p_a - me),
-            np.asarray(v_a, dtype=float) / top,
-            intent,
-            [a.max_speed / top],
-            v_d[i] / top,
-            margins(scenario.arena, p_a),
-            margins(scenario.arena, me),
-            [len(p_d) / DEFENDER_SLOTS],
-            _slots(mates, MATE_SLOTS, 4),
-            _slots(obstacles, OBSTACLE_SLOTS, 5),
-        ]
-    )
+    return views_of(np.asarray(p_a, dtype=float), np.asarray(v_a, dtype=float), p_d,
+                    np.asarray(v_d, dtype=float).reshape(-1, 2), scenario.obstacle_centres, scenario.obstacle_radii,
+                    intent, a.max_speed / top, top, scenario.packed)  # fmt: skip
+
+
+@kernel
+def clipped(x: float) -> float:
+    """A length in view units, clipped to ±REACH (NumPy's clip: NaN kept)."""
+    x = x / LENGTH
+    return x if x != x else min(max(x, -REACH), REACH)
+
+
+@kernel
+def views_of(p_a, v_a, p_d, v_d, centres, radii, intent, speed, top, prm) -> np.ndarray:
+    """The defenders' views (the module's docstring), a row each: ``intent`` the attacker's unit intent, ``speed``
+    its top speed over the defenders', ``top``; the arena's edges from ``prm``."""
+    n, m = p_d.shape[0], radii.shape[0]
+    out = np.zeros((n, DEFENDER_VIEW))
+    surface = np.empty(m)
+    for j in range(m):
+        surface[j] = length(centres[j, 0] - p_a[0], centres[j, 1] - p_a[1]) - radii[j]
+    nearest_attacker = np.argsort(surface, kind="mergesort")
+    for i in range(n):
+        row = out[i]
+        mx, my = p_d[i, 0], p_d[i, 1]
+        row[0], row[1] = clipped(p_a[0] - mx), clipped(p_a[1] - my)
+        row[2], row[3] = v_a[0] / top, v_a[1] / top
+        row[4], row[5], row[6] = intent[0], intent[1], speed
+        row[7], row[8] = v_d[i, 0] / top, v_d[i, 1] / top
+        for k, (px, py) in enumerate(((p_a[0], p_a[1]), (mx, my))):
+            if prm[HAS_ARENA]:
+                row[9 + 4 * k], row[10 + 4 * k] = clipped(px - prm[X_MIN]), clipped(prm[X_MAX] - px)
+                row[11 + 4 * k], row[12 + 4 * k] = clipped(py - prm[Y_MIN]), clipped(prm[Y_MAX] - py)
+            else:
+                row[9 + 4 * k : 13 + 4 * k] = REACH
+        row[17] = n / DEFENDER_SLOTS
+        others = np.empty(n - 1, dtype=np.int64)
+        away = np.empty(n - 1)
+        c = 0
+        for j in range(n):
+            if j != i:
+                others[c], away[c] = j, length(p_d[j, 0] - mx, p_d[j, 1] - my)
+                c += 1
+        order = others[np.argsort(away, kind="mergesort")]  # nearest first, ties in index order
+        for k in range(min(MATE_SLOTS, n - 1)):
+            j, at = order[k], 18 + 5 * k
+            row[at], row[at + 1] = clipped(p_d[j, 0] - mx), clipped(p_d[j, 1] - my)
+            row[at + 2], row[at + 3] = clipped(p_d[j, 0] - p_a[0]), clipped(p_d[j, 1] - p_a[1])
+            row[at + 4] = 1.0
+        for k in range(min(OBSTACLE_SLOTS, m)):
+            j, at = nearest_attacker[k], 18 + 5 * MATE_SLOTS + 6 * k
+            row[at], row[at + 1] = clipped(centres[j, 0] - p_a[0]), clipped(centres[j, 1] - p_a[1])
+            row[at + 2], row[at + 3] = clipped(centres[j, 0] - mx), clipped(centres[j, 1] - my)
+            row[at + 4], row[at + 5] = clipped(radii[j]), 1.0
+    return out

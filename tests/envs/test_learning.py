@@ -111,7 +111,7 @@ def test_the_attacker_view_is_the_same_length_for_any_team_and_obstacles():
 
 
 def test_a_view_puts_the_nearest_robot_and_obstacle_first_and_flags_empty_slots():
-    from mpc_hunt.world.agent_view import LENGTH, defender_view
+    from mpc_hunt.world.agent_view import LENGTH, defender_views
     s = small_scenario(obstacles=((30.0, 0.0, 1.0), (0.0, 4.0, 0.5)))
     p_a = np.zeros(2)
     p_d = np.array([[3.0, 0.0], [0.0, -1.0], [-2.0, 0.0]])
@@ -122,9 +122,20 @@ def test_a_view_puts_the_nearest_robot_and_obstacle_first_and_flags_empty_slots(
     assert slots[:3, 4].tolist() == [1, 1, 1] and not slots[3:].any()
     obstacles = view[32:].reshape(3, 5)
     assert np.allclose(obstacles[0, :2] * LENGTH, [0.0, 4.0]) and obstacles[2].tolist() == [0] * 5
-    mine = defender_view(s, 2, p_a, np.zeros(2), p_d, np.zeros_like(p_d))
+    mine = defender_views(s, p_a, np.zeros(2), p_d, np.zeros_like(p_d))[2]
     mates = mine[18:38].reshape(4, 5)
     assert np.allclose(mates[:2, :2] * LENGTH, [[2.0, -1.0], [5.0, 0.0]]) and not mates[2:].any()
+
+
+def test_a_defenders_view_gives_the_attackers_margins_then_its_own():
+    from mpc_hunt.world.agent_view import LENGTH, defender_views
+    import dataclasses
+    s = dataclasses.replace(small_scenario(), arena=(-2.0, -3.0, 12.0, 11.0))
+    x_min, y_min, x_max, y_max = s.arena
+    p_a, p_d = np.array([x_min + 1.0, y_min + 2.0]), np.array([[x_max - 0.5, y_max - 1.5], [0.0, 0.0], [1.0, 1.0]])
+    view = defender_views(s, p_a, np.zeros(2), p_d, np.zeros_like(p_d))[0]
+    np.testing.assert_allclose(view[9:13] * LENGTH, [1.0, x_max - x_min - 1.0, 2.0, y_max - y_min - 2.0])
+    np.testing.assert_allclose(view[13:17] * LENGTH, [x_max - x_min - 0.5, 0.5, y_max - y_min - 1.5, 1.5])
 
 
 def test_the_team_is_shielded_from_obstacles_and_a_stopped_robot_stays():
