@@ -35,7 +35,7 @@ import numpy as np
 from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Command, Observation, estimated_velocity, previous_of
 from mpc_hunt.control.scenario_rule import ScenarioRule
-from mpc_hunt.world.arena import clear_of, kept_clear, safe_of
+from mpc_hunt.world.arena import clear_of, safe_of
 from mpc_hunt.world.geometry import capped, encloses, length
 from mpc_hunt.world.hunting_circle import member_arrays
 from mpc_hunt.world.packed import HAS_ARENA, HUNT_RADIUS, MIN_SEPARATION, R_AGG, X_MAX, X_MIN, Y_MAX, Y_MIN, T
@@ -91,13 +91,6 @@ def routed(p_d: np.ndarray, cx: float, cy: float, angle: float, radius: float, r
     if abs(turn) > limit:
         angle = bearing + math.copysign(limit, turn)
     return cx + radius * math.cos(angle), cy + radius * math.sin(angle)
-
-
-def route(p_d: np.ndarray, centre: np.ndarray, angle: float, radius: float, reach: float) -> np.ndarray:
-    """The place at ``angle`` on the circle (``centre``, ``radius``), or, if the straight way crosses the
-    circle, the tangent point on the near side (at least one step, ``reach``, along it): :func:`routed`."""
-    cx, cy = np.asarray(centre, dtype=float)
-    return np.array(routed(np.asarray(p_d, dtype=float), cx, cy, float(angle), float(radius), float(reach)))
 
 
 @kernel
@@ -258,7 +251,3 @@ class VoronoiController:
     def batched(controllers: Sequence[VoronoiController | None]) -> ScenarioRule:
         """The rule of ``controllers`` (None: a hunt commanded otherwise) for a batch, hunt b by its own."""
         return ScenarioRule(controllers, voronoi_batch)
-
-    def allowed(self, target: np.ndarray) -> np.ndarray:
-        """``target`` moved into the arena, R_safe from its edges, and out of every obstacle's R_safe."""
-        return kept_clear(self.scenario, target)

@@ -18,7 +18,7 @@ from mpc_hunt.world.geometry import length
 from mpc_hunt.world.packed import HAS_ARENA, SAFETY, X_MAX, X_MIN, Y_MAX, Y_MIN, T
 
 if TYPE_CHECKING:
-    from mpc_hunt.world.scenario import Scenario
+    pass
 
 Arena = tuple[float, float, float, float]
 
@@ -77,38 +77,3 @@ def safe_of(p_d: np.ndarray, vx: float, vy: float, centres: np.ndarray, radii: n
         vx = (min(max(p_d[0] + T_ * vx, prm[X_MIN]), prm[X_MAX]) - p_d[0]) / T_
         vy = (min(max(p_d[1] + T_ * vy, prm[Y_MIN]), prm[Y_MAX]) - p_d[1]) / T_
     return vx, vy
-
-
-def kept_clear(scenario: Scenario, targets: np.ndarray) -> np.ndarray:
-    """``targets`` (…, 2) moved into the arena, R_safe from its edges, and out of every obstacle's R_safe
-    (Eq. 15), the obstacles in turn (:func:`clear_of`)."""
-    s = scenario
-    targets = np.array(targets, dtype=float)
-    for index in np.ndindex(targets.shape[:-1]):
-        x, y = targets[index]
-        targets[index] = clear_of(float(x), float(y), s.obstacle_centres, s.obstacle_radii, s.packed)
-    return targets
-
-
-def safe_velocity(scenario: Scenario, p_d: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """A defender's velocity ``v`` at ``p_d`` without its part into an obstacle's R_safe (Eq. 15) or out of the
-    arena, where a step would go there (:func:`safe_of`)."""
-    s, p_d = scenario, np.asarray(p_d, dtype=float)
-    return np.array(safe_of(p_d, float(v[0]), float(v[1]), s.obstacle_centres, s.obstacle_radii, s.packed))
-
-
-def arena_rows(
-    p_d: np.ndarray, arena: tuple[float, float, float, float] | None, time_step: float
-) -> list[tuple[np.ndarray, float]]:
-    """Half-planes a · v ≥ b that keep a defender at ``p_d``'s step in the arena, or no farther out than it is
-    (b ≤ 0: holding position keeps them); none without an arena."""
-    if arena is None:
-        return []
-    x_min, y_min, x_max, y_max = arena
-    x, y = float(p_d[0]), float(p_d[1])
-    return [
-        (np.array([time_step, 0.0]), min(0.0, x_min - x)),
-        (np.array([-time_step, 0.0]), min(0.0, x - x_max)),
-        (np.array([0.0, time_step]), min(0.0, y_min - y)),
-        (np.array([0.0, -time_step]), min(0.0, y - y_max)),
-    ]

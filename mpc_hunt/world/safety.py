@@ -59,14 +59,6 @@ def kept_safe(p, vx, vy, centres, radii, safety_distance, time_step, speed):
     return onto_rows(vx, vy, A, b, speed, AIM)
 
 
-def safety_rows(
-    p: np.ndarray, centres: np.ndarray, radii: np.ndarray, safety_distance: float, time_step: float
-) -> list[tuple[np.ndarray, float]]:
-    """The module's half-planes a · v ≥ b for a defender at ``p``, one per obstacle."""
-    A, b = safety_arrays(np.asarray(p, dtype=float), centres, radii, float(safety_distance), float(time_step))
-    return [(A[j], float(b[j])) for j in range(len(b))]
-
-
 def keep_safety_distance(
     p: np.ndarray,
     v: np.ndarray,

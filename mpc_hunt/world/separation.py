@@ -23,7 +23,6 @@ caps the speed, then scales v towards 0 until none is broken.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 
 import numpy as np
 
@@ -90,7 +89,7 @@ def onto_rows(vx: float, vy: float, A: np.ndarray, b: np.ndarray, speed: float, 
 
 @kernel
 def separated(positions, velocities, unplanned, planned_next, time_step, speeds, min_separation) -> None:
-    """:func:`keep_separation` with no further rows, in place."""
+    """:func:`keep_separation` in place."""
     for i in range(positions.shape[0]):
         if unplanned[i]:
             A, b = separation_rows(i, positions, unplanned, planned_next, time_step, min_separation)
@@ -105,27 +104,14 @@ def keep_separation(
     time_step: float,
     speeds: np.ndarray,
     min_separation: float,
-    also: Callable[[int], list] | None = None,
 ) -> np.ndarray:
     """``velocities`` with the unplanned defenders' rows filtered (see the module's docstring).
 
     ``planned_next`` holds the next positions of the defenders not in
-    ``unplanned`` (rows of unplanned defenders are ignored). ``also(i)``, if given, are more half-planes
-    (a, b) that defender ``i`` keeps in the same filter, each with b ≤ 0 (holding position keeps it): the
-    obstacles' safety distance, say (:func:`mpc_hunt.world.safety.safety_rows`), which a projection onto a
-    separation row could otherwise break.
+    ``unplanned`` (rows of unplanned defenders are ignored).
     """
     out = np.array(velocities, dtype=float)
     positions, planned_next = np.asarray(positions, dtype=float), np.asarray(planned_next, dtype=float)
     unplanned, speeds = np.asarray(unplanned, dtype=bool), np.asarray(speeds, dtype=float)
-    if also is None:
-        separated(positions, out, unplanned, planned_next, float(time_step), speeds, float(min_separation))
-        return out
-    for i in np.flatnonzero(unplanned):
-        A, b = separation_rows(int(i), positions, unplanned, planned_next, float(time_step), float(min_separation))
-        more = also(int(i))
-        if more:
-            A = np.vstack([A, [a for a, _ in more]])
-            b = np.concatenate([b, [c for _, c in more]])
-        out[i] = onto_rows(float(out[i, 0]), float(out[i, 1]), A, b, float(speeds[i]), 0.0)
+    separated(positions, out, unplanned, planned_next, float(time_step), speeds, float(min_separation))
     return out
