@@ -41,6 +41,7 @@ from mpc_hunt.control.observed import ObservedVelocity
 from mpc_hunt.control.reference import Places
 from mpc_hunt.control.voronoi import VoronoiController, routed
 from mpc_hunt.world.arena import clear_of
+from mpc_hunt.world.geometry import run_towards
 from mpc_hunt.world.packed import T
 from mpc_hunt.world.scenario import Scenario
 
@@ -86,13 +87,7 @@ def contain_places(P, movers, circles, angles, rings, enclosed, drift, speeds, c
                 cx, cy = cx + drift[k, 0], cy + drift[k, 1]
             gx, gy = around(P[i], cx, cy, angles[r], rings[r], guard, reach)
             gx, gy = clear_of(gx, gy, centres, radii, prm)
-            sx, sy = gx - P[i, 0], gy - P[i, 1]
-            way = np.hypot(sx, sy)
-            if way > 0:
-                scale = min(1.0, (k + 1) * reach / way)
-                places[k, i, 0], places[k, i, 1] = P[i, 0] + sx * scale, P[i, 1] + sy * scale
-            else:
-                places[k, i, 0], places[k, i, 1] = gx, gy
+            places[k, i, 0], places[k, i, 1] = run_towards(P[i, 0], P[i, 1], gx, gy, (k + 1) * reach)
     return places
 
 

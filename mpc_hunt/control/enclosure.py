@@ -46,7 +46,7 @@ from mpc_hunt.compiled import kernel
 from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.reference import Places
 from mpc_hunt.world.attacker import velocity_of
-from mpc_hunt.world.geometry import direction, norm, unit
+from mpc_hunt.world.geometry import direction, norm, run_towards, unit
 from mpc_hunt.world.packed import T
 from mpc_hunt.world.scenario import Scenario
 
@@ -101,14 +101,7 @@ def route(p: np.ndarray, predicted: np.ndarray, angle: float, radius: float, rea
         radius = max(radius, min(distance, radius + 1.0))
     cx, cy = radius * np.cos(angle), radius * np.sin(angle)
     for k in range(N):
-        gx, gy = predicted[k, 0] + cx, predicted[k, 1] + cy
-        sx, sy = gx - p[0], gy - p[1]
-        length = np.hypot(sx, sy)
-        if length > 0:
-            scale = min(1.0, (k + 1) * reach / length)
-            out[k, 0], out[k, 1] = p[0] + sx * scale, p[1] + sy * scale
-        else:
-            out[k, 0], out[k, 1] = gx, gy
+        out[k, 0], out[k, 1] = run_towards(p[0], p[1], predicted[k, 0] + cx, predicted[k, 1] + cy, (k + 1) * reach)
     return out
 
 

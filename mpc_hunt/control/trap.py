@@ -92,7 +92,7 @@ from mpc_hunt.control.controller import Observation
 from mpc_hunt.control.enclosure import TERMINAL_WEIGHT, wrap
 from mpc_hunt.control.voronoi import ring_bearings, routed
 from mpc_hunt.world.arena import clear_of
-from mpc_hunt.world.geometry import encloses, length
+from mpc_hunt.world.geometry import encloses, length, run_towards
 from mpc_hunt.world.hunting_circle import MIN_MEMBERS, member_arrays
 from mpc_hunt.world.packed import (
     CENTRE_TOLERANCE,
@@ -130,15 +130,6 @@ PRESS_FROM = 0.8  # of R_hunt: a stationary member farther than this from the at
 PRESS_CLEARANCE = 0.05  # m: how far beyond the capture problem's least attacker distance the ring presses
 PHASES = ("shrink", "herd", "close")  # the phases by their codes in the compiled reference
 SHRINK, HERD, CLOSE = range(3)
-
-
-@kernel
-def run_towards(qx: float, qy: float, tx: float, ty: float, reach: float) -> tuple[float, float]:
-    """(qx, qy) moved straight towards (tx, ty) by at most ``reach``."""
-    wx, wy = tx - qx, ty - qy
-    way = math.hypot(wx, wy)
-    scale = min(1.0, reach / way) if way > 0 else 0.0
-    return qx + wx * scale, qy + wy * scale
 
 
 @kernel

@@ -88,3 +88,12 @@ def encloses(point: np.ndarray, anchors: np.ndarray) -> bool:
     for i in range(k - 1):
         widest = max(widest, angles[i + 1] - angles[i])
     return widest < math.pi
+
+
+@kernel
+def run_towards(qx: float, qy: float, tx: float, ty: float, reach: float) -> tuple[float, float]:
+    """(qx, qy) moved straight towards (tx, ty) by at most ``reach``."""
+    wx, wy = tx - qx, ty - qy
+    way = math.hypot(wx, wy)
+    scale = min(1.0, reach / way) if way > 0 else 0.0
+    return qx + wx * scale, qy + wy * scale
