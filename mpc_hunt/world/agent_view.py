@@ -43,7 +43,9 @@ DEFENDER_VIEW = 2 + 2 + 3 + 2 + 4 + 4 + 1 + 5 * MATE_SLOTS + 6 * OBSTACLE_SLOTS
 
 
 def _length(v) -> np.ndarray:
-    return np.clip(np.asarray(v, dtype=float) / LENGTH, -REACH, REACH)
+    """Lengths ``v`` in view units, each :func:`clipped`."""
+    v = np.asarray(v, dtype=float)
+    return np.array([clipped(x) for x in v.ravel().tolist()]).reshape(v.shape)
 
 
 def margins(arena, p: np.ndarray) -> np.ndarray:
