@@ -57,7 +57,7 @@ from studies.sweep_study import (add_study_options, keep_previous, keys, measure
 EXACT = "exact"
 OUT = Path(__file__).resolve().parent / "attackers"
 COMMAND = "python studies/attackers.py"
-HUNTS, SEED = 60, 1       # 60 hunts a cell (43 comfortable on seed 1): 95 % intervals of about ±13 points, not ±25
+HUNTS, SEED = 300, 1      # 300 hunts a cell (199 comfortable on seed 1): 95 % intervals of about ±7 points, not ±13
 BELIEF_HUNTS = 15         # FIRST and the belief errors: on the first this many hunts
 DRAWS_PER_HUNT = 20       # the draws searched for reachable ones: at most this many per hunt asked for
 FOCUS = ControllerSpec().label       # the recommended controller, measured against the Voronoi baseline

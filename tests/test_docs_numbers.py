@@ -10,6 +10,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SUMMARY = json.loads((ROOT / "studies" / "attackers" / "summary.json").read_text())
 EXACT = [row for row in SUMMARY["strategies"] if row["belief"] == "exact"]
+WORDS = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight")     # counts as the docs write them
 
 
 def _section(text: str, heading: str) -> str:
@@ -45,14 +46,26 @@ def test_the_baselines_and_the_defaults_shares_quoted_are_the_attackers_studys()
                                                              / "recommended.py").read_text()
 
 
+def _captured_before(strategy: str, attacker: str) -> tuple[int, int]:
+    """:func:`_captured` on the study's last run (its rows kept in ``sweep.previous.json``)."""
+    kept = json.loads((ROOT / "studies" / "attackers" / "sweep.previous.json").read_text())
+    rows = [dict(zip(kept["fields"], row)) for row in kept["rows"]]
+    mine = [r for r in rows if r["strategy"].split(":")[0] == strategy and r["attacker"] == attacker
+            and r["belief"] == "exact" and r["comfortable"]]
+    return sum(r["outcome"] == "captured" for r in mine), len(mine)
+
+
 def test_the_adversarial_loops_table_after_retraining_is_the_attackers_studys_summary():
+    """After retraining: on the last run's 60 hunts a cell (its kept rows) and on the study's own."""
     loop = _section((ROOT / "docs" / "envs.md").read_text(), "### The adversarial loop, once")
-    rows = dict(re.findall(r"^\| (.+?) \| \d+ / \d+ \| (\d+ / \d+) \|$", loop, flags=re.M))
+    rows = {label: (before, now) for label, before, now in
+            re.findall(r"^\| (.+?) \| \d+ / \d+ \| (\d+ / \d+) \| (\d+ / \d+) \|$", loop, flags=re.M)}
     names = {"`trap`": "trap", "`voronoi`": "voronoi", "`ppo` team": "ppo", "`apf`": "apf",
              "paper's strategy": "paper", "`contain`": "contain", "`enclose`": "enclose"}
     assert set(rows) == set(names)
     for label, strategy in names.items():
-        assert rows[label] == "{} / {}".format(*_captured(strategy, "ppo")), label
+        assert rows[label] == ("{} / {}".format(*_captured_before(strategy, "ppo")),
+                               "{} / {}".format(*_captured(strategy, "ppo"))), label
 
 
 def test_the_shares_times_and_two_robot_hunts_e16_quotes_are_the_attackers_studys_readme():
@@ -82,21 +95,29 @@ def test_the_paired_differences_e16_quotes_are_the_attackers_studys_league():
                                          for line in section.splitlines() if line.startswith("| "))}
     for attacker in ("apf", "noisy", "ppo", "flee", "gap"):
         difference, lo, hi, verdict = re.fullmatch(r"(\S+) \((\S+) to (\S+)\), \d+: (.+)", league[attacker]).groups()
-        told = "" if verdict == "ahead" else ", not told apart"
-        assert f"({difference} points, {lo} to {hi}{told})" in e16 or (   # flee and gap: "neither told apart"
-            attacker in ("flee", "gap") and f"({difference} points, {lo} to {hi})" in e16), attacker
+        quoted = f"({difference} points, {lo} to {hi}"
+        if verdict == "not told apart":      # gap's is said after it: "neither told apart"
+            assert f"{quoted}, not told apart)" in e16 or (attacker == "gap" and f"{quoted}), neither told apart"
+                                                            in e16), attacker
+        else:
+            assert f"{quoted})" in e16 and f"{verdict} against" in e16, attacker
+        if verdict == "behind":
+            assert f"It is behind against `{attacker}` {quoted})" in e16, attacker
 
 
 def test_the_capture_time_differences_e16_quotes_are_the_attackers_studys():
-    """E16's paired capture-time differences (``trap`` quicker against `apf` and `noisy`, not told apart against the
-    six others) are the study's verdicts table's."""
+    """E16's paired capture-time differences (``trap`` quicker against some attackers, not told apart against the
+    others) are the study's verdicts table's."""
     e16 = " ".join(_section((ROOT / "docs" / "model.md").read_text(), "### E16").split()).replace("−", "-")
     study = (ROOT / "studies" / "attackers" / "README.md").read_text()
     rows = {cells[0]: cells[6] for cells in ([c.strip() for c in line.strip().strip("|").split("|")]
                                              for line in study.splitlines() if " s / " in line)
             if len(cells) == 8}                                 # the verdicts' rows: "154.3 s / 176.6 s (34 hunts)"
     quicker = [a for a, cell in rows.items() if cell.endswith(": quicker")]
-    assert quicker == ["apf", "noisy"] and "against the other six attackers the two are not told apart" in e16
+    apart = [a for a, cell in rows.items() if cell.endswith(": not told apart")]
+    assert sorted(quicker + apart) == sorted(SUMMARY["arguments"]["attackers"])      # no attacker it is slower against
+    assert f"it is quicker against {WORDS[len(quicker)]} attackers" in e16
+    assert f"against {' and '.join(f'`{a}`' for a in apart)} the two are not told apart" in e16
     for attacker in quicker:
         median, lo, hi = re.fullmatch(r"(\S+) s \((\S+) to (\S+)\), \d+: quicker", rows[attacker]).groups()
         assert f"`{attacker}` ({median} s, {lo} to {hi})" in e16

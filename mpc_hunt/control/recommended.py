@@ -7,7 +7,7 @@ controllers, the one that captures the largest share of the comfortable hunts
 averaged over every attacker behaviour in the committed attackers study, or, where
 the paired 95 % interval of their captures cannot tell it from that one, the quicker
 (studies/attackers/; its ``--check`` fails otherwise; the Voronoi baseline, which
-solves nothing, captures about as much: 68.6 % to its 71.5 %), every solve well inside the 0.1 s time step: the trap
+solves nothing, captures a little less: 61.2 % to its 64.8 %), every solve well inside the 0.1 s time step: the trap
 controller (docs/model.md, E16), which reads nothing of the attacker's law, with
 its capture problem on rti and HPIPM over ten steps. Chosen over every attacker,
 not over the paper's alone: against the paper's attacker the enclose controller,
