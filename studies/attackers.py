@@ -51,8 +51,8 @@ from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.previous_rows import WHY, again, against_last_run, read
 from studies.study_check import check_result, read_json_file, run_study
-from studies.sweep_study import (add_study_options, keep_previous, keys, measured_run, missing, quickest_captures,
-                                 run_file, still_captured, stop_status)
+from studies.sweep_study import (add_study_options, costs, keep_previous, keys, measured_run, missing,
+                                 quickest_captures, run_file, still_captured, stop_status)
 
 EXACT = "exact"
 OUT = Path(__file__).resolve().parent / "attackers"
@@ -342,24 +342,6 @@ def lost_figure(rows: list[dict], folder: Path) -> list[Path]:
         return []
     plot_capture_regions(cases, folder / "typical_lost.png")
     return [folder / "typical_lost.png"]
-
-
-def costs(rows: list[dict]) -> list[str]:
-    """What a cell costs: the mean seconds of one core a hunt (its ``wall_time_s``; a batched controller's hunt, its
-    share of its batch by steps), strategy × attacker, exact belief; then each strategy's total and the study's."""
-    cells: dict[tuple[str, str], list[float]] = {}
-    for r in rows:
-        cells.setdefault((r["strategy"], r["attacker"]), []).append(r["wall_time_s"]) if r["belief"] == EXACT else None
-    strategies = sorted({s for s, _ in cells})
-    body = [[f"{a}", *(f"{statistics.fmean(cells[s, a]):.2f}" if (s, a) in cells else "" for s in strategies)]
-            for a in BEHAVIOURS]
-    totals = {s: sum(sum(v) for (t, _), v in cells.items() if t == s) for s in strategies}
-    return ["Seconds of one core a hunt (mean of the cell's hunts, exact belief; a batched controller's hunt is its "
-            "share of its batch's time by its steps):", "",
-            *markdown.table(["attacker", *(f"`{s}`" for s in strategies)], "l" + "r" * len(strategies), body), "",
-            "Each strategy's hunts, exact belief, in core-hours: " +
-            ", ".join(f"`{s}` {totals[s] / 3600:.2f}" for s in strategies) +
-            f"; every row of the study: {sum(r['wall_time_s'] for r in rows) / 3600:.2f}.", ""]
 
 
 def last_run(rows: list[dict], previous: list[dict] | None) -> list[str]:

@@ -4,10 +4,12 @@ hunts their --check reruns."""
 
 from __future__ import annotations
 
+import statistics
 import sys
 from pathlib import Path
 from typing import Callable
 
+from mpc_hunt import markdown
 from mpc_hunt.arguments import CommandParser, cores_count, count, output_folder, seed as seed_number
 from mpc_hunt.bench.machine import describe_machine, load_average
 from mpc_hunt.errors import MpcHuntError
@@ -137,3 +139,23 @@ def still_captured(rows: list[dict], seed: int, ranges: dict, file: str) -> list
             errors.append(f"{row['strategy']} against {row['attacker']}, hunt {row['index']}: captured at "
                           f"{row['capture_time_s']:.1f} s in {file}, now {new['outcome']} ({new['cause']})")
     return errors
+
+
+def costs(rows: list[dict], whole: str = "the study") -> list[str]:
+    """What a cell costs: the mean seconds of one core a hunt (its ``wall_time_s``; a batched controller's hunt, its
+    share of its batch by steps), strategy × attacker, exact belief; then each strategy's total and that of every row
+    of ``rows`` (``whole``: what they are, in the last sentence)."""
+    cells: dict[tuple[str, str], list[float]] = {}
+    for r in rows:
+        if r["belief"] == "exact":
+            cells.setdefault((r["strategy"], r["attacker"]), []).append(r["wall_time_s"])
+    strategies = sorted({s for s, _ in cells})
+    body = [[a, *(f"{statistics.fmean(cells[s, a]):.2f}" if (s, a) in cells else "" for s in strategies)]
+            for a in BEHAVIOURS if any((s, a) in cells for s in strategies)]
+    totals = {s: sum(sum(v) for (t, _), v in cells.items() if t == s) for s in strategies}
+    return ["Seconds of one core a hunt (mean of the cell's hunts, exact belief; a batched controller's hunt is its "
+            "share of its batch's time by its steps):", "",
+            *markdown.table(["attacker", *(f"`{s}`" for s in strategies)], "l" + "r" * len(strategies), body), "",
+            "Each strategy's hunts, exact belief, in core-hours: " +
+            ", ".join(f"`{s}` {totals[s] / 3600:.2f}" for s in strategies) +
+            f"; every row of {whole}: {sum(r['wall_time_s'] for r in rows) / 3600:.2f}.", ""]

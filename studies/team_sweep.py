@@ -47,12 +47,12 @@ from mpc_hunt.world.behaviours import BEHAVIOURS
 
 from studies.study_check import check_result, read_json_file, run_study
 from studies.previous_rows import WHY, again, against_last_run, kept_path, read
-from studies.sweep_study import (MAX_HUNTS, add_study_options, keep_previous, keys, measured_run, missing,
+from studies.sweep_study import (MAX_HUNTS, add_study_options, costs, keep_previous, keys, measured_run, missing,
                                  quickest_captures, run_file, still_captured, stop_status)
 
 OUT = Path(__file__).resolve().parent / "team_sweep"
 COMMAND = "python studies/team_sweep.py"
-HUNTS, TEAM_HUNTS, SEED = 60, 20, 4
+HUNTS, TEAM_HUNTS, SEED = 300, 60, 4
 CENTRAL, DISTRIBUTED = "enclose:rti:hpipm:10", "enclose:distributed:hpipm:10"
 STRATEGIES = (CENTRAL, DISTRIBUTED)
 TEAM_ATTACKER = "apf"
@@ -161,8 +161,9 @@ def last_run(folder: Path) -> list[str]:
 
 
 def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: dict, rows: list[dict],
-           last: list[str] | None = None) -> str:
-    """The study's README: ``rows``, the attackers file's, pair the two stages hunt by hunt."""
+           team_rows: list[dict], last: list[str] | None = None) -> str:
+    """The study's README: ``rows``, the attackers file's, pair the two stages hunt by hunt; with ``team_rows``, the
+    teams file's, they give what a hunt costs."""
     return "\n".join([
         "# The distributed capture stage on random hunts", "",
         f"Regenerate with `{COMMAND} --hunts {arguments['attackers.db']['hunts']} --team-hunts "
@@ -173,7 +174,9 @@ def report(attackers: list[dict], teams: list[dict], machine: dict, arguments: d
         f"behaviour, exact belief; and the first {arguments['teams.db']['hunts']} hunts of the same seed with "
         f"{TEAMS[0]} to {TEAMS[1]} defenders. One row per hunt in `attackers.db` and `teams.db` "
         "(`mpc-hunt sweep-report studies/team_sweep/attackers.db` recomputes a table).", "",
-        *headline(attackers, teams, rows), *(last or []), "## Every summary", "", "Attackers:", "", table(attackers),
+        *headline(attackers, teams, rows), *(last or []), "## What a hunt costs", "", "Attackers:", "",
+        *costs(rows, "`attackers.db`"), "Teams:", "", *costs(team_rows, "`teams.db`"),
+        "## Every summary", "", "Attackers:", "", table(attackers),
         "", "Teams:", "", table(teams), "", "## Machine", "", *machine_lines(machine), ""])
 
 
@@ -184,7 +187,8 @@ def write(folder: Path, machine: dict, hunts: int, team_hunts: int, seed: int) -
     (folder / "summary.json").write_text(json.dumps({"machine": machine, "arguments": arguments,
                                                      "summaries": summaries}, indent=1) + "\n", encoding="utf-8")
     (folder / "README.md").write_text(report(summaries["attackers.db"], summaries["teams.db"], machine, arguments,
-                                             stored_rows(folder / FILES[0]), last_run(folder)), encoding="utf-8")
+                                             stored_rows(folder / FILES[0]), stored_rows(folder / FILES[1]),
+                                             last_run(folder)), encoding="utf-8")
 
 
 def check(folder: Path) -> list[str]:
@@ -204,7 +208,7 @@ def check(folder: Path) -> list[str]:
             errors.append(f"{name}: {len(left)} hunts of the study are missing (resume it)")
     if (folder / "README.md").read_text(encoding="utf-8") != report(
             committed["summaries"]["attackers.db"], committed["summaries"]["teams.db"], committed["machine"],
-            committed["arguments"], stored_rows(folder / FILES[0]), last_run(folder)):
+            committed["arguments"], stored_rows(folder / FILES[0]), stored_rows(folder / FILES[1]), last_run(folder)):
         errors.append("README.md: not what summary.json renders")
     if errors:
         return errors

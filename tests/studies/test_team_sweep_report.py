@@ -27,3 +27,17 @@ def test_the_paired_column_counts_the_hunts_its_rate_counts_and_tells_apart_what
     assert team_sweep.paired_cell(rows, "gap", "all") == "+25 (+13 to +35), 60: ahead"      # 15 of 60 more
     assert team_sweep.paired_cell(rows, "gap", "comfortable").endswith(", 30: ahead")      # 10 of 30 more
     assert team_sweep.paired_cell(rows, "flee", "all") == "–"
+
+
+def test_what_a_hunt_costs_is_each_cells_mean_and_each_strategys_core_hours():
+    """``costs`` (both sweep studies' section): a cell's mean seconds a hunt, exact belief only; an attacker no
+    strategy met is no row; every row of the file, whatever its belief, in the last sentence."""
+    from studies.sweep_study import costs
+
+    rows = [{**_row("b", i, True), "wall_time_s": t} for i, t in enumerate((1.0, 3.0))]
+    rows += [{**_row("a", 0, True), "attacker": "apf", "wall_time_s": 7200.0},
+             {**_row("a", 1, True), "belief": "eta=3x", "wall_time_s": 3600.0}]
+    lines = costs(rows, "`x.db`")
+    assert "| apf | 7200.00 | |" in lines and "| gap | | 2.00 |" in lines
+    assert not any(line.startswith("| flee") for line in lines)
+    assert lines[-2] == "Each strategy's hunts, exact belief, in core-hours: `a` 2.00, `b` 0.00; every row of `x.db`: 3.00."
