@@ -132,3 +132,17 @@ def test_the_own_loops_overruns_quoted_are_the_realtime_studys():
     machines = o["past_limit_and_overhead"] - o["past_limit_on_cpu"]
     assert f"on the wall clock; {machines} of those were the machine's" in text
     assert f"Counting only the time the process ran, {o['past_limit_on_cpu']} did" in text
+
+
+def test_the_team_sweeps_counts_against_the_ppo_attacker_quoted_are_its_summarys():
+    """docs/envs.md's adversarial loop quotes the team sweep's captures against the retrained PPO attacker."""
+    team = json.loads((ROOT / "studies" / "team_sweep" / "summary.json").read_text())["summaries"]["attackers.db"]
+    loop = " ".join(_section((ROOT / "docs" / "envs.md").read_text(), "### The adversarial loop, once").split())
+    central, distributed = ([s for s in team if s["attacker"] == "ppo" and s["strategy"].startswith(f"enclose:{f}:")]
+                            for f in ("rti", "distributed"))
+    (c,), (d,) = central, distributed
+    can = c["hunts"] - c["uncapturable_by_definition"]
+    assert (f"captures {c['captured']} of the {can} hunts against it that can be captured "
+            f"({round(c['success_rate_comfortable'] * c['comfortable'])} of its {c['comfortable']} comfortable ones) "
+            f"centralised, and {d['captured']} ({round(d['success_rate_comfortable'] * d['comfortable'])}) "
+            "distributed") in loop

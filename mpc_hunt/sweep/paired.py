@@ -172,10 +172,15 @@ def cell(entry: dict) -> str:
     verdict."""
     if not entry["hunts"]:
         return "–"
-    lo, hi = entry["ci95"]
-    return (
-        f"{100 * entry['difference']:+.0f} ({100 * lo:+.0f} to {100 * hi:+.0f}), {entry['hunts']}: {entry['verdict']}"
-    )
+    lo, hi = (_points(x) for x in entry["ci95"])
+    return f"{_points(entry['difference'])} ({lo} to {hi}), {entry['hunts']}: {entry['verdict']}"
+
+
+def _points(share: float) -> str:
+    """A share as signed whole points; one decimal where that would print a difference of a few hunts in hundreds
+    as 0 (−1 of 200 hunts is −0.5, not −0)."""
+    points = 100 * share
+    return f"{points:+.1f}" if points and round(points) == 0 else f"{points:+.0f}"
 
 
 def time_cell(entry: dict) -> str:

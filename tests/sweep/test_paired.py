@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 
 from mpc_hunt.cli import main
 from mpc_hunt.errors import MpcHuntError
-from mpc_hunt.sweep.paired import (PairedCounts, median_interval, newcombe, paired_counts, time_summary, versus,
-                                   versus_table)
+from mpc_hunt.sweep.paired import (PairedCounts, cell, median_interval, newcombe, paired_counts, summary,
+                                   time_summary, versus, versus_table)
 from mpc_hunt.sweep.store import SweepStore
 
 COUNTS = st.tuples(*(st.integers(0, 60),) * 4).map(lambda t: PairedCounts(*t))
@@ -58,6 +58,12 @@ def _row(strategy, index, captured, attacker="gap", belief="exact", comfortable=
     return {"strategy": strategy, "attacker": attacker, "belief": belief, "seed": 1, "index": index,
             "outcome": "captured" if captured else "failed", "comfortable": comfortable,
             "capture_time_s": time if captured else None}
+
+
+def test_a_difference_of_a_hunt_in_hundreds_is_printed_with_its_sign_not_as_0():
+    assert cell(summary(PairedCounts(both=100, first=0, second=1, neither=99))).startswith("-0.5 (")
+    assert cell(summary(PairedCounts(both=100, first=0, second=0, neither=100))).startswith("+0 (-1 to +1)")
+    assert cell(summary(PairedCounts(both=20, first=3, second=0, neither=17))) == "+8 (-2 to +16), 40: not told apart"
 
 
 def test_the_median_interval_is_the_sign_tests_order_statistics():
