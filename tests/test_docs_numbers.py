@@ -82,6 +82,11 @@ def test_the_shares_times_and_two_robot_hunts_e16_quotes_are_the_attackers_study
             f"{median[2]} s") in e16
     two = re.search(r"two-robot hunts against `apf` \| (\d+) / (\d+) \|", study)
     assert f"It captures {two[1]} of {two[2]} reachable ones against `apf`" in e16
+    (flee,), (gap,) = ([r for r in EXACT if r["strategy"].startswith("trap:") and r["attacker"] == a]
+                       for a in ("flee", "gap"))
+    assert (f"({flee['failures']['attacker_escaped']} of the {flee['hunts'] - flee['captured']} hunts of "
+            f"{flee['hunts']} it loses against `flee`, {gap['failures']['attacker_escaped']} of "
+            f"{gap['hunts'] - gap['captured']} against `gap`)") in e16
 
 
 def test_the_paired_differences_e16_quotes_are_the_attackers_studys_league():
