@@ -3,6 +3,7 @@ to the code)."""
 
 from __future__ import annotations
 
+import functools
 import json
 import re
 from pathlib import Path
@@ -48,11 +49,15 @@ def test_the_baselines_and_the_defaults_shares_quoted_are_the_attackers_studys()
 
 def _captured_before(strategy: str, attacker: str) -> tuple[int, int]:
     """:func:`_captured` on the study's last run (its rows kept in ``sweep.previous.json``)."""
-    kept = json.loads((ROOT / "studies" / "attackers" / "sweep.previous.json").read_text())
-    rows = [dict(zip(kept["fields"], row)) for row in kept["rows"]]
-    mine = [r for r in rows if r["strategy"].split(":")[0] == strategy and r["attacker"] == attacker
+    mine = [r for r in _kept_rows() if r["strategy"].split(":")[0] == strategy and r["attacker"] == attacker
             and r["belief"] == "exact" and r["comfortable"]]
     return sum(r["outcome"] == "captured" for r in mine), len(mine)
+
+
+@functools.cache
+def _kept_rows() -> list[dict]:
+    kept = json.loads((ROOT / "studies" / "attackers" / "sweep.previous.json").read_text())
+    return [dict(zip(kept["fields"], row)) for row in kept["rows"]]
 
 
 def test_the_adversarial_loops_table_after_retraining_is_the_attackers_studys_summary():

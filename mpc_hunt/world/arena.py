@@ -9,16 +9,11 @@ sweep also counts a defender beyond an edge as a failure (``margin`` < 0).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from mpc_hunt.compiled import kernel
 from mpc_hunt.world.geometry import length
 from mpc_hunt.world.packed import HAS_ARENA, SAFETY, X_MAX, X_MIN, Y_MAX, Y_MIN, T
-
-if TYPE_CHECKING:
-    pass
 
 Arena = tuple[float, float, float, float]
 
